@@ -1,0 +1,46 @@
+# SPDX-License-Identifier: Apache-2.0
+# Helper functions shared by every module: warnings, sanitizers, library and test targets.
+
+function(codrive_set_warnings target)
+    target_compile_options(${target} PRIVATE -Wall -Wextra -Wpedantic -Wconversion -Wshadow
+)
+    if(CODRIVE_WERROR)
+        target_compile_options(${target} PRIVATE -Werror)
+    endif()
+endfunction()
+
+if(CODRIVE_SANITIZE)
+    add_compile_options(-fsanitize=${CODRIVE_SANITIZE} -fno-omit-frame-pointer
+                        -fno-sanitize-recover=all)
+    add_link_options(-fsanitize=${CODRIVE_SANITIZE})
+endif()
+
+# codrive_add_module(NAME <name> [DEPS targets...] [PRIVATE_DEPS targets...])
+# Builds <module>/src/*.cpp into library codrive_<name>, alias codrive::<name>, public headers in
+# <module>/include. The module is exported and installed.
+function(codrive_add_module)
+    cmake_parse_arguments(ARG "" "NAME" "DEPS;PRIVATE_DEPS" ${ARGN})
+    file(GLOB_RECURSE sources CONFIGURE_DEPENDS ${CMAKE_CURRENT_SOURCE_DIR}/src/*.cpp)
+    set(target codrive_${ARG_NAME})
+    add_library(${target} STATIC ${sources})
+    add_library(codrive::${ARG_NAME} ALIAS ${target})
+    set_target_properties(${target} PROPERTIES EXPORT_NAME ${ARG_NAME}
+                                               OUTPUT_NAME codrive_${ARG_NAME})
+    target_include_directories(${target} PUBLIC
+        $<BUILD_INTERFACE:${CMAKE_CURRENT_SOURCE_DIR}/include>
+        $<INSTALL_INTERFACE:${CMAKE_INSTALL_INCLUDEDIR}>
+        PRIVATE ${CMAKE_CURRENT_SOURCE_DIR}/src)
+    target_link_libraries(${target} PUBLIC ${ARG_DEPS} PRIVATE ${ARG_PRIVATE_DEPS})
+    codrive_set_warnings(${target})
+    install(DIRECTORY include/ DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
+    set_property(GLOBAL APPEND PROPERTY CODRIVE_EXPORTED_TARGETS ${target})
+endfunction()
+
+# codrive_add_tool(NAME <exe> SOURCES ... DEPS ...)
+function(codrive_add_tool)
+    cmake_parse_arguments(ARG "" "NAME" "SOURCES;DEPS" ${ARGN})
+    add_executable(${ARG_NAME} ${ARG_SOURCES})
+    target_link_libraries(${ARG_NAME} PRIVATE ${ARG_DEPS})
+    codrive_set_warnings(${ARG_NAME})
+    install(TARGETS ${ARG_NAME} RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
+endfunction()

@@ -1,0 +1,18 @@
+# SPDX-License-Identifier: Apache-2.0
+# Third-party dependencies: Debian packages only, found with find_package / pkg-config.
+find_package(PkgConfig REQUIRED)
+pkg_check_modules(SOCKETCAN REQUIRED IMPORTED_TARGET libsocketcan)
+find_package(fmt REQUIRED)
+find_package(tl-expected REQUIRED)
+find_package(Threads REQUIRED)
+find_package(Eigen3 REQUIRED NO_MODULE)
+find_package(yaml-cpp REQUIRED)
+if(CODRIVE_BUILD_TOOLS)
+    find_package(CLI11 REQUIRED)
+endif()
+if(CODRIVE_BUILD_TESTS)
+    find_package(GTest REQUIRED)
+endif()
+if(CODRIVE_BUILD_BENCH)
+    find_package(benchmark REQUIRED)
+endif()

@@ -1,0 +1,26 @@
+# SPDX-License-Identifier: Apache-2.0
+# Install rules: libraries, headers, CMake package (find_package(codrive)) and pkg-config file.
+include(CMakePackageConfigHelpers)
+get_property(exported GLOBAL PROPERTY CODRIVE_EXPORTED_TARGETS)
+install(TARGETS ${exported} codrive_umbrella EXPORT codriveTargets
+        ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR}
+        LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR}
+        INCLUDES DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
+install(EXPORT codriveTargets NAMESPACE codrive:: DESTINATION ${CMAKE_INSTALL_LIBDIR}/cmake/codrive)
+configure_package_config_file(cmake/codriveConfig.cmake.in
+    ${CMAKE_CURRENT_BINARY_DIR}/codriveConfig.cmake
+    INSTALL_DESTINATION ${CMAKE_INSTALL_LIBDIR}/cmake/codrive)
+write_basic_package_version_file(${CMAKE_CURRENT_BINARY_DIR}/codriveConfigVersion.cmake
+    COMPATIBILITY SameMajorVersion)
+install(FILES ${CMAKE_CURRENT_BINARY_DIR}/codriveConfig.cmake
+              ${CMAKE_CURRENT_BINARY_DIR}/codriveConfigVersion.cmake
+        DESTINATION ${CMAKE_INSTALL_LIBDIR}/cmake/codrive)
+
+# pkg-config: static libraries listed top layer first so the linker resolves downwards.
+set(CODRIVE_PC_LIBS "")
+list(REVERSE exported)
+foreach(t IN LISTS exported)
+    string(APPEND CODRIVE_PC_LIBS " -l${t}")
+endforeach()
+configure_file(cmake/codrive.pc.in ${CMAKE_CURRENT_BINARY_DIR}/codrive.pc @ONLY)
+install(FILES ${CMAKE_CURRENT_BINARY_DIR}/codrive.pc DESTINATION ${CMAKE_INSTALL_LIBDIR}/pkgconfig)
