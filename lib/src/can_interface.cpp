@@ -40,7 +40,9 @@ bool link_up(const std::string& name) {
 
 } // namespace
 
-bool CanInterface::exists() const { return if_nametoindex(name_.c_str()) != 0; }
+bool CanInterface::exists() const {
+    return if_nametoindex(name_.c_str()) != 0;
+}
 
 Result<CanInterfaceInfo> CanInterface::info() const {
     if (!exists()) {

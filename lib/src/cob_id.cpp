@@ -57,9 +57,9 @@ CobInfo classify_cob_id(std::uint32_t id) {
         return {};
     }
     static constexpr CobType kByFunction[16] = {
-        CobType::Unknown, CobType::Emcy,  CobType::Unknown, CobType::Tpdo1,
-        CobType::Rpdo1,   CobType::Tpdo2, CobType::Rpdo2,   CobType::Tpdo3,
-        CobType::Rpdo3,   CobType::Tpdo4, CobType::Rpdo4,   CobType::SdoTx,
+        CobType::Unknown, CobType::Emcy,    CobType::Unknown,   CobType::Tpdo1,
+        CobType::Rpdo1,   CobType::Tpdo2,   CobType::Rpdo2,     CobType::Tpdo3,
+        CobType::Rpdo3,   CobType::Tpdo4,   CobType::Rpdo4,     CobType::SdoTx,
         CobType::SdoRx,   CobType::Unknown, CobType::Heartbeat, CobType::Unknown};
     const CobType type = kByFunction[(id >> 7) & 0x0F];
     if (type == CobType::Unknown) {

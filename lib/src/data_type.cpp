@@ -101,9 +101,13 @@ bool is_unsigned_integer(DataType t) {
     }
 }
 
-bool is_real(DataType t) { return t == DataType::Real32 || t == DataType::Real64; }
+bool is_real(DataType t) {
+    return t == DataType::Real32 || t == DataType::Real64;
+}
 
-bool is_variable_size(DataType t) { return data_type_size(t) == 0; }
+bool is_variable_size(DataType t) {
+    return data_type_size(t) == 0;
+}
 
 std::string_view to_string(DataType t) {
     const TypeRow* r = row(t);

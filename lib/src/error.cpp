@@ -51,7 +51,9 @@ const std::error_category& core_category() {
     return category;
 }
 
-std::error_code make_error_code(CoreErrc e) { return {static_cast<int>(e), core_category()}; }
+std::error_code make_error_code(CoreErrc e) {
+    return {static_cast<int>(e), core_category()};
+}
 
 RealClock& RealClock::instance() {
     static RealClock clock;

@@ -177,7 +177,8 @@ VoidResult EventLoop::poll_once(Duration max_wait) {
     arm_timer();
     std::array<epoll_event, 32> events{};
     const auto ms = std::chrono::duration_cast<milliseconds>(max_wait).count();
-    const int timeout_ms = max_wait < Duration::zero() ? -1 : static_cast<int>(std::max<long>(0, ms));
+    const int timeout_ms =
+        max_wait < Duration::zero() ? -1 : static_cast<int>(std::max<long>(0, ms));
     const int n = epoll_wait(epoll_fd_, events.data(), static_cast<int>(events.size()), timeout_ms);
     if (n < 0) {
         if (errno == EINTR) {

@@ -9,8 +9,8 @@
 
 namespace codrive {
 namespace {
-constexpr std::array<std::uint8_t, 16> kFdLengths{0, 1, 2, 3, 4, 5, 6, 7, 8, 12, 16, 20, 24, 32,
-                                                  48, 64};
+constexpr std::array<std::uint8_t, 16> kFdLengths{0, 1,  2,  3,  4,  5,  6,  7,
+                                                  8, 12, 16, 20, 24, 32, 48, 64};
 } // namespace
 
 Frame Frame::make(std::uint32_t id, std::span<const std::uint8_t> bytes) {
@@ -66,7 +66,9 @@ std::uint8_t fd_len_to_dlc(std::size_t len) {
     return 15;
 }
 
-std::size_t fd_dlc_to_len(std::uint8_t dlc) { return kFdLengths[dlc & 0x0F]; }
+std::size_t fd_dlc_to_len(std::uint8_t dlc) {
+    return kFdLengths[dlc & 0x0F];
+}
 
 std::string to_string(const Frame& f) {
     std::string out = f.extended() || f.error() ? fmt::format("{:08X}", f.id & Frame::kExtMask)
@@ -87,6 +89,90 @@ std::string to_string(const Frame& f) {
         out += fmt::format("{:02X}", f.data[i]);
     }
     return out;
+}
+
+namespace {
+int hex_value(char c) {
+    if (c >= '0' && c <= '9') {
+        return c - '0';
+    }
+    if (c >= 'a' && c <= 'f') {
+        return c - 'a' + 10;
+    }
+    if (c >= 'A' && c <= 'F') {
+        return c - 'A' + 10;
+    }
+    return -1;
+}
+} // namespace
+
+bool parse_frame(std::string_view text, Frame& out) {
+    const std::size_t hash = text.find('#');
+    if (hash == std::string_view::npos || hash == 0 || (hash != 3 && hash != 8)) {
+        return false;
+    }
+    Frame f;
+    std::uint32_t id = 0;
+    for (std::size_t i = 0; i < hash; ++i) {
+        const int d = hex_value(text[i]);
+        if (d < 0) {
+            return false;
+        }
+        id = (id << 4) | static_cast<std::uint32_t>(d);
+    }
+    f.id = id;
+    if (hash == 8) {
+        f.flags |= Frame::kExtended;
+    }
+    std::string_view rest = text.substr(hash + 1);
+    std::size_t max_len = Frame::kMaxClassicLen;
+    if (!rest.empty() && rest[0] == '#') {
+        // CAN FD: "##<flags nibble><data>"
+        if (rest.size() < 2 || hex_value(rest[1]) < 0) {
+            return false;
+        }
+        f.flags |= Frame::kFd;
+        if ((hex_value(rest[1]) & 0x1) != 0) {
+            f.flags |= Frame::kBrs;
+        }
+        rest.remove_prefix(2);
+        max_len = Frame::kMaxFdLen;
+    } else if (!rest.empty() && (rest[0] == 'R' || rest[0] == 'r')) {
+        f.flags |= Frame::kRtr;
+        if (rest.size() == 2 && rest[1] >= '0' && rest[1] <= '8') {
+            f.len = static_cast<std::uint8_t>(rest[1] - '0');
+        } else if (rest.size() != 1) {
+            return false;
+        }
+        if (!f.valid()) {
+            return false;
+        }
+        out = f;
+        return true;
+    }
+    std::size_t len = 0;
+    for (std::size_t i = 0; i < rest.size();) {
+        if (rest[i] == '.') {
+            ++i;
+            continue;
+        }
+        if (i + 1 >= rest.size()) {
+            return false;
+        }
+        const int hi = hex_value(rest[i]);
+        const int lo = hex_value(rest[i + 1]);
+        if (hi < 0 || lo < 0 || len >= max_len) {
+            return false;
+        }
+        f.data[len++] = static_cast<std::uint8_t>(hi * 16 + lo);
+        i += 2;
+    }
+    f.len = static_cast<std::uint8_t>(len);
+    if (!f.valid()) {
+        return false;
+    }
+    out = f;
+    return true;
 }
 
 } // namespace codrive

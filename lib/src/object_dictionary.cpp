@@ -112,9 +112,9 @@ ObjectDictionary::read(std::uint16_t index, std::uint8_t subindex) {
     return s->value.bytes();
 }
 
-tl::expected<void, SdoAbort> ObjectDictionary::check_write(std::uint16_t index,
-                                                           std::uint8_t subindex,
-                                                           std::span<const std::uint8_t> data) const {
+tl::expected<void, SdoAbort>
+ObjectDictionary::check_write(std::uint16_t index, std::uint8_t subindex,
+                              std::span<const std::uint8_t> data) const {
     const Object* o = find(index);
     if (o == nullptr) {
         return tl::unexpected(SdoAbort::NoObject);
@@ -148,14 +148,12 @@ tl::expected<void, SdoAbort> ObjectDictionary::check_write(std::uint16_t index,
             if (s->low_limit && v && s->low_limit->as_uint() && *v < *s->low_limit->as_uint()) {
                 return tl::unexpected(SdoAbort::ValueTooLow);
             }
-            if (s->high_limit && v && s->high_limit->as_uint() &&
-                *v > *s->high_limit->as_uint()) {
+            if (s->high_limit && v && s->high_limit->as_uint() && *v > *s->high_limit->as_uint()) {
                 return tl::unexpected(SdoAbort::ValueTooHigh);
             }
         } else if (is_real(s->type)) {
             const auto v = candidate.as_double();
-            if (s->low_limit && v && s->low_limit->as_double() &&
-                *v < *s->low_limit->as_double()) {
+            if (s->low_limit && v && s->low_limit->as_double() && *v < *s->low_limit->as_double()) {
                 return tl::unexpected(SdoAbort::ValueTooLow);
             }
             if (s->high_limit && v && s->high_limit->as_double() &&

@@ -88,7 +88,9 @@ std::string_view sdo_abort_describe(std::uint32_t code) {
     return sdo_abort_text(code).value_or("unknown abort code");
 }
 
-std::span<const SdoAbort> all_sdo_aborts() { return kAllAborts; }
+std::span<const SdoAbort> all_sdo_aborts() {
+    return kAllAborts;
+}
 
 const std::error_category& sdo_abort_category() {
     static const SdoAbortCategory category;

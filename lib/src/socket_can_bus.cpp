@@ -323,15 +323,20 @@ void SocketCanBus::detach() {
     }
 }
 
-TimePoint SocketCanBus::next_deadline() const { return tx_count_ > 0 ? retry_at_ : kNever; }
+TimePoint SocketCanBus::next_deadline() const {
+    return tx_count_ > 0 ? retry_at_ : kNever;
+}
 
-void SocketCanBus::on_tick(TimePoint /*now*/) { flush(); }
+void SocketCanBus::on_tick(TimePoint /*now*/) {
+    flush();
+}
 
 std::size_t SocketCanBus::read_available() {
     std::array<canfd_frame, kBatch> frames{};
     std::array<iovec, kBatch> iov{};
     std::array<mmsghdr, kBatch> msgs{};
-    constexpr std::size_t kCtrlSize = CMSG_SPACE(sizeof(timespec)) + CMSG_SPACE(sizeof(std::uint32_t));
+    constexpr std::size_t kCtrlSize =
+        CMSG_SPACE(sizeof(timespec)) + CMSG_SPACE(sizeof(std::uint32_t));
     alignas(cmsghdr) std::array<std::array<char, kCtrlSize>, kBatch> ctrl{};
     std::size_t total = 0;
     for (;;) {
@@ -431,16 +436,16 @@ std::vector<BusEvent> decode_error_frame(const Frame& f) {
         push(BusEvent::Kind::ControllerProblem, "transmit timeout");
     }
     if ((cls & CAN_ERR_LOSTARB) != 0) {
-        push(BusEvent::Kind::LostArbitration,
-             d(0) == CAN_ERR_LOSTARB_UNSPEC ? std::string("bit unknown")
-                                            : "at bit " + std::to_string(d(0)));
+        push(BusEvent::Kind::LostArbitration, d(0) == CAN_ERR_LOSTARB_UNSPEC
+                                                  ? std::string("bit unknown")
+                                                  : "at bit " + std::to_string(d(0)));
     }
     if ((cls & CAN_ERR_CRTL) != 0) {
         const std::uint8_t c = d(1);
         if ((c & (CAN_ERR_CRTL_RX_OVERFLOW | CAN_ERR_CRTL_TX_OVERFLOW)) != 0) {
-            push(BusEvent::Kind::ControllerProblem,
-                 (c & CAN_ERR_CRTL_RX_OVERFLOW) != 0 ? "controller receive buffer overflow"
-                                                      : "controller transmit buffer overflow");
+            push(BusEvent::Kind::ControllerProblem, (c & CAN_ERR_CRTL_RX_OVERFLOW) != 0
+                                                        ? "controller receive buffer overflow"
+                                                        : "controller transmit buffer overflow");
         }
         if ((c & (CAN_ERR_CRTL_RX_PASSIVE | CAN_ERR_CRTL_TX_PASSIVE)) != 0) {
             push(BusEvent::Kind::StateChanged, {}, BusState::ErrorPassive);

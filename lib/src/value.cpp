@@ -40,8 +40,12 @@ int hex_digit(char c) {
 std::uint64_t umax(std::size_t n) {
     return n >= 8 ? std::numeric_limits<std::uint64_t>::max() : (std::uint64_t{1} << (8 * n)) - 1;
 }
-std::int64_t smax(std::size_t n) { return static_cast<std::int64_t>(umax(n) >> 1); }
-std::int64_t smin(std::size_t n) { return -smax(n) - 1; }
+std::int64_t smax(std::size_t n) {
+    return static_cast<std::int64_t>(umax(n) >> 1);
+}
+std::int64_t smin(std::size_t n) {
+    return -smax(n) - 1;
+}
 
 } // namespace
 
@@ -70,7 +74,8 @@ std::optional<std::uint64_t> parse_uint(std::string_view text) {
             return std::nullopt;
         }
         const auto ubase = static_cast<std::uint64_t>(base);
-        if (v > (std::numeric_limits<std::uint64_t>::max() - static_cast<std::uint64_t>(d)) / ubase) {
+        if (v >
+            (std::numeric_limits<std::uint64_t>::max() - static_cast<std::uint64_t>(d)) / ubase) {
             return std::nullopt;
         }
         v = v * ubase + static_cast<std::uint64_t>(d);
@@ -117,8 +122,7 @@ Result<std::vector<std::uint8_t>> parse_hex_bytes(std::string_view text) {
     std::vector<std::uint8_t> out;
     int hi = -1;
     for (char c : text) {
-        if (std::isspace(static_cast<unsigned char>(c)) != 0 || c == ':' || c == '-' ||
-            c == ',') {
+        if (std::isspace(static_cast<unsigned char>(c)) != 0 || c == ':' || c == '-' || c == ',') {
             if (hi >= 0) {
                 return fail(CoreErrc::ParseError); // odd digit inside a byte group
             }
@@ -185,7 +189,8 @@ Result<Value> Value::from_uint(DataType type, std::uint64_t v) {
 Result<Value> Value::from_double(DataType type, double v) {
     Value out = zero(type);
     if (type == DataType::Real32) {
-        if (std::isfinite(v) && std::fabs(v) > static_cast<double>(std::numeric_limits<float>::max())) {
+        if (std::isfinite(v) &&
+            std::fabs(v) > static_cast<double>(std::numeric_limits<float>::max())) {
             return fail(CoreErrc::OutOfRange);
         }
         put_le<float>(out.bytes_.data(), static_cast<float>(v));

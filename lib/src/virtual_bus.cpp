@@ -110,7 +110,9 @@ TimePoint VirtualNetwork::next_deadline() const {
     return queue_.empty() ? kNever : queue_.front().due;
 }
 
-void VirtualNetwork::on_tick(TimePoint /*now*/) { deliver(); }
+void VirtualNetwork::on_tick(TimePoint /*now*/) {
+    deliver();
+}
 
 void VirtualNetwork::run_until(FakeClock& clock, TimePoint until, std::vector<ITimed*> services) {
     services.push_back(this);

@@ -13,9 +13,9 @@ namespace codrive::cli {
 /// Exit codes shared by every subcommand.
 enum ExitCode : int {
     kExitOk = 0,
-    kExitFailure = 1,   ///< the operation failed (abort, timeout, refused)
-    kExitUsage = 2,     ///< bad arguments
-    kExitNoBus = 3,     ///< the interface could not be opened
+    kExitFailure = 1, ///< the operation failed (abort, timeout, refused)
+    kExitUsage = 2,   ///< bad arguments
+    kExitNoBus = 3,   ///< the interface could not be opened
 };
 
 /// A subcommand installer: adds its CLI11 subcommand to the app and sets its callback. The
@@ -29,5 +29,6 @@ std::vector<CommandInstaller>& commands();
 } // namespace codrive::cli
 
 /// In a cmd_*.cpp: CODRIVE_REGISTER_COMMAND(install_sdo);
-#define CODRIVE_REGISTER_COMMAND(fn)                                                              \
-    [[maybe_unused]] static const bool codrive_registered_##fn = ::codrive::cli::register_command(fn)
+#define CODRIVE_REGISTER_COMMAND(fn)                                                               \
+    [[maybe_unused]] static const bool codrive_registered_##fn =                                   \
+        ::codrive::cli::register_command(fn)

@@ -64,3 +64,24 @@ TEST(Frame, EqualityIgnoresBytesPastLength) {
     b.data[1] = 3;
     EXPECT_NE(a, b);
 }
+
+TEST(Frame, ParsesCandumpTextAndRoundTrips) {
+    for (const char* text :
+         {"123#11223344", "701#R1", "01234567#AB", "010##1AABB", "7FF#", "080#"}) {
+        Frame f;
+        ASSERT_TRUE(parse_frame(text, f)) << text;
+        EXPECT_EQ(to_string(f), text);
+    }
+    Frame dotted;
+    ASSERT_TRUE(parse_frame("123#11.22.33", dotted));
+    EXPECT_EQ(dotted.len, 3);
+}
+
+TEST(Frame, RejectsMalformedText) {
+    Frame f = Frame::make(0x1, {0x55});
+    for (const char* text : {"", "#", "12#00", "123", "123#1", "123#GG", "123#112233445566778899",
+                             "800#", "1234#00", "123#R9", "123##"}) {
+        EXPECT_FALSE(parse_frame(text, f)) << text;
+    }
+    EXPECT_EQ(f, Frame::make(0x1, {0x55})) << "a failed parse leaves the output alone";
+}

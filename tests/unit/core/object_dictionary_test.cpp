@@ -60,14 +60,15 @@ TEST(ObjectDictionary, WriteEnforcesAccessLengthAndRange) {
 TEST(ObjectDictionary, WriteHookCanVetoAndSeesData) {
     auto od = make_od();
     int calls = 0;
-    od.on_write(0x6040, [&](std::uint16_t, std::uint8_t, std::span<const std::uint8_t> d)
-                            -> tl::expected<void, SdoAbort> {
-        ++calls;
-        if (d[0] == 0xFF) {
-            return tl::unexpected(SdoAbort::DataTransferState);
-        }
-        return {};
-    });
+    od.on_write(0x6040,
+                [&](std::uint16_t, std::uint8_t,
+                    std::span<const std::uint8_t> d) -> tl::expected<void, SdoAbort> {
+                    ++calls;
+                    if (d[0] == 0xFF) {
+                        return tl::unexpected(SdoAbort::DataTransferState);
+                    }
+                    return {};
+                });
     const std::uint8_t ok[2] = {6, 0};
     const std::uint8_t bad[2] = {0xFF, 0};
     EXPECT_TRUE(od.write(0x6040, 0, ok));

@@ -54,8 +54,8 @@ TEST(SocketCanBus, OpeningAMissingInterfaceSaysWhy) {
     auto bus = SocketCanBus::open("nosuchcan9");
     ASSERT_FALSE(bus);
     // Without SocketCAN in the kernel the error says so; with it, the interface is missing.
-    const bool expected = bus.error() == CoreErrc::NoSocketCan ||
-                          bus.error() == CoreErrc::NoSuchInterface;
+    const bool expected =
+        bus.error() == CoreErrc::NoSocketCan || bus.error() == CoreErrc::NoSuchInterface;
     EXPECT_TRUE(expected) << bus.error().message();
     EXPECT_EQ(socketcan_available(), bus.error() != CoreErrc::NoSocketCan);
 }

@@ -19,14 +19,14 @@ enum class BusState : std::uint8_t { ErrorActive, ErrorWarning, ErrorPassive, Bu
 /// A decoded bus event (from a SocketCAN error frame or the virtual bus).
 struct BusEvent {
     enum class Kind : std::uint8_t {
-        StateChanged,     ///< `state` holds the new state
-        Restarted,        ///< controller restarted after bus-off
+        StateChanged,      ///< `state` holds the new state
+        Restarted,         ///< controller restarted after bus-off
         ControllerProblem, ///< rx/tx overflow and similar (`detail`)
-        ProtocolError,    ///< bit/form/stuff error (`detail`)
-        NoAck,            ///< transmission not acknowledged
+        ProtocolError,     ///< bit/form/stuff error (`detail`)
+        NoAck,             ///< transmission not acknowledged
         LostArbitration,
         TransceiverError,
-        RxOverflow,       ///< frames dropped by the kernel socket queue (`count`)
+        RxOverflow, ///< frames dropped by the kernel socket queue (`count`)
     };
     Kind kind = Kind::StateChanged;
     BusState state = BusState::ErrorActive;
@@ -42,9 +42,9 @@ struct BusEvent {
 struct BusStats {
     std::uint64_t tx_frames = 0;
     std::uint64_t rx_frames = 0;
-    std::uint64_t tx_queued = 0;      ///< frames that had to wait in the retry queue
-    std::uint64_t tx_queue_full = 0;  ///< sends refused because the retry queue was full
-    std::uint64_t rx_dropped = 0;     ///< frames the kernel dropped (SO_RXQ_OVFL)
+    std::uint64_t tx_queued = 0;     ///< frames that had to wait in the retry queue
+    std::uint64_t tx_queue_full = 0; ///< sends refused because the retry queue was full
+    std::uint64_t rx_dropped = 0;    ///< frames the kernel dropped (SO_RXQ_OVFL)
     std::uint64_t error_frames = 0;
 };
 

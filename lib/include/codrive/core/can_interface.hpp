@@ -14,8 +14,8 @@ namespace codrive {
 struct CanInterfaceInfo {
     std::string name;
     bool up = false;
-    std::optional<std::uint32_t> bitrate;  ///< nullopt where the device has none (vcan)
-    std::optional<BusState> state;         ///< nullopt where the device reports none (vcan)
+    std::optional<std::uint32_t> bitrate; ///< nullopt where the device has none (vcan)
+    std::optional<BusState> state;        ///< nullopt where the device reports none (vcan)
     std::optional<std::uint16_t> tx_errors;
     std::optional<std::uint16_t> rx_errors;
     std::optional<std::uint32_t> restart_ms;

@@ -11,27 +11,29 @@ namespace codrive {
 using NodeId = std::uint8_t; ///< 1..127; 0 means "all nodes" in NMT commands
 
 inline constexpr NodeId kMaxNodeId = 127;
-[[nodiscard]] constexpr bool valid_node_id(unsigned id) { return id >= 1 && id <= kMaxNodeId; }
+[[nodiscard]] constexpr bool valid_node_id(unsigned id) {
+    return id >= 1 && id <= kMaxNodeId;
+}
 
 /// Communication objects of the CiA 301 predefined connection set.
 enum class CobType : std::uint8_t {
-    Nmt,        ///< 000h
-    Sync,       ///< 080h
-    Emcy,       ///< 081h..0FFh
-    Time,       ///< 100h
-    Tpdo1,      ///< 180h + node
-    Rpdo1,      ///< 200h + node
-    Tpdo2,      ///< 280h + node
-    Rpdo2,      ///< 300h + node
-    Tpdo3,      ///< 380h + node
-    Rpdo3,      ///< 400h + node
-    Tpdo4,      ///< 480h + node
-    Rpdo4,      ///< 500h + node
-    SdoTx,      ///< 580h + node (server → client response)
-    SdoRx,      ///< 600h + node (client → server request)
-    Heartbeat,  ///< 700h + node (boot-up, heartbeat, node guarding reply)
-    LssSlave,   ///< 7E4h
-    LssMaster,  ///< 7E5h
+    Nmt,       ///< 000h
+    Sync,      ///< 080h
+    Emcy,      ///< 081h..0FFh
+    Time,      ///< 100h
+    Tpdo1,     ///< 180h + node
+    Rpdo1,     ///< 200h + node
+    Tpdo2,     ///< 280h + node
+    Rpdo2,     ///< 300h + node
+    Tpdo3,     ///< 380h + node
+    Rpdo3,     ///< 400h + node
+    Tpdo4,     ///< 480h + node
+    Rpdo4,     ///< 500h + node
+    SdoTx,     ///< 580h + node (server → client response)
+    SdoRx,     ///< 600h + node (client → server request)
+    Heartbeat, ///< 700h + node (boot-up, heartbeat, node guarding reply)
+    LssSlave,  ///< 7E4h
+    LssMaster, ///< 7E5h
     Unknown,
 };
 
@@ -54,12 +56,24 @@ inline constexpr std::uint32_t kInvalidBit = 1U << 31;
 inline constexpr std::uint32_t kRtrBit = 1U << 30;
 inline constexpr std::uint32_t kFrameBit = 1U << 29;
 
-constexpr std::uint32_t tpdo(unsigned n, NodeId node) { return 0x180U + 0x100U * (n - 1) + node; }
-constexpr std::uint32_t rpdo(unsigned n, NodeId node) { return 0x200U + 0x100U * (n - 1) + node; }
-constexpr std::uint32_t sdo_tx(NodeId node) { return kSdoTx + node; }
-constexpr std::uint32_t sdo_rx(NodeId node) { return kSdoRx + node; }
-constexpr std::uint32_t emcy(NodeId node) { return kEmcy + node; }
-constexpr std::uint32_t heartbeat(NodeId node) { return kHeartbeat + node; }
+constexpr std::uint32_t tpdo(unsigned n, NodeId node) {
+    return 0x180U + 0x100U * (n - 1) + node;
+}
+constexpr std::uint32_t rpdo(unsigned n, NodeId node) {
+    return 0x200U + 0x100U * (n - 1) + node;
+}
+constexpr std::uint32_t sdo_tx(NodeId node) {
+    return kSdoTx + node;
+}
+constexpr std::uint32_t sdo_rx(NodeId node) {
+    return kSdoRx + node;
+}
+constexpr std::uint32_t emcy(NodeId node) {
+    return kEmcy + node;
+}
+constexpr std::uint32_t heartbeat(NodeId node) {
+    return kHeartbeat + node;
+}
 } // namespace cob
 
 /// What an 11-bit identifier means in the predefined connection set.

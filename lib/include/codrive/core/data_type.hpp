@@ -66,7 +66,11 @@ enum class ObjectCode : std::uint8_t {
 enum class Access : std::uint8_t { Ro, Wo, Rw, Rwr, Rww, Const };
 [[nodiscard]] std::string_view to_string(Access a); ///< "ro", "wo", "rw", "rwr", "rww", "const"
 [[nodiscard]] std::optional<Access> access_from_string(std::string_view s);
-[[nodiscard]] constexpr bool readable(Access a) { return a != Access::Wo; }
-[[nodiscard]] constexpr bool writable(Access a) { return a != Access::Ro && a != Access::Const; }
+[[nodiscard]] constexpr bool readable(Access a) {
+    return a != Access::Wo;
+}
+[[nodiscard]] constexpr bool writable(Access a) {
+    return a != Access::Ro && a != Access::Const;
+}
 
 } // namespace codrive

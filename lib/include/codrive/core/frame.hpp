@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <span>
 #include <string>
+#include <string_view>
 
 namespace codrive {
 
@@ -55,5 +56,10 @@ std::size_t fd_dlc_to_len(std::uint8_t dlc);
 
 /// candump-style text: "123#11223344", "12345678#", "123#R", "123##1AABB".
 std::string to_string(const Frame& f);
+
+/// Parses candump / cansend frame text (the inverse of to_string): "123#11223344",
+/// "123#11.22.33", "1F334455#", "123#R", "123#R3", "123##1AABB". An 8-digit id is a 29-bit frame.
+/// Returns false (and leaves `out` untouched) for anything else.
+[[nodiscard]] bool parse_frame(std::string_view text, Frame& out);
 
 } // namespace codrive

@@ -27,13 +27,13 @@ struct SubObject {
     DataType type = DataType::Unsigned8;
     Access access = Access::Ro;
     bool pdo_mappable = false;
-    Value value;                       ///< current value
+    Value value; ///< current value
     std::optional<Value> default_value;
     std::optional<Value> low_limit;
     std::optional<Value> high_limit;
-    std::string default_text;          ///< DefaultValue as written in an EDS (may use $NODEID)
-    std::string parameter_text;        ///< DCF ParameterValue as written, if any
-    std::uint32_t obj_flags = 0;       ///< CiA 306 ObjFlags
+    std::string default_text;    ///< DefaultValue as written in an EDS (may use $NODEID)
+    std::string parameter_text;  ///< DCF ParameterValue as written, if any
+    std::uint32_t obj_flags = 0; ///< CiA 306 ObjFlags
 
     /// A sub-object whose current and default value is `value`.
     static SubObject make(std::uint8_t subindex, std::string name, DataType type, Access access,
@@ -69,9 +69,8 @@ struct Object {
 
 /// Called by `write()` after the checks pass and before the value is stored; returning an abort
 /// code vetoes the write (e.g. "PDO mapping only in pre-operational").
-using WriteHook = std::function<tl::expected<void, SdoAbort>(std::uint16_t index,
-                                                             std::uint8_t subindex,
-                                                             std::span<const std::uint8_t> data)>;
+using WriteHook = std::function<tl::expected<void, SdoAbort>(
+    std::uint16_t index, std::uint8_t subindex, std::span<const std::uint8_t> data)>;
 /// Called before a read through `read()`; may refresh the value (e.g. a live statusword).
 using ReadHook = std::function<void(std::uint16_t index, std::uint8_t subindex, SubObject& sub)>;
 
@@ -93,13 +92,14 @@ public:
     [[nodiscard]] SubObject* find(std::uint16_t index, std::uint8_t subindex);
 
     /// Reads the bytes of a sub-object as an SDO server would: NoObject, NoSubindex, WriteOnly.
-    [[nodiscard]] tl::expected<std::span<const std::uint8_t>, SdoAbort>
-    read(std::uint16_t index, std::uint8_t subindex);
+    [[nodiscard]] tl::expected<std::span<const std::uint8_t>, SdoAbort> read(std::uint16_t index,
+                                                                             std::uint8_t subindex);
 
     /// Checks a write without performing it: NoObject, NoSubindex, ReadOnly, LengthTooHigh/Low,
     /// ValueTooHigh/Low.
     [[nodiscard]] tl::expected<void, SdoAbort>
-    check_write(std::uint16_t index, std::uint8_t subindex, std::span<const std::uint8_t> data) const;
+    check_write(std::uint16_t index, std::uint8_t subindex,
+                std::span<const std::uint8_t> data) const;
 
     /// Checks then writes, then runs the write hooks. `force` skips the access check (local
     /// application writes to read-only objects).

@@ -23,14 +23,14 @@ struct CanFilter {
 };
 
 struct SocketCanOptions {
-    std::vector<CanFilter> filters;  ///< empty: receive everything
-    bool loopback = true;            ///< other sockets on this host see our frames
-    bool receive_own = false;        ///< we see our own frames
-    bool error_frames = true;        ///< receive and decode error frames
-    bool fd = false;                 ///< enable CAN FD frames
-    bool timestamps = true;          ///< kernel receive timestamps
-    int rcvbuf_bytes = 0;            ///< SO_RCVBUF(FORCE) if > 0
-    int sndbuf_bytes = 0;            ///< SO_SNDBUF if > 0
+    std::vector<CanFilter> filters;       ///< empty: receive everything
+    bool loopback = true;                 ///< other sockets on this host see our frames
+    bool receive_own = false;             ///< we see our own frames
+    bool error_frames = true;             ///< receive and decode error frames
+    bool fd = false;                      ///< enable CAN FD frames
+    bool timestamps = true;               ///< kernel receive timestamps
+    int rcvbuf_bytes = 0;                 ///< SO_RCVBUF(FORCE) if > 0
+    int sndbuf_bytes = 0;                 ///< SO_SNDBUF if > 0
     std::size_t tx_queue_capacity = 4096; ///< frames held while the kernel is full
     Duration tx_retry = std::chrono::microseconds(200); ///< retry period when EPOLLOUT is silent
 };

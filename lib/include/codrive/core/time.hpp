@@ -47,6 +47,8 @@ private:
 };
 
 /// Milliseconds as a double, for messages.
-inline double to_ms(Duration d) { return std::chrono::duration<double, std::milli>(d).count(); }
+inline double to_ms(Duration d) {
+    return std::chrono::duration<double, std::milli>(d).count();
+}
 
 } // namespace codrive

@@ -20,10 +20,10 @@ class VirtualNetwork;
 /// What the fault injector does with one frame.
 struct FaultAction {
     bool drop = false;
-    Duration delay{0};          ///< extra delivery delay (reorders against later frames)
-    int duplicates = 0;         ///< extra copies delivered
-    bool corrupt = false;       ///< flip one payload bit (the CRC would catch it on a real bus;
-                                ///< here it models corruption that slips past, for SDO-CRC tests)
+    Duration delay{0};    ///< extra delivery delay (reorders against later frames)
+    int duplicates = 0;   ///< extra copies delivered
+    bool corrupt = false; ///< flip one payload bit (the CRC would catch it on a real bus;
+                          ///< here it models corruption that slips past, for SDO-CRC tests)
     static FaultAction none() { return {}; }
 };
 

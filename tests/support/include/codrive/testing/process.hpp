@@ -41,8 +41,8 @@ struct RunResult {
     int status = -1;
     std::string output;
 };
-RunResult run(std::vector<std::string> argv, std::chrono::milliseconds timeout =
-                                                 std::chrono::milliseconds(30000));
+RunResult run(std::vector<std::string> argv,
+              std::chrono::milliseconds timeout = std::chrono::milliseconds(30000));
 
 /// Path of a built tool: build_dir/tools/<name> etc.
 std::string tool_path(const std::string& name);

@@ -1,0 +1,28 @@
+#!/usr/bin/env bash
+# SPDX-License-Identifier: Apache-2.0
+# Installs every Debian 12 package codrive needs to build, test and run its demo (idempotent).
+set -euo pipefail
+
+packages=(
+    build-essential cmake ninja-build pkg-config git
+    libsocketcan-dev libfmt-dev libeigen3-dev libgtest-dev libgmock-dev libbenchmark-dev
+    libcli11-dev libexpected-dev libyaml-cpp-dev nlohmann-json3-dev
+    can-utils iproute2 kmod user-mode-linux tshark
+    clang-14 clang-format-14 libclang-rt-14-dev valgrind python3
+)
+
+missing=()
+for p in "${packages[@]}"; do
+    dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if ((${#missing[@]} == 0)); then
+    exit 0
+fi
+if [[ $(id -u) -ne 0 ]]; then
+    echo "install-deps: missing packages: ${missing[*]} (run as root, or: sudo apt-get install ${missing[*]})" >&2
+    exit 1
+fi
+echo "install-deps: installing ${missing[*]}" >&2
+export DEBIAN_FRONTEND=noninteractive
+apt-get update -q >/dev/null
+apt-get install -y -q --no-install-recommends "${missing[@]}" >/dev/null

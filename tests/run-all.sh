@@ -1,0 +1,116 @@
+#!/usr/bin/env bash
+# SPDX-License-Identifier: Apache-2.0
+# Builds and runs every codrive test: unit and virtual-bus tests under ASan+UBSan on the host,
+# vcan tests (real sockets, real processes) under UBSan in vcan (natively or in a UML guest),
+# EtherCAT tests on veth. Prints how many tests of each suite ran; fails if a suite that exists
+# ran none.
+#   CODRIVE_SKIP_VCAN=1   skip the vcan suite explicitly (it is reported as skipped)
+#   CODRIVE_JOBS=N        parallel build jobs (default: nproc)
+set -euo pipefail
+cd "$(dirname "$0")/.."
+root=$PWD
+jobs=${CODRIVE_JOBS:-$(nproc)}
+
+bash .ci/install-deps.sh
+
+configure_build() { # dir sanitize
+    local dir=$1 sanitize=$2
+    cmake -S "$root" -B "$dir" -G Ninja -DCMAKE_BUILD_TYPE=Debug -DCODRIVE_SANITIZE="$sanitize" \
+        -DCODRIVE_BUILD_BENCH=OFF >"$dir.configure.log" 2>&1 || {
+        cat "$dir.configure.log"
+        exit 1
+    }
+    ninja -C "$dir" -j "$jobs"
+}
+
+declare -A passed failed
+total_passed=0
+total_failed=0
+
+# run_suite NAME CMD... : runs gtest binaries, adds up "[  PASSED  ] N" and "N FAILED TEST".
+count_gtest() { # label logfile
+    local label=$1 log=$2 p f
+    p=$(grep -E '^\[  PASSED  \] [0-9]+ test' "$log" | awk '{s+=$4} END {print s+0}')
+    f=$(grep -E '^\[  FAILED  \] [0-9]+ test' "$log" | awk '{s+=$4} END {print s+0}')
+    passed[$label]=$(( ${passed[$label]:-0} + p ))
+    failed[$label]=$(( ${failed[$label]:-0} + f ))
+}
+
+status=0
+echo "== build: ASan+UBSan (unit and virtual-bus tests)"
+configure_build "$root/build-asan" "address,undefined"
+echo "== unit tests (ASan+UBSan)"
+for exe in "$root"/build-asan/tests/unit_* "$root"/build-asan/tests/integration_tests; do
+    [[ -x $exe ]] || continue
+    log=$(mktemp)
+    set +e
+    "$exe" >"$log" 2>&1
+    rc=$?
+    set -e
+    if [[ $rc -ne 0 ]]; then
+        cat "$log"
+        status=1
+    else
+        grep -E '^\[  PASSED  \]' "$log" | sed "s|^|$(basename "$exe"): |"
+    fi
+    count_gtest unit "$log"
+    rm -f "$log"
+done
+
+echo "== build: UBSan (vcan and EtherCAT tests; ASan cannot run in a UML guest)"
+configure_build "$root/build-ubsan" "undefined"
+
+if [[ ${CODRIVE_SKIP_VCAN:-0} == 1 ]]; then
+    echo "== vcan tests: SKIPPED (CODRIVE_SKIP_VCAN=1)"
+    vcan_skipped=1
+else
+    vcan_skipped=0
+    echo "== vcan tests (real SocketCAN)"
+    log=$(mktemp)
+    set +e
+    bash vcan-scripts/run-in-vcan.sh -v "$root/build-ubsan/tests/vcan_tests" 2>&1 | tee "$log"
+    rc=${PIPESTATUS[0]}
+    set -e
+    [[ $rc -eq 0 ]] || status=1
+    count_gtest vcan "$log"
+    rm -f "$log"
+fi
+
+if [[ -x $root/build-ubsan/tests/ethercat_tests ]]; then
+    echo "== EtherCAT tests (veth)"
+    log=$(mktemp)
+    set +e
+    "$root/build-ubsan/tests/ethercat_tests" 2>&1 | tee "$log"
+    rc=${PIPESTATUS[0]}
+    set -e
+    [[ $rc -eq 0 ]] || status=1
+    count_gtest ethercat "$log"
+    rm -f "$log"
+    ethercat_expected=1
+else
+    ethercat_expected=0
+fi
+
+echo
+echo "== summary"
+for suite in unit vcan ethercat; do
+    p=${passed[$suite]:-0}
+    f=${failed[$suite]:-0}
+    total_passed=$((total_passed + p))
+    total_failed=$((total_failed + f))
+    note=""
+    if [[ $suite == vcan && $vcan_skipped == 1 ]]; then
+        note=" (skipped on request)"
+    elif [[ $suite == ethercat && $ethercat_expected == 0 ]]; then
+        note=" (no EtherCAT suite built yet)"
+    elif ((p + f == 0)); then
+        note=" (ERROR: the suite ran no test)"
+        status=1
+    fi
+    printf '%-9s %5d passed, %d failed%s\n' "$suite:" "$p" "$f" "$note"
+done
+if ((total_failed > 0)); then
+    status=1
+fi
+echo "${total_passed} passed, ${total_failed} failed"
+exit $status

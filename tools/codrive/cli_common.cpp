@@ -1,0 +1,59 @@
+// SPDX-License-Identifier: Apache-2.0
+// Shared helpers for `codrive` subcommands.
+#include "cli_common.hpp"
+
+#include <codrive/core/value.hpp>
+
+#include <fmt/format.h>
+#include <unistd.h>
+
+namespace codrive::cli {
+
+std::string describe_open_error(const std::string& ifname, const std::error_code& ec) {
+    std::string hint;
+    if (ec == CoreErrc::NoSocketCan) {
+        hint = " (load the can and can-raw modules, or run through vcan-scripts/run-in-vcan.sh)";
+    } else if (ec == CoreErrc::NoSuchInterface) {
+        hint = " (create it with vcan-scripts/vcan-up.sh or check `ip link`)";
+    } else if (ec == CoreErrc::InterfaceDown) {
+        hint = fmt::format(" (bring it up: ip link set {} up)", ifname);
+    }
+    return fmt::format("cannot open {}: {}{}", ifname, ec.message(), hint);
+}
+
+std::optional<BusSession> open_bus(const std::string& ifname, SocketCanOptions options) {
+    auto loop = EventLoop::create();
+    if (!loop) {
+        fmt::print(stderr, "codrive: cannot create event loop: {}\n", loop.error().message());
+        return std::nullopt;
+    }
+    auto bus = SocketCanBus::open(ifname, std::move(options));
+    if (!bus) {
+        fmt::print(stderr, "codrive: {}\n", describe_open_error(ifname, bus.error()));
+        return std::nullopt;
+    }
+    if (auto r = (*bus)->attach(**loop); !r) {
+        fmt::print(stderr, "codrive: cannot watch {}: {}\n", ifname, r.error().message());
+        return std::nullopt;
+    }
+    return BusSession{std::move(*loop), std::move(*bus)};
+}
+
+std::optional<unsigned> parse_node(const std::string& text, bool allow_all) {
+    if (allow_all && text == "all") {
+        return 0U;
+    }
+    auto v = parse_uint(text);
+    if (!v || *v < 1 || *v > 127) {
+        fmt::print(stderr, "codrive: node id must be 1..127{}, not '{}'\n",
+                   allow_all ? " or 'all'" : "", text);
+        return std::nullopt;
+    }
+    return static_cast<unsigned>(*v);
+}
+
+bool stderr_is_tty() {
+    return ::isatty(2) != 0;
+}
+
+} // namespace codrive::cli

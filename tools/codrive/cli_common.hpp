@@ -1,0 +1,34 @@
+// SPDX-License-Identifier: Apache-2.0
+// Helpers shared by `codrive` subcommands: open a bus with a readable error, parse ids.
+#pragma once
+
+#include <codrive/core/event_loop.hpp>
+#include <codrive/core/socket_can_bus.hpp>
+
+#include <memory>
+#include <optional>
+#include <string>
+
+namespace codrive::cli {
+
+/// An opened CAN interface attached to its own event loop.
+struct BusSession {
+    std::unique_ptr<EventLoop> loop;
+    std::unique_ptr<SocketCanBus> bus;
+};
+
+/// Opens `ifname` and attaches it to a new loop. On failure prints one sentence to stderr
+/// ("codrive: cannot open vcan0: no such network interface (is it up? see `ip link`)") and
+/// returns nullopt.
+std::optional<BusSession> open_bus(const std::string& ifname, SocketCanOptions options = {});
+
+/// A sentence explaining why a CAN interface could not be opened.
+std::string describe_open_error(const std::string& ifname, const std::error_code& ec);
+
+/// Parses a node id "1".."127" (decimal or 0x hex); prints an error and returns nullopt.
+std::optional<unsigned> parse_node(const std::string& text, bool allow_all = false);
+
+/// True if stderr is a terminal (progress bars, colours).
+bool stderr_is_tty();
+
+} // namespace codrive::cli
