@@ -30,8 +30,8 @@ total_failed=0
 # run_suite NAME CMD... : runs gtest binaries, adds up "[  PASSED  ] N" and "N FAILED TEST".
 count_gtest() { # label logfile
     local label=$1 log=$2 p f
-    p=$(grep -E '^\[  PASSED  \] [0-9]+ test' "$log" | awk '{s+=$4} END {print s+0}')
-    f=$(grep -E '^\[  FAILED  \] [0-9]+ test' "$log" | awk '{s+=$4} END {print s+0}')
+    p=$(awk '/^\[  PASSED  \] [0-9]+ test/ {s += $4} END {print s + 0}' "$log")
+    f=$(awk '/^\[  FAILED  \] [0-9]+ test/ {s += $4} END {print s + 0}' "$log")
     passed[$label]=$(( ${passed[$label]:-0} + p ))
     failed[$label]=$(( ${failed[$label]:-0} + f ))
 }
@@ -51,7 +51,7 @@ for exe in "$root"/build-asan/tests/unit_* "$root"/build-asan/tests/integration_
         cat "$log"
         status=1
     else
-        grep -E '^\[  PASSED  \]' "$log" | sed "s|^|$(basename "$exe"): |"
+        grep -E '^\[  PASSED  \]' "$log" | sed "s|^|$(basename "$exe"): |" || true
     fi
     count_gtest unit "$log"
     rm -f "$log"
