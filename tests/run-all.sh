@@ -91,9 +91,21 @@ else
     ethercat_expected=0
 fi
 
+echo "== install: find_package(codrive) and pkg-config consumers of an installed tree"
+log=$(mktemp)
+set +e
+bash tests/install/run.sh "$root/build-install" 2>&1 | tee "$log"
+rc=${PIPESTATUS[0]}
+set -e
+[[ $rc -eq 0 ]] || status=1
+passed[install]=$(awk '/^install: [0-9]+ passed/ {print $2}' "$log")
+failed[install]=$(awk '/^install: [0-9]+ passed/ {print $4}' "$log")
+[[ -n ${passed[install]} ]] || failed[install]=1
+rm -f "$log"
+
 echo
 echo "== summary"
-for suite in unit vcan ethercat; do
+for suite in unit vcan ethercat install; do
     p=${passed[$suite]:-0}
     f=${failed[$suite]:-0}
     total_passed=$((total_passed + p))
