@@ -2,8 +2,12 @@
 # Helper functions shared by every module: warnings, sanitizers, library and test targets.
 
 function(codrive_set_warnings target)
-    target_compile_options(${target} PRIVATE -Wall -Wextra -Wpedantic -Wconversion -Wshadow
-)
+    target_compile_options(${target} PRIVATE -Wall -Wextra -Wpedantic -Wconversion -Wshadow)
+    # GCC 12 reports -Wrestrict false positives inside libstdc++ string code at -O3
+    # (GCC bug 105329); they are not about our code.
+    if(CMAKE_CXX_COMPILER_ID STREQUAL "GNU")
+        target_compile_options(${target} PRIVATE -Wno-restrict)
+    endif()
     if(CODRIVE_WERROR)
         target_compile_options(${target} PRIVATE -Werror)
     endif()
@@ -22,6 +26,10 @@ function(codrive_add_module)
     cmake_parse_arguments(ARG "" "NAME" "DEPS;PRIVATE_DEPS" ${ARGN})
     file(GLOB_RECURSE sources CONFIGURE_DEPENDS ${CMAKE_CURRENT_SOURCE_DIR}/src/*.cpp)
     set(target codrive_${ARG_NAME})
+    if(NOT sources)
+        message(STATUS "codrive: module ${ARG_NAME} has no sources yet; skipped")
+        return()
+    endif()
     add_library(${target} STATIC ${sources})
     add_library(codrive::${ARG_NAME} ALIAS ${target})
     set_target_properties(${target} PROPERTIES EXPORT_NAME ${ARG_NAME}
