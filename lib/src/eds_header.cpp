@@ -26,8 +26,8 @@ std::optional<std::uint64_t> read_uint(std::string_view text, std::uint64_t max,
         return std::nullopt;
     }
     if (it.value->negative || it.value->magnitude > max) {
-        findings.error(line, fmt::format("{} '{}' is out of range (0..{})", what,
-                                         text.substr(0, 40), max));
+        findings.error(
+            line, fmt::format("{} '{}' is out of range (0..{})", what, text.substr(0, 40), max));
         return std::nullopt;
     }
     return it.value->magnitude;
@@ -39,7 +39,8 @@ std::optional<std::uint64_t> get_uint(Section& s, std::string_view key, std::uin
     if (e == nullptr || e->value.empty()) {
         return std::nullopt;
     }
-    return read_uint(e->value, max, e->line, fmt::format("[{}] {}", s.name, key), findings);
+    return read_uint(number_text(s, *e, findings), max, e->line,
+                     fmt::format("[{}] {}", s.name, key), findings);
 }
 
 std::optional<bool> get_bool(Section& s, std::string_view key, Findings& findings) {
@@ -47,19 +48,18 @@ std::optional<bool> get_bool(Section& s, std::string_view key, Findings& finding
     if (e == nullptr || e->value.empty()) {
         return std::nullopt;
     }
-    if (iequals(e->value, "true") || iequals(e->value, "false")) {
-        findings.warning(e->line, fmt::format("[{}] {}={} should be 1 or 0", s.name, key,
-                                              e->value));
-        return iequals(e->value, "true");
+    const std::string_view text = number_text(s, *e, findings);
+    if (iequals(text, "true") || iequals(text, "false")) {
+        findings.warning(e->line, fmt::format("[{}] {}={} should be 1 or 0", s.name, key, text));
+        return iequals(text, "true");
     }
-    auto v = read_uint(e->value, 0xFFFFFFFF, e->line, fmt::format("[{}] {}", s.name, key),
-                       findings);
+    auto v = read_uint(text, 0xFFFFFFFF, e->line, fmt::format("[{}] {}", s.name, key), findings);
     if (!v) {
         return std::nullopt;
     }
     if (*v > 1) {
-        findings.warning(e->line, fmt::format("[{}] {}={} should be 1 or 0; read as 1", s.name,
-                                              key, e->value));
+        findings.warning(e->line,
+                         fmt::format("[{}] {}={} should be 1 or 0; read as 1", s.name, key, text));
     }
     return *v != 0;
 }
@@ -133,8 +133,7 @@ void parse_device_info(Section& s, DeviceInfo& di, Findings& f) {
         }
         e.used = true;
         const std::string what = fmt::format("[{}] {}", s.name, e.key);
-        auto rate = read_uint(e.key.substr(kBaud.size()), 1'000'000, e.line, what + " bit rate",
-                              f);
+        auto rate = read_uint(e.key.substr(kBaud.size()), 1'000'000, e.line, what + " bit rate", f);
         auto on = read_uint(e.value, 0xFFFFFFFF, e.line, what, f);
         if (rate && on && *on != 0) {
             di.baud_rates.push_back(static_cast<unsigned>(*rate));
@@ -163,14 +162,20 @@ void parse_dummy_usage(Section& s, DummyUsage& du, Findings& f) {
 
 void parse_comments(Section& s, std::vector<std::string>& comments, Findings& f) {
     const auto lines = get_uint(s, "Lines", 0xFFFF, f).value_or(0);
+    std::uint64_t missing = 0;
+    std::uint64_t first_missing = 0;
     for (std::uint64_t i = 1; i <= lines; ++i) {
         Entry* e = s.find(fmt::format("Line{}", i));
         if (e == nullptr) {
-            f.warning(s.line, fmt::format("[{}] Lines={} but Line{} is missing", s.name, lines, i));
-            comments.emplace_back();
+            first_missing = missing++ == 0 ? i : first_missing;
             continue;
         }
         comments.push_back(e->value);
+    }
+    if (missing != 0) {
+        f.warning(s.line, fmt::format("[{}] Lines={} but {} of the lines are missing (first: "
+                                      "Line{}); the others are kept",
+                                      s.name, lines, missing, first_missing));
     }
 }
 

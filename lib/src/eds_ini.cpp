@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
-// Tokenizer for the INI syntax of EDS/DCF files (CiA 306 §4.1): sections, keys, comments.
+// Tokenizer for the INI syntax of EDS/DCF files: sections, keys, comments.
 #include "eds_internal.hpp"
 
 #include <fmt/format.h>
@@ -40,13 +40,27 @@ std::string_view trim(std::string_view s) {
 }
 
 Entry* Section::find(std::string_view key) {
-    for (auto& e : entries) {
-        if (iequals(e.key, key)) {
-            e.used = true;
-            return &e;
-        }
+    auto it = keys.find(to_lower(key));
+    if (it == keys.end()) {
+        return nullptr;
     }
-    return nullptr;
+    Entry& e = entries[it->second];
+    e.used = true;
+    return &e;
+}
+
+std::string_view number_text(const Section& s, Entry& e, Findings& findings) {
+    const std::size_t semi = e.value.find(';');
+    if (semi == std::string::npos) {
+        return e.value;
+    }
+    if (!e.comment_reported) {
+        e.comment_reported = true;
+        findings.warning(e.line, fmt::format("[{}] {}: trailing comment '{}' ignored (CiA 306 "
+                                             "comments take a whole line)",
+                                             s.name, e.key, e.value.substr(semi, 40)));
+    }
+    return trim(std::string_view(e.value).substr(0, semi));
 }
 
 Section* IniFile::find(std::string_view lower_name) {
@@ -78,6 +92,7 @@ IniFile tokenize(std::string_view text, Findings& findings) {
         text.remove_prefix(3);
     }
     Section* current = nullptr;
+    bool in_bad_section = false; // keys after a malformed header were already reported with it
     std::size_t line_no = 0;
     std::size_t pos = 0;
     while (pos < text.size()) {
@@ -94,7 +109,7 @@ IniFile tokenize(std::string_view text, Findings& findings) {
         ++line_no;
         const std::string_view line = trim(raw);
         if (line.empty() || line.front() == ';') {
-            continue; // CiA 306 §4.1: comment lines start with ';'
+            continue; // CiA 306: comment lines start with ';'
         }
         if (line.front() == '[') {
             if (line.back() != ']') {
@@ -102,14 +117,17 @@ IniFile tokenize(std::string_view text, Findings& findings) {
                                                     "']'); its keys are ignored",
                                                     excerpt(line)));
                 current = nullptr;
+                in_bad_section = true;
                 continue;
             }
             const std::string_view name = trim(line.substr(1, line.size() - 2));
             if (name.empty()) {
                 findings.error(line_no, "empty section name '[]'; its keys are ignored");
                 current = nullptr;
+                in_bad_section = true;
                 continue;
             }
+            in_bad_section = false;
             std::string lower = to_lower(name);
             auto it = ini.by_name.find(lower);
             if (it != ini.by_name.end()) {
@@ -121,7 +139,7 @@ IniFile tokenize(std::string_view text, Findings& findings) {
                 continue;
             }
             ini.by_name.emplace(lower, ini.sections.size());
-            ini.sections.push_back(Section{std::string(name), std::move(lower), line_no, {}});
+            ini.sections.push_back(Section{std::string(name), std::move(lower), line_no, {}, {}});
             current = &ini.sections.back();
             continue;
         }
@@ -139,30 +157,29 @@ IniFile tokenize(std::string_view text, Findings& findings) {
             continue;
         }
         if (current == nullptr) {
+            if (in_bad_section) {
+                continue;
+            }
             findings.error(line_no, fmt::format("key '{}' is outside any section", excerpt(key)));
             continue;
         }
-        const Entry* first = nullptr;
-        for (const auto& e : current->entries) {
-            if (iequals(e.key, key)) {
-                first = &e;
-                break;
-            }
-        }
-        if (first != nullptr) {
+        std::string lower_key = to_lower(key);
+        auto known = current->keys.find(lower_key);
+        if (known != current->keys.end()) {
+            const Entry* first = &current->entries[known->second];
             if (first->value == value) {
                 findings.warning(line_no, fmt::format("[{}] key '{}' repeated (first at line {})",
                                                       current->name, excerpt(key), first->line));
             } else {
-                findings.warning(line_no,
-                                 fmt::format("[{}] duplicate key '{}' (first at line {}); "
-                                             "keeping the first value '{}', ignoring '{}'",
-                                             current->name, excerpt(key), first->line,
-                                             excerpt(first->value), excerpt(value)));
+                findings.warning(line_no, fmt::format("[{}] duplicate key '{}' (first at line {}); "
+                                                      "keeping the first value '{}', ignoring '{}'",
+                                                      current->name, excerpt(key), first->line,
+                                                      excerpt(first->value), excerpt(value)));
             }
             continue;
         }
-        current->entries.push_back(Entry{std::string(key), std::string(value), line_no, false});
+        current->keys.emplace(std::move(lower_key), current->entries.size());
+        current->entries.push_back(Entry{std::string(key), std::string(value), line_no});
     }
     return ini;
 }

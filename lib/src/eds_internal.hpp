@@ -34,18 +34,20 @@ private:
 
 /// One `key=value` line.
 struct Entry {
-    std::string key; ///< as written (trimmed)
+    std::string key;   ///< as written (trimmed)
     std::string value; ///< trimmed
     std::size_t line = 0;
     bool used = false;
+    bool comment_reported = false;
 };
 
 /// One `[name]` section; duplicated sections are merged into the first.
 struct Section {
-    std::string name; ///< as written (trimmed)
+    std::string name;  ///< as written (trimmed)
     std::string lower; ///< lower-case name, for lookups
     std::size_t line = 0;
     std::vector<Entry> entries;
+    std::map<std::string, std::size_t> keys; ///< lower-case key → index in entries
 
     /// Case-insensitive key lookup; marks the entry used.
     [[nodiscard]] Entry* find(std::string_view key);
@@ -85,7 +87,7 @@ struct IntegerText {
 };
 
 /// Reads an integer expression: terms joined by + or -, each a number or `$NODEID`. Numbers are
-/// decimal, hex with 0x, or octal with a leading 0 (CiA 306 §4.6.3, as strtoul(…, 0) reads
+/// decimal, hex with 0x, or octal with a leading 0 (CiA 306, as strtoul(…, 0) reads
 /// them). `$NODEID` evaluates to `node` (0 when unknown).
 [[nodiscard]] IntegerText parse_integer(std::string_view text, std::optional<NodeId> node);
 
@@ -105,6 +107,10 @@ struct ValueText {
 [[nodiscard]] ValueText parse_value(DataType type, std::string_view text,
                                     std::optional<NodeId> node);
 
+/// The value of a number-like key without a trailing `; comment`. CiA 306 only knows whole-line
+/// comments, but vendor files put them after numbers; text keys keep their ';'. Warns once.
+[[nodiscard]] std::string_view number_text(const Section& s, Entry& e, Findings& findings);
+
 /// Reads an unsigned key (any number syntax of parse_integer, no $NODEID) up to `max`. Reports
 /// bad text and out-of-range values as errors naming the section and key. nullopt if absent,
 /// empty or bad.
@@ -118,6 +124,31 @@ struct ValueText {
                                                      Findings& findings);
 /// Reports keys of a section that nothing read, as infos.
 void report_unused(const Section& s, Findings& findings);
+
+/// The sections of a file sorted by what they describe.
+struct Catalog {
+    std::map<std::uint16_t, Section*> objects;
+    std::map<std::uint16_t, std::map<std::uint8_t, Section*>> subs;
+    std::map<std::uint16_t, Section*> values;    ///< [xxxxValue]
+    std::map<std::uint16_t, Section*> names;     ///< [xxxxName]
+    std::map<std::uint16_t, std::size_t> listed; ///< index → line in an object list
+};
+
+/// Sorts every section into the catalog by its name; reports sections codrive does not use.
+void catalog_sections(IniFile& ini, Catalog& cat, Findings& findings);
+/// Reads [MandatoryObjects], [OptionalObjects] and [ManufacturerObjects] into cat.listed.
+void parse_lists(IniFile& ini, Catalog& cat, Findings& findings);
+
+/// ObjectType of an object section (VAR when absent); nullopt (with an error) if invalid.
+[[nodiscard]] std::optional<ObjectCode> object_code(Section& s, Findings& findings);
+/// Reads a value key (DefaultValue, ParameterValue, LowLimit, HighLimit, [xxxxValue] entries)
+/// for `type`; nullopt with an error finding if it cannot be read.
+[[nodiscard]] std::optional<Value> value_key(Section& s, Entry& e, DataType type,
+                                             Findings& findings, std::optional<NodeId> node);
+/// Parses the keys describing one value (a VAR object section, a sub-object section, or the
+/// template of a CompactSubObj array). False (with an error) when it cannot be represented.
+bool parse_sub(Section& s, SubObject& sub, bool read_name, std::optional<DataType> fallback,
+               Findings& findings, std::optional<NodeId> node);
 
 /// Parses the DeviceInfo/FileInfo/DummyUsage/Comments/DeviceComissioning sections.
 void parse_header_sections(IniFile& ini, DeviceDescription& desc, Findings& findings);

@@ -25,7 +25,9 @@ int digit_value(char c) {
     return -1;
 }
 
-bool is_space(char c) { return std::isspace(static_cast<unsigned char>(c)) != 0; }
+bool is_space(char c) {
+    return std::isspace(static_cast<unsigned char>(c)) != 0;
+}
 
 std::string printable(std::string_view s) {
     std::string out;
@@ -250,7 +252,7 @@ ValueText time_value(DataType type, std::string_view text, std::optional<NodeId>
         out.value = std::move(v);
         return out;
     }
-    // "days ms", as lely writes it (CiA 301 §7.1.6.5: ms in 28 bits, then days since 1984).
+    // "days ms", as lely writes it (CiA 301 TIME_OF_DAY: ms in 28 bits, then days since 1984).
     IntegerText days = parse_integer(text.substr(0, sp), node);
     IntegerText ms = parse_integer(trim(text.substr(sp)), node);
     if (!days.value || !ms.value || days.value->negative || ms.value->negative ||
@@ -337,8 +339,8 @@ IntegerText parse_integer(std::string_view text, std::optional<NodeId> node) {
         bool negative = false;
         if (terms > 0) {
             if (i >= s.size() || (s[i] != '+' && s[i] != '-')) {
-                out.error = fmt::format("has '{}' where + or - was expected",
-                                        printable(s.substr(i, 1)));
+                out.error =
+                    fmt::format("has '{}' where + or - was expected", printable(s.substr(i, 1)));
                 return out;
             }
             negative = s[i] == '-';

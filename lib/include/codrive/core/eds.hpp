@@ -34,7 +34,7 @@ struct EdsFinding {
 /// "FILE:LINE: severity: message" (the format of compilers, so editors can jump to it).
 [[nodiscard]] std::string format_finding(const EdsFinding& f);
 
-/// [FileInfo] (CiA 306 §4.2), kept as written.
+/// [FileInfo], kept as written.
 struct FileInfo {
     std::string file_name;
     std::string file_version;
@@ -52,7 +52,7 @@ struct FileInfo {
     friend bool operator==(const FileInfo&, const FileInfo&) = default;
 };
 
-/// [DeviceInfo] (CiA 306 §4.3).
+/// [DeviceInfo].
 struct DeviceInfo {
     std::string vendor_name;
     std::uint32_t vendor_number = 0;
@@ -74,7 +74,7 @@ struct DeviceInfo {
     friend bool operator==(const DeviceInfo&, const DeviceInfo&) = default;
 };
 
-/// [DummyUsage] (CiA 306 §4.4): which data types may be mapped as dummy entries into RPDOs.
+/// [DummyUsage]: which data types may be mapped as dummy entries into RPDOs.
 struct DummyUsage {
     std::map<std::uint16_t, bool> entries; ///< data type index → DummyXXXX value
 
@@ -85,7 +85,7 @@ struct DummyUsage {
     friend bool operator==(const DummyUsage&, const DummyUsage&) = default;
 };
 
-/// DCF [DeviceComissioning] (CiA 306 §4.7.2; the spec spells it with one "m").
+/// DCF [DeviceComissioning] (CiA 306; the spec spells it with one "m").
 struct DeviceCommissioning {
     std::optional<NodeId> node_id;
     std::optional<std::string> node_name;
