@@ -24,3 +24,15 @@ foreach(t IN LISTS exported)
 endforeach()
 configure_file(cmake/codrive.pc.in ${CMAKE_CURRENT_BINARY_DIR}/codrive.pc @ONLY)
 install(FILES ${CMAKE_CURRENT_BINARY_DIR}/codrive.pc DESTINATION ${CMAKE_INSTALL_LIBDIR}/pkgconfig)
+
+# A Debian package of the libraries, headers, tools and CMake package: `cpack -G DEB`.
+set(CPACK_GENERATOR "DEB")
+set(CPACK_PACKAGE_NAME "codrive")
+set(CPACK_PACKAGE_VENDOR "codrive")
+set(CPACK_PACKAGE_CONTACT "codrive developers <codrive@localhost>")
+set(CPACK_PACKAGE_DESCRIPTION_SUMMARY "CANopen and EtherCAT master stack for CiA 402 drives")
+set(CPACK_DEBIAN_PACKAGE_DEPENDS
+    "libsocketcan-dev, libfmt-dev, libexpected-dev, libyaml-cpp-dev, libeigen3-dev")
+set(CPACK_DEBIAN_FILE_NAME DEB-DEFAULT)
+set(CPACK_PACKAGING_INSTALL_PREFIX "/usr")
+include(CPack)

@@ -1,34 +1,27 @@
 #!/usr/bin/env bash
 # SPDX-License-Identifier: Apache-2.0
-# The demo itself, run where vcan exists: codrive processes talking over vcan0.
+# The demo itself, run where vcan exists: simulated drives (an AKD2G with two axes and a
+# DS-BVS) in one process, the controller demo in another, talking CANopen over vcan0.
 set -euo pipefail
 build=${1:?usage: demo-guest.sh BUILD_DIR}
-codrive=$build/tools/codrive
+here=$(cd "$(dirname "$0")" && pwd)
+sim_log=$(mktemp)
 pids=()
 cleanup() { for p in "${pids[@]}"; do kill "$p" 2>/dev/null || true; done; }
 trap cleanup EXIT
 
-step() { printf '\n\033[1m== %s\033[0m\n' "$*"; }
-
-step "interface"
-"$codrive" bus info -i vcan0
-
-step "two codrive processes exchange 10,000 numbered frames on vcan0 (none may be lost)"
-out=$(mktemp)
-"$codrive" bus sink -i vcan0 --count 10000 >"$out" 2>&1 &
+printf '\n\033[1m== simulated drives on vcan0: node 1 AKD2G (2 axes), node 2 DS-BVS\033[0m\n'
+"$build/tools/codrive-sim" -i vcan0 --node 1:akd2g --node 2:ds-bvs >"$sim_log" 2>&1 &
 pids+=($!)
-for _ in $(seq 100); do grep -q ready "$out" && break; sleep 0.05; done
-"$codrive" bus stream -i vcan0 --count 10000
-wait "${pids[-1]}"
-cat "$out"
+for _ in $(seq 100); do
+    [[ $(grep -c ready "$sim_log") -ge 2 ]] && break
+    sleep 0.05
+done
+cat "$sim_log"
 
-if [[ -x $build/tools/codrive ]] && "$codrive" sdo --help >/dev/null 2>&1; then
-    step "SDO: codrive sdo serve (node 5) and codrive sdo read/write in another process"
-    "$codrive" sdo serve -i vcan0 -n 5 >"$out" 2>&1 &
-    pids+=($!)
-    sleep 0.3
-    "$codrive" sdo read -i vcan0 -n 5 0x1008:0 --type str
-    "$codrive" sdo read -i vcan0 -n 5 0x1018:1 --type u32
-fi
+printf '\n\033[1m== codrive scan: who is on the bus\033[0m\n'
+"$build/tools/codrive" scan -i vcan0
 
-step "demo finished"
+status=0
+"$build/examples/codrive-demo" "$here/demo-bus.yml" || status=$?
+exit $status

@@ -1,0 +1,140 @@
+// SPDX-License-Identifier: Apache-2.0
+// codrive::controller::Controller — a bus file (or BusConfig) in; booted, PDO-configured nodes,
+// CiA 402 axes and an application callback on every SYNC out; safe shutdown on the way out.
+#pragma once
+
+#include <codrive/controller/realtime.hpp>
+
+#include <codrive/core/can_bus.hpp>
+#include <codrive/core/event_loop.hpp>
+#include <codrive/drives/axis.hpp>
+#include <codrive/master/boot_report.hpp>
+#include <codrive/master/bus_config.hpp>
+#include <codrive/master/events.hpp>
+
+#include <atomic>
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace codrive::master {
+class Master;
+}
+
+namespace codrive::controller {
+
+struct ControllerOptions {
+    RealtimeOptions realtime; ///< applied to the thread that calls run()/start()
+    Duration boot_timeout = seconds(15);
+    Duration shutdown_timeout = seconds(1);
+    /// Buses to use instead of opening the bus files' interfaces (tests: VirtualBus), by bus
+    /// index. The controller does not own them.
+    std::vector<ICanBus*> buses;
+};
+
+/// Passed to the cyclic callback on every SYNC.
+struct CycleInfo {
+    std::uint64_t cycle = 0;
+    TimePoint ideal{};  ///< when this SYNC was due
+    TimePoint actual{}; ///< when it went out
+};
+
+/// Where an axis lives.
+struct AxisRef {
+    std::size_t bus = 0;
+    NodeId node = 0;
+    unsigned number = 1;
+    drives::Axis* axis = nullptr;
+    std::string name; ///< "node 1 axis 2 (gantry)"
+};
+
+struct ControllerStats {
+    std::uint64_t cycles = 0;
+    std::uint64_t overruns = 0; ///< SYNC slots skipped because a cycle ran late
+    Duration period_error_p50{0};
+    Duration period_error_p99{0};
+    Duration period_error_max{0};
+    std::uint64_t tpdos_received = 0;
+    std::uint64_t tpdos_missing = 0;
+    std::uint64_t rpdos_sent = 0;
+    std::uint64_t sdo_completed = 0;
+    std::uint64_t sdo_failed = 0;
+    std::uint64_t bus_errors = 0; ///< error frames and bus events
+    [[nodiscard]] std::string to_string() const;
+};
+
+/// The controller. Single-threaded: everything (SYNC, PDOs, SDO, supervision, the cyclic
+/// callback and axis operations) runs on the thread that calls run()/run_for(); services are
+/// sans-I/O and non-blocking, so acyclic work never blocks a cycle. Axis operations must be
+/// started from that thread (in a callback, or via post()).
+class Controller {
+public:
+    using CycleCallback = std::function<void(const CycleInfo&)>;
+    using EventCallback = std::function<void(const std::string& text)>;
+
+    /// Loads a bus file; the error message lists every finding ("bus.yml:14: ...").
+    static tl::expected<std::unique_ptr<Controller>, std::string>
+    from_file(const std::string& path, ControllerOptions options = {});
+    /// From parsed bus configurations (one per bus).
+    static tl::expected<std::unique_ptr<Controller>, std::string>
+    create(std::vector<master::BusConfig> buses, ControllerOptions options = {});
+    ~Controller();
+    Controller(const Controller&) = delete;
+    Controller& operator=(const Controller&) = delete;
+
+    /// Opens the buses, boots and configures every node (boot reports available after), maps
+    /// PDOs, binds the axes and starts SYNC. Error: a sentence naming the nodes that failed, with
+    /// their boot report lines. Warnings (real-time settings) go to the event callback.
+    tl::expected<void, std::string> start();
+    /// Safe shutdown: every enabled axis gets quick stop then disable, every node NMT
+    /// pre-operational, SYNC stops. Returns within shutdown_timeout (+ a few ms). Idempotent.
+    void shutdown();
+
+    /// Runs the loop until request_stop() (signal-safe) or shutdown; then shuts down safely.
+    void run();
+    /// Runs the loop for a while / until pred is true.
+    void run_for(Duration d);
+    bool run_until(const std::function<bool()>& pred, Duration timeout);
+    /// Async-signal-safe: makes run() return after a safe shutdown.
+    void request_stop();
+    /// Installs SIGINT/SIGTERM handlers that call request_stop() on this controller.
+    void stop_on_signals();
+    /// Runs fn on the loop thread (thread-safe).
+    void post(std::function<void()> fn);
+
+    void set_cycle_callback(CycleCallback cb) { cycle_cb_ = std::move(cb); }
+    /// Master events, PDO events, boot reports and warnings, each a sentence.
+    void set_event_callback(EventCallback cb) { event_cb_ = std::move(cb); }
+
+    [[nodiscard]] const std::vector<master::BootReport>& boot_reports() const { return reports_; }
+    [[nodiscard]] drives::Axis* axis(NodeId node, unsigned number = 1, std::size_t bus = 0);
+    [[nodiscard]] std::vector<AxisRef> axes() const;
+    [[nodiscard]] master::Master& master(std::size_t bus = 0);
+    [[nodiscard]] ControllerStats stats() const;
+    [[nodiscard]] EventLoop& loop() { return *loop_; }
+    [[nodiscard]] bool running() const { return started_ && !stopped_; }
+    [[nodiscard]] const master::BusConfig& config(std::size_t bus = 0) const;
+
+private:
+    struct Bus;
+    struct Node;
+    Controller(std::vector<master::BusConfig> buses, ControllerOptions options);
+    void emit(const std::string& text);
+    void on_sync(Bus& bus, const CycleInfo& info);
+    tl::expected<void, std::string> open_bus(Bus& b, std::size_t index);
+    void setup_node(Bus& b, const master::NodeEntry& entry);
+    void after_boot(Bus& b, Node& n);
+
+    ControllerOptions options_;
+    std::unique_ptr<EventLoop> loop_;
+    std::vector<std::unique_ptr<Bus>> buses_;
+    std::vector<master::BootReport> reports_;
+    CycleCallback cycle_cb_;
+    EventCallback event_cb_;
+    std::atomic<bool> stop_requested_{false};
+    bool started_ = false;
+    bool stopped_ = false;
+};
+
+} // namespace codrive::controller

@@ -1,0 +1,23 @@
+// SPDX-License-Identifier: Apache-2.0
+// Real-time settings for the thread that runs the cyclic path: SCHED_FIFO, CPU affinity,
+// mlockall. Each one that cannot be applied gives a warning sentence, never a silent no-op.
+#pragma once
+
+#include <string>
+#include <vector>
+
+namespace codrive::controller {
+
+struct RealtimeOptions {
+    bool fifo = false;        ///< SCHED_FIFO
+    int priority = 80;        ///< 1..99
+    int cpu = -1;             ///< pin to this CPU; -1 = no affinity
+    bool lock_memory = false; ///< mlockall(MCL_CURRENT | MCL_FUTURE)
+};
+
+/// Applies the options to the calling thread. Returns one warning per setting that could not
+/// be applied, e.g. "cannot use SCHED_FIFO priority 80: not permitted (run as root, grant
+/// CAP_SYS_NICE, or raise rtprio in /etc/security/limits.conf); running with normal scheduling".
+std::vector<std::string> apply_realtime(const RealtimeOptions& options);
+
+} // namespace codrive::controller

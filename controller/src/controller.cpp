@@ -1,0 +1,527 @@
+// SPDX-License-Identifier: Apache-2.0
+// The controller: composes master (boot-up, supervision), PDO configuration and engine, SYNC
+// and CiA 402 axes per bus, and shuts everything down safely.
+#include <codrive/controller/controller.hpp>
+
+#include <codrive/core/socket_can_bus.hpp>
+#include <codrive/drives/canopen_transport.hpp>
+#include <codrive/drives/profile.hpp>
+#include <codrive/master/master.hpp>
+#include <codrive/pdo/configure.hpp>
+#include <codrive/pdo/master.hpp>
+#include <codrive/sync/producer.hpp>
+
+#include <algorithm>
+#include <csignal>
+#include <fmt/format.h>
+#include <map>
+
+namespace codrive::controller {
+
+struct Controller::Node {
+    master::NodeEntry entry;
+    const drives::Profile* profile = nullptr;
+    std::shared_ptr<ObjectDictionary> od; ///< the profile's dictionary, for PDO validation
+    std::vector<pdo::PdoConfig> pdos;
+    std::unique_ptr<pdo::PdoConfigurator> configurator;
+    std::unique_ptr<drives::CanopenTransport> transport;
+    std::vector<std::unique_ptr<drives::Axis>> axes;
+    bool image_bound = false;
+};
+
+struct Controller::Bus {
+    master::BusConfig config;
+    std::unique_ptr<SocketCanBus> socket;
+    ICanBus* bus = nullptr;
+    std::unique_ptr<master::Master> master;
+    std::unique_ptr<pdo::PdoMaster> pdo;
+    std::unique_ptr<sync::SyncProducer> sync;
+    std::map<NodeId, std::unique_ptr<Node>> nodes;
+    std::uint64_t bus_errors = 0;
+};
+
+namespace {
+
+Controller* g_signal_target = nullptr;
+
+extern "C" void on_stop_signal(int) {
+    if (g_signal_target != nullptr) {
+        g_signal_target->request_stop();
+    }
+}
+
+pdo::PdoConfig to_pdo(const master::PdoConfig& c) {
+    pdo::PdoConfig p;
+    p.dir = c.transmit ? PdoDir::Tpdo : PdoDir::Rpdo;
+    p.number = c.number;
+    p.enabled = c.enabled;
+    p.comm.can_id = c.cob_id.value_or(0);
+    p.comm.transmission_type = c.transmission;
+    p.comm.inhibit_time = c.inhibit_100us.value_or(0);
+    p.comm.event_timer = c.event_timer_ms.value_or(0);
+    p.comm.sync_start = c.sync_start.value_or(0);
+    for (const auto& e : c.map) {
+        p.mapping.push_back(pdo::MappingEntry{e.index, e.subindex, e.bits});
+    }
+    return p;
+}
+
+} // namespace
+
+std::string ControllerStats::to_string() const {
+    return fmt::format("cycles {}, overruns {}, SYNC error p50 {:.0f} us p99 {:.0f} us max {:.0f} "
+                       "us, TPDOs received {} missing {}, RPDOs sent {}, SDO ok {} failed {}, bus "
+                       "errors {}",
+                       cycles, overruns, to_ms(period_error_p50) * 1000,
+                       to_ms(period_error_p99) * 1000, to_ms(period_error_max) * 1000,
+                       tpdos_received, tpdos_missing, rpdos_sent, sdo_completed, sdo_failed,
+                       bus_errors);
+}
+
+Controller::Controller(std::vector<master::BusConfig> buses, ControllerOptions options)
+    : options_(std::move(options)) {
+    for (auto& c : buses) {
+        auto b = std::make_unique<Bus>();
+        b->config = std::move(c);
+        buses_.push_back(std::move(b));
+    }
+}
+
+Controller::~Controller() {
+    if (started_ && !stopped_) {
+        shutdown();
+    }
+    if (g_signal_target == this) {
+        g_signal_target = nullptr;
+    }
+    for (auto& b : buses_) {
+        for (auto& [id, n] : b->nodes) {
+            for (auto& a : n->axes) {
+                loop_->remove_timed(a.get());
+            }
+        }
+        if (b->master) {
+            loop_->remove_timed(b->master.get());
+        }
+        if (b->pdo) {
+            loop_->remove_timed(b->pdo.get());
+        }
+        if (b->sync) {
+            loop_->remove_timed(b->sync.get());
+        }
+    }
+}
+
+tl::expected<std::unique_ptr<Controller>, std::string>
+Controller::from_file(const std::string& path, ControllerOptions options) {
+    const auto resolver =
+        master::eds_resolver([](const master::NodeEntry& n,
+                                std::string& error) -> std::shared_ptr<const ObjectDictionary> {
+            const drives::Profile* p = drives::find_profile(n.profile);
+            if (p == nullptr) {
+                error = fmt::format("unknown profile `{}` (known: akd2g, ds-bvs, fio, generic)",
+                                    n.profile);
+                return nullptr;
+            }
+            auto od = std::make_shared<ObjectDictionary>();
+            drives::build_device_dictionary(*od, *p, p->max_axes);
+            return od;
+        });
+    auto r = master::load_bus_config(path, resolver);
+    if (!r.config) {
+        return tl::unexpected(r.to_string());
+    }
+    std::vector<master::BusConfig> v;
+    v.push_back(std::move(*r.config));
+    return create(std::move(v), std::move(options));
+}
+
+tl::expected<std::unique_ptr<Controller>, std::string>
+Controller::create(std::vector<master::BusConfig> buses, ControllerOptions options) {
+    if (buses.empty()) {
+        return tl::unexpected(std::string("no bus configured"));
+    }
+    std::unique_ptr<Controller> c(new Controller(std::move(buses), std::move(options)));
+    auto loop = EventLoop::create();
+    if (!loop) {
+        return tl::unexpected(
+            fmt::format("cannot create the event loop: {}", loop.error().message()));
+    }
+    c->loop_ = std::move(*loop);
+    return c;
+}
+
+void Controller::emit(const std::string& text) {
+    if (event_cb_) {
+        event_cb_(text);
+    }
+}
+
+tl::expected<void, std::string> Controller::open_bus(Bus& b, std::size_t index) {
+    if (index < options_.buses.size() && options_.buses[index] != nullptr) {
+        b.bus = options_.buses[index];
+        return {};
+    }
+    auto s = SocketCanBus::open(b.config.iface);
+    if (!s) {
+        return tl::unexpected(
+            fmt::format("cannot open {}: {}", b.config.iface, s.error().message()));
+    }
+    if (auto r = (*s)->attach(*loop_); !r) {
+        return tl::unexpected(
+            fmt::format("cannot watch {}: {}", b.config.iface, r.error().message()));
+    }
+    b.socket = std::move(*s);
+    b.bus = b.socket.get();
+    return {};
+}
+
+void Controller::setup_node(Bus& b, const master::NodeEntry& entry) {
+    auto n = std::make_unique<Node>();
+    n->entry = entry;
+    n->profile = entry.profile.empty() ? nullptr : drives::find_profile(entry.profile);
+    master::NodeConfig nc = master::to_node_config(entry);
+    if (n->profile != nullptr) {
+        n->od = std::make_shared<ObjectDictionary>();
+        drives::build_device_dictionary(*n->od, *n->profile, n->profile->max_axes);
+        b.master->emcy().set_text_provider(entry.id, drives::emcy_text_provider(*n->profile));
+        // Mode writes go to each axis's own 6060h (AKD2G axis 2: 6860h).
+        for (auto& w : nc.writes) {
+            for (const auto& ax : entry.axes) {
+                if (ax.mode && w.index == 0x6060 + 0x800 * (ax.axis - 1)) {
+                    w.index = n->profile->axis_index(0x6060, ax.axis);
+                }
+            }
+        }
+    }
+    for (const auto& p : entry.pdos) {
+        n->pdos.push_back(to_pdo(p));
+    }
+    if (n->pdos.empty() && n->profile != nullptr && !entry.axes.empty()) {
+        std::vector<drives::cia402::Mode> modes;
+        for (const auto& ax : entry.axes) {
+            modes.push_back(static_cast<drives::cia402::Mode>(ax.mode.value_or(8)));
+        }
+        if (auto configs = drives::mode_pdo_configs(*n->profile, modes); configs) {
+            n->pdos = std::move(*configs);
+        } else {
+            emit(fmt::format("node {}: no PDO layout for the configured modes ({}); axes will be "
+                             "polled over SDO",
+                             entry.id, configs.error().message));
+        }
+    }
+    Node* raw = n.get();
+    if (!n->pdos.empty()) {
+        nc.steps.push_back(master::NamedStep{
+            "PDO configuration", [this, raw](sdo::SdoClient& client, master::StepDone done) {
+                pdo::DeviceModel dm;
+                dm.od = raw->od.get();
+                if (raw->profile != nullptr) {
+                    dm.quirks = drives::pdo_quirks(*raw->profile);
+                }
+                raw->configurator = std::make_unique<pdo::PdoConfigurator>(client, dm);
+                const bool ok = raw->configurator->configure(
+                    raw->pdos, [done](pdo::PdoResult<pdo::ConfigureReport> r) {
+                        if (!r) {
+                            done(r.error().message);
+                        } else {
+                            done(std::nullopt);
+                        }
+                    });
+                if (!ok) {
+                    done(fmt::format("node {}: a PDO configuration is already running",
+                                     raw->entry.id));
+                }
+            }});
+    }
+    b.master->add_node(std::move(nc));
+    n->transport = std::make_unique<drives::CanopenTransport>(b.master->sdo().client(entry.id));
+    const unsigned axis_count = entry.axes.empty() ? (n->profile != nullptr ? 1U : 0U)
+                                                   : static_cast<unsigned>(entry.axes.size());
+    for (unsigned i = 0; i < axis_count; ++i) {
+        drives::AxisConfig ac;
+        ac.axis = entry.axes.empty() ? 1 : entry.axes[i].axis;
+        ac.profile = n->profile;
+        ac.name = fmt::format("node {} axis {}{}", entry.id, ac.axis,
+                              entry.name.empty() ? std::string() : " (" + entry.name + ")");
+        auto axis = std::make_unique<drives::Axis>(*n->transport, ac);
+        loop_->add_timed(axis.get());
+        n->axes.push_back(std::move(axis));
+    }
+    b.nodes[entry.id] = std::move(n);
+}
+
+void Controller::after_boot(Bus& b, Node& n) {
+    if (n.image_bound || n.pdos.empty()) {
+        return;
+    }
+    auto image = b.pdo->add_node(n.entry.id, n.pdos);
+    if (!image) {
+        emit(fmt::format("node {}: PDOs not used: {}", n.entry.id, image.error().message));
+        return;
+    }
+    n.transport->set_image(*image);
+    for (auto& a : n.axes) {
+        a->bind();
+    }
+    n.image_bound = true;
+}
+
+tl::expected<void, std::string> Controller::start() {
+    for (const auto& w : apply_realtime(options_.realtime)) {
+        emit("warning: " + w);
+    }
+    for (std::size_t i = 0; i < buses_.size(); ++i) {
+        Bus& b = *buses_[i];
+        if (auto r = open_bus(b, i); !r) {
+            return r;
+        }
+        master::MasterConfig mc;
+        mc.node_id = b.config.master_id;
+        mc.heartbeat_period = b.config.master_heartbeat;
+        b.master = std::make_unique<master::Master>(*b.bus, RealClock::instance(), mc);
+        b.pdo = std::make_unique<pdo::PdoMaster>(*b.bus);
+        b.sync = std::make_unique<sync::SyncProducer>(*b.bus);
+        Bus* bp = &b;
+        b.master->add_listener([bp](const Frame& f, TimePoint t) { bp->pdo->on_frame(f, t); });
+        b.master->set_event_handler([this, bp](const master::MasterEvent& e) {
+            if (e.kind == master::MasterEventKind::BusEvent) {
+                ++bp->bus_errors;
+            }
+            if (e.kind == master::MasterEventKind::Emcy) {
+                if (auto it = bp->nodes.find(e.node); it != bp->nodes.end()) {
+                    if (auto* rn = bp->master->node(e.node); rn != nullptr && rn->last_emcy()) {
+                        for (auto& a : it->second->axes) {
+                            a->note_error_code(rn->last_emcy()->message.error_code);
+                        }
+                    }
+                }
+            }
+            if (e.kind == master::MasterEventKind::Recovered) {
+                // A rebooted node had its PDO maps rewritten by the boot steps; keep the image.
+            }
+            emit(e.text);
+        });
+        b.pdo->set_event_handler([this](const pdo::PdoEvent& e) { emit(pdo::to_string(e)); });
+        loop_->add_timed(b.master.get());
+        loop_->add_timed(b.pdo.get());
+        for (const auto& entry : b.config.nodes) {
+            setup_node(b, entry);
+        }
+    }
+    // Boot every bus's nodes in parallel.
+    std::size_t pending = buses_.size();
+    bool all_ok = true;
+    for (auto& bptr : buses_) {
+        Bus* bp = bptr.get();
+        bp->master->boot_all(
+            [this, bp, &pending, &all_ok](const std::vector<master::BootReport>& r) {
+                for (const auto& rep : r) {
+                    reports_.push_back(rep);
+                    emit(rep.to_string());
+                    all_ok = all_ok && rep.ok;
+                    if (rep.ok) {
+                        if (auto it = bp->nodes.find(rep.node); it != bp->nodes.end()) {
+                            after_boot(*bp, *it->second);
+                        }
+                    }
+                }
+                --pending;
+            });
+    }
+    if (!loop_->run_until([&] { return pending == 0; }, options_.boot_timeout)) {
+        return tl::unexpected(
+            fmt::format("boot-up did not finish within {:.0f} ms", to_ms(options_.boot_timeout)));
+    }
+    if (!all_ok) {
+        std::string msg = "boot-up failed:";
+        for (const auto& r : reports_) {
+            if (!r.ok) {
+                msg += "\n  " + r.error();
+            }
+        }
+        return tl::unexpected(msg);
+    }
+    // Axes learn the state from the first TPDOs; SYNC drives everything from now on.
+    for (auto& bptr : buses_) {
+        Bus* bp = bptr.get();
+        if (bp->config.sync_period_us == 0) {
+            continue;
+        }
+        sync::SyncConfig sc;
+        sc.period = microseconds(bp->config.sync_period_us);
+        if (auto r = bp->sync->configure(sc); !r) {
+            return tl::unexpected(fmt::format("cannot configure SYNC on {}: {}", bp->config.iface,
+                                              r.error().message()));
+        }
+        bp->sync->set_hook([this, bp](const sync::SyncInfo& s) {
+            on_sync(*bp, CycleInfo{s.cycle, s.ideal, s.actual});
+        });
+        bp->sync->start(loop_->now() + milliseconds(1));
+        loop_->add_timed(bp->sync.get());
+    }
+    started_ = true;
+    return {};
+}
+
+void Controller::on_sync(Bus& b, const CycleInfo& info) {
+    // Inputs of the last cycle are in the image: let the application compute set-points, the
+    // axes turn them into controlwords and targets, then the RPDOs for this SYNC go out.
+    if (cycle_cb_) {
+        cycle_cb_(info);
+    }
+    for (auto& [id, n] : b.nodes) {
+        if (!n->image_bound) {
+            continue;
+        }
+        for (auto& a : n->axes) {
+            a->on_cycle(info.actual);
+        }
+    }
+    b.pdo->on_sync(info.cycle, info.actual);
+}
+
+void Controller::shutdown() {
+    if (!started_ || stopped_) {
+        return;
+    }
+    stopped_ = true;
+    std::size_t pending = 0;
+    for (auto& b : buses_) {
+        for (auto& [id, n] : b->nodes) {
+            for (auto& a : n->axes) {
+                drives::Axis* ax = a.get();
+                const auto s = ax->state();
+                if (s == drives::cia402::State::OperationEnabled) {
+                    ++pending;
+                    ax->cancel();
+                    ax->quick_stop(
+                        [this, ax, &pending](drives::DriveVoid r) {
+                            if (!r) {
+                                emit(fmt::format("{}: quick stop during shutdown failed: {}",
+                                                 ax->name(), r.error().message));
+                            }
+                            ax->disable([&pending](drives::DriveVoid) { --pending; });
+                        },
+                        options_.shutdown_timeout / 2);
+                } else if (s == drives::cia402::State::SwitchedOn ||
+                           s == drives::cia402::State::ReadyToSwitchOn ||
+                           s == drives::cia402::State::QuickStopActive) {
+                    ++pending;
+                    ax->cancel();
+                    ax->disable([&pending](drives::DriveVoid) { --pending; },
+                                options_.shutdown_timeout / 2);
+                }
+            }
+        }
+    }
+    loop_->run_until([&] { return pending == 0; }, options_.shutdown_timeout);
+    for (auto& b : buses_) {
+        (void)b->master->nmt().enter_pre_operational(0);
+        if (b->sync) {
+            b->sync->stop();
+        }
+    }
+    // Let the NMT frames and any queued frames leave.
+    (void)loop_->run_until(loop_->now() + milliseconds(20));
+}
+
+void Controller::run() {
+    while (!stop_requested_ && !stopped_) {
+        (void)loop_->poll_once(milliseconds(50));
+    }
+    shutdown();
+}
+
+void Controller::run_for(Duration d) {
+    const TimePoint end = loop_->now() + d;
+    while (!stop_requested_ && loop_->now() < end) {
+        (void)loop_->poll_once(std::min<Duration>(end - loop_->now(), milliseconds(50)));
+    }
+}
+
+bool Controller::run_until(const std::function<bool()>& pred, Duration timeout) {
+    return loop_->run_until([&] { return pred() || stop_requested_.load(); }, timeout) && pred();
+}
+
+void Controller::request_stop() {
+    stop_requested_ = true;
+    if (loop_) {
+        loop_->stop();
+    }
+}
+
+void Controller::stop_on_signals() {
+    g_signal_target = this;
+    std::signal(SIGINT, on_stop_signal);
+    std::signal(SIGTERM, on_stop_signal);
+}
+
+void Controller::post(std::function<void()> fn) {
+    loop_->post(std::move(fn));
+}
+
+drives::Axis* Controller::axis(NodeId node, unsigned number, std::size_t bus) {
+    if (bus >= buses_.size()) {
+        return nullptr;
+    }
+    auto it = buses_[bus]->nodes.find(node);
+    if (it == buses_[bus]->nodes.end()) {
+        return nullptr;
+    }
+    for (auto& a : it->second->axes) {
+        if (a->number() == number) {
+            return a.get();
+        }
+    }
+    return nullptr;
+}
+
+std::vector<AxisRef> Controller::axes() const {
+    std::vector<AxisRef> out;
+    for (std::size_t i = 0; i < buses_.size(); ++i) {
+        for (const auto& [id, n] : buses_[i]->nodes) {
+            for (const auto& a : n->axes) {
+                out.push_back(AxisRef{i, id, a->number(), a.get(), a->name()});
+            }
+        }
+    }
+    return out;
+}
+
+master::Master& Controller::master(std::size_t bus) {
+    return *buses_.at(bus)->master;
+}
+
+const master::BusConfig& Controller::config(std::size_t bus) const {
+    return buses_.at(bus)->config;
+}
+
+ControllerStats Controller::stats() const {
+    ControllerStats s;
+    for (const auto& b : buses_) {
+        if (b->sync) {
+            s.cycles += b->sync->sent();
+            s.overruns += b->sync->skipped();
+            const auto& pe = b->sync->period_error();
+            s.period_error_p50 = std::max(s.period_error_p50, pe.p50());
+            s.period_error_p99 = std::max(s.period_error_p99, pe.p99());
+            s.period_error_max = std::max(s.period_error_max, pe.max());
+        }
+        if (b->pdo) {
+            s.tpdos_received += b->pdo->stats().tpdos_received;
+            s.tpdos_missing += b->pdo->stats().tpdos_missing;
+            s.rpdos_sent += b->pdo->stats().rpdos_sent;
+        }
+        if (b->master) {
+            for (auto* n : const_cast<master::Master&>(*b->master).nodes()) {
+                s.sdo_completed += n->sdo().stats().completed;
+                s.sdo_failed += n->sdo().stats().failed;
+            }
+        }
+        s.bus_errors += b->bus_errors + (b->bus != nullptr ? b->bus->stats().error_frames : 0);
+    }
+    return s;
+}
+
+} // namespace codrive::controller

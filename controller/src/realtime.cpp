@@ -1,0 +1,59 @@
+// SPDX-License-Identifier: Apache-2.0
+// SCHED_FIFO, affinity and memory locking for the cyclic thread, with warnings that say why.
+#include <codrive/controller/realtime.hpp>
+
+#include <cerrno>
+#include <cstring>
+#include <fmt/format.h>
+#include <pthread.h>
+#include <sched.h>
+#include <sys/mman.h>
+#include <unistd.h>
+
+namespace codrive::controller {
+
+std::vector<std::string> apply_realtime(const RealtimeOptions& options) {
+    std::vector<std::string> warnings;
+    if (options.lock_memory && ::mlockall(MCL_CURRENT | MCL_FUTURE) != 0) {
+        warnings.push_back(fmt::format(
+            "cannot lock memory (mlockall): {} (run as root, grant CAP_IPC_LOCK or raise memlock "
+            "in /etc/security/limits.conf); page faults may delay cycles",
+            std::strerror(errno)));
+    }
+    if (options.cpu >= 0) {
+        const long cpus = ::sysconf(_SC_NPROCESSORS_ONLN);
+        if (options.cpu >= cpus) {
+            warnings.push_back(fmt::format("cannot pin to CPU {}: this machine has {} CPUs; "
+                                           "running unpinned",
+                                           options.cpu, cpus));
+        } else {
+            cpu_set_t set;
+            CPU_ZERO(&set);
+            CPU_SET(static_cast<unsigned>(options.cpu), &set);
+            const int rc = pthread_setaffinity_np(pthread_self(), sizeof(set), &set);
+            if (rc != 0) {
+                warnings.push_back(fmt::format("cannot pin to CPU {}: {}; running unpinned",
+                                               options.cpu, std::strerror(rc)));
+            }
+        }
+    }
+    if (options.fifo) {
+        sched_param sp{};
+        sp.sched_priority = options.priority;
+        const int rc = pthread_setschedparam(pthread_self(), SCHED_FIFO, &sp);
+        if (rc == EPERM) {
+            warnings.push_back(fmt::format(
+                "cannot use SCHED_FIFO priority {}: not permitted (run as root, grant "
+                "CAP_SYS_NICE, or raise rtprio in /etc/security/limits.conf); running with normal "
+                "scheduling",
+                options.priority));
+        } else if (rc != 0) {
+            warnings.push_back(fmt::format("cannot use SCHED_FIFO priority {}: {}; running with "
+                                           "normal scheduling",
+                                           options.priority, std::strerror(rc)));
+        }
+    }
+    return warnings;
+}
+
+} // namespace codrive::controller

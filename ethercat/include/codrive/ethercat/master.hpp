@@ -1,0 +1,329 @@
+// SPDX-License-Identifier: Apache-2.0
+// The EtherCAT master: frame exchange, bring-up (addresses, SII), ESM, mailbox/CoE, process data
+// and distributed clocks over an IEcatLink.
+#pragma once
+
+#include <codrive/ethercat/al_state.hpp>
+#include <codrive/ethercat/datagram.hpp>
+#include <codrive/ethercat/link.hpp>
+#include <codrive/ethercat/mailbox.hpp>
+#include <codrive/ethercat/sii.hpp>
+
+#include <codrive/core/endian.hpp>
+#include <codrive/core/error.hpp>
+#include <codrive/core/sdo_abort.hpp>
+#include <codrive/core/time.hpp>
+#include <codrive/emcy/message.hpp>
+
+#include <array>
+#include <cstdint>
+#include <functional>
+#include <optional>
+#include <span>
+#include <string>
+#include <vector>
+
+namespace codrive::ethercat {
+
+/// Timeouts and retries. The acyclic API is synchronous (one frame round trip is tens of
+/// microseconds on a real segment); the cyclic path is split into send/receive so a real-time
+/// thread never waits on mailbox traffic.
+struct MasterConfig {
+    Duration frame_timeout = milliseconds(20); ///< per attempt
+    int frame_retries = 3;                     ///< attempts per acyclic frame
+    Duration state_timeout = seconds(2);       ///< ESM transition
+    Duration mailbox_timeout = seconds(1);     ///< CoE answer
+    Duration mailbox_poll = microseconds(200); ///< pause between empty mailbox polls
+    Duration sii_timeout = milliseconds(100);
+    std::uint16_t first_station_address = 0x1001;
+};
+
+/// One entry of a PDO mapping (1600h/1A00h sub-index value: index, sub-index, bit length).
+struct PdoEntry {
+    std::uint16_t index = 0;
+    std::uint8_t subindex = 0;
+    std::uint8_t bits = 0;
+    [[nodiscard]] std::uint32_t encode() const {
+        return (static_cast<std::uint32_t>(index) << 16) |
+               (static_cast<std::uint32_t>(subindex) << 8) | bits;
+    }
+    static PdoEntry decode(std::uint32_t v) {
+        return {static_cast<std::uint16_t>(v >> 16), static_cast<std::uint8_t>(v >> 8),
+                static_cast<std::uint8_t>(v)};
+    }
+};
+
+/// One PDO (a mapping object) with its entries.
+struct PdoMapping {
+    std::uint16_t index = 0; ///< 1600h.. (RxPDO) or 1A00h.. (TxPDO)
+    std::vector<PdoEntry> entries;
+    [[nodiscard]] std::size_t bits() const;
+};
+
+/// Where one mapped object lives in a slave's process data (byte offset from the slave's start).
+struct PdoField {
+    PdoEntry entry;
+    std::size_t byte_offset = 0;
+};
+
+/// What the master knows about one slave.
+struct SlaveInfo {
+    std::uint16_t position = 0;        ///< 0-based position on the segment
+    std::uint16_t station_address = 0; ///< configured address (0x0010)
+    SiiInfo sii;
+    AlState state = AlState::Init;
+    bool has_dc = false;
+    // Process data (after map_process_data()).
+    std::vector<PdoMapping> rx_pdos; ///< outputs, SM2
+    std::vector<PdoMapping> tx_pdos; ///< inputs, SM3
+    std::vector<PdoField> outputs_layout;
+    std::vector<PdoField> inputs_layout;
+    std::uint16_t output_bytes = 0;
+    std::uint16_t input_bytes = 0;
+    std::size_t output_offset = 0; ///< in the process image
+    std::size_t input_offset = 0;
+    std::uint8_t mailbox_counter = 0;
+
+    /// "AKD2G", or "0x0000006A:0x12345678" when the EEPROM has no name.
+    [[nodiscard]] std::string display_name() const;
+};
+
+/// SDO information: an object description (ETG.1000.6 §5.6.3.5).
+struct ObjectDescription {
+    std::uint16_t index = 0;
+    std::uint16_t data_type = 0;
+    std::uint8_t max_subindex = 0;
+    std::uint8_t object_code = 0;
+    std::string name;
+};
+
+/// SDO information: an entry description (ETG.1000.6 §5.6.3.6).
+struct EntryDescription {
+    std::uint16_t index = 0;
+    std::uint8_t subindex = 0;
+    std::uint16_t data_type = 0;
+    std::uint16_t bit_length = 0;
+    std::uint16_t access = 0;
+    std::string name;
+};
+
+/// Counters of the cyclic exchange.
+struct ProcessDataStats {
+    std::uint64_t cycles = 0;
+    std::uint64_t lost_frames = 0;
+    std::uint64_t wkc_errors = 0;
+    std::uint64_t stale_frames = 0; ///< frames with an index we were not waiting for
+};
+
+/// DC state of one slave after configure_dc().
+struct DcSlaveStatus {
+    std::uint16_t position = 0;
+    std::uint64_t system_time = 0;        ///< ns since 2000-01-01 as read (0x0910)
+    std::int64_t offset_to_reference = 0; ///< system time minus the reference clock's, same frame
+    std::uint32_t delay = 0;              ///< propagation delay written to 0x0928
+    std::int32_t difference = 0;          ///< 0x092C system time difference (drift control input)
+};
+
+class Master {
+public:
+    Master(IEcatLink& link, IClock& clock, MasterConfig config = {});
+
+    // ---- Frame exchange --------------------------------------------------------------------
+    /// Sends the datagrams in one frame and waits for it to come back (retrying lost frames).
+    /// Fills data and WKC; does not check working counters. Errors: NoResponse, FrameTooLarge,
+    /// link errors.
+    VoidResult exchange(std::span<Datagram> datagrams);
+    /// Configured-address read/write of one slave's registers; WKC must be 1. Errors: as
+    /// exchange(), WorkingCounter.
+    Result<std::vector<std::uint8_t>> read_registers(std::size_t slave, std::uint16_t reg,
+                                                     std::size_t size);
+    VoidResult write_registers(std::size_t slave, std::uint16_t reg,
+                               std::span<const std::uint8_t> data);
+    template <typename T>
+    Result<T> read_register(std::size_t slave, std::uint16_t reg) {
+        auto d = read_registers(slave, reg, sizeof(T));
+        if (!d) {
+            return fail(d.error());
+        }
+        return get_le<T>(d->data());
+    }
+    template <typename T>
+    VoidResult write_register(std::size_t slave, std::uint16_t reg, T value) {
+        std::array<std::uint8_t, sizeof(T)> b{};
+        put_le<T>(b.data(), value);
+        return write_registers(slave, reg, b);
+    }
+
+    // ---- Bring-up --------------------------------------------------------------------------
+    /// Counts the slaves with a broadcast read (its WKC). Errors: NoResponse.
+    Result<std::uint16_t> count_slaves();
+    /// Resets the segment to INIT (AL control, FMMUs, SMs, DC activation cleared), assigns
+    /// station addresses 0x1001.. by position and reads every SII. Errors: NoSlaves, NoResponse,
+    /// SiiTimeout/SiiError, WorkingCounter.
+    VoidResult scan();
+    [[nodiscard]] const std::vector<SlaveInfo>& slaves() const { return slaves_; }
+    [[nodiscard]] std::vector<SlaveInfo>& slaves() { return slaves_; }
+    /// Reads `words` 16-bit words of the SII EEPROM from `word_address`. Errors: SiiTimeout,
+    /// SiiError, WorkingCounter.
+    Result<std::vector<std::uint8_t>> read_sii(std::size_t slave, std::uint16_t word_address,
+                                               std::size_t words);
+    /// Reads header and categories and parses them. Errors: as read_sii().
+    Result<SiiInfo> read_sii_info(std::size_t slave);
+
+    // ---- EtherCAT state machine ------------------------------------------------------------
+    /// AL status (state + error flag) and AL status code of one slave.
+    struct AlStatus {
+        AlState state = AlState::None;
+        bool error = false;
+        std::uint16_t code = 0;
+    };
+    Result<AlStatus> read_al_status(std::size_t slave);
+    /// One direct transition (ETG.1000.6 §6.4.1). Configures the mailbox sync managers before
+    /// INIT→PRE-OP. On refusal the AL error is acknowledged and the error is StateChangeRefused
+    /// with last_error() naming the slave, the transition and the AL status code text.
+    /// Errors: StateChangeRefused, StateChangeTimeout, WorkingCounter, NoResponse.
+    VoidResult request_state(std::size_t slave, AlState target);
+    /// Steps every slave up (or down) to `target`: mailboxes before PRE-OP, process data mapped
+    /// before SAFE-OP, one valid process data exchange before OP. Errors: as request_state(),
+    /// map_process_data().
+    VoidResult set_state_all(AlState target);
+
+    // ---- Mailbox and CoE -------------------------------------------------------------------
+    /// Writes one mailbox message to SM0, retrying while the mailbox is full. Errors:
+    /// MailboxNotSupported, MailboxTimeout.
+    VoidResult mailbox_write(std::size_t slave, MailboxMessage message);
+    /// Reads the next message from SM1, waiting up to `timeout`. Errors: MailboxTimeout,
+    /// MailboxError.
+    Result<MailboxMessage> mailbox_read(std::size_t slave, Duration timeout);
+    /// SDO upload (expedited, normal or segmented as the slave chooses). `complete_access` reads
+    /// the whole object (sub-index 0 or 1 onwards). Errors: SdoAbort codes from the slave,
+    /// MailboxTimeout, ProtocolError.
+    Result<std::vector<std::uint8_t>> sdo_upload(std::size_t slave, std::uint16_t index,
+                                                 std::uint8_t subindex,
+                                                 bool complete_access = false);
+    /// SDO download: expedited for 1..4 bytes, normal when it fits the mailbox, segmented
+    /// otherwise. Errors: as sdo_upload().
+    VoidResult sdo_download(std::size_t slave, std::uint16_t index, std::uint8_t subindex,
+                            std::span<const std::uint8_t> data, bool complete_access = false);
+    template <typename T>
+    Result<T> sdo_read(std::size_t slave, std::uint16_t index, std::uint8_t subindex) {
+        auto d = sdo_upload(slave, index, subindex);
+        if (!d) {
+            return fail(d.error());
+        }
+        if (d->size() < sizeof(T)) {
+            return fail(SdoAbort::LengthTooLow);
+        }
+        return get_le<T>(d->data());
+    }
+    template <typename T>
+    VoidResult sdo_write(std::size_t slave, std::uint16_t index, std::uint8_t subindex, T value) {
+        std::array<std::uint8_t, sizeof(T)> b{};
+        put_le<T>(b.data(), value);
+        return sdo_download(slave, index, subindex, b);
+    }
+    /// SDO information service. Errors: SdoAbort (from an SDO info error), MailboxTimeout,
+    /// ProtocolError, MailboxNotSupported when the slave does not offer SDO information.
+    Result<std::vector<std::uint16_t>> sdo_info_object_list(std::size_t slave);
+    Result<ObjectDescription> sdo_info_object(std::size_t slave, std::uint16_t index);
+    Result<EntryDescription> sdo_info_entry(std::size_t slave, std::uint16_t index,
+                                            std::uint8_t subindex);
+    /// Called with every CoE emergency (decoded with the emcy/ module's EmcyMessage).
+    using EmergencyHandler = std::function<void(std::size_t slave, const emcy::EmcyMessage&)>;
+    void on_emergency(EmergencyHandler handler) { emergency_handler_ = std::move(handler); }
+    /// Reads pending mailbox messages of every CoE slave (emergencies outside SDO traffic).
+    void poll_mailboxes();
+    /// The sentence for an emergency: "slave 1 (AKD2G): EMCY 0x2310 continuous over-current ...".
+    [[nodiscard]] std::string describe_emergency(std::size_t slave,
+                                                 const emcy::EmcyMessage& m) const;
+
+    // ---- Process data ----------------------------------------------------------------------
+    /// Writes 1C12h/1C13h and the mapping objects over CoE (PRE-OP only): sub 0 = 0, entries,
+    /// sub 0 = n, as ETG.1000.6 §5.6.7.4 prescribes. Errors: SdoAbort from the slave.
+    VoidResult configure_pdos(std::size_t slave, std::span<const PdoMapping> rx,
+                              std::span<const PdoMapping> tx);
+    /// Reads the assigned PDOs and their mapping. Errors: SdoAbort, MailboxTimeout.
+    Result<std::pair<std::vector<PdoMapping>, std::vector<PdoMapping>>>
+    read_pdo_assignment(std::size_t slave);
+    /// Reads every slave's PDO layout, allocates the process image (all outputs, then all
+    /// inputs) and programs SM2/SM3 and FMMU0/FMMU1. Slaves must be in PRE-OP.
+    VoidResult map_process_data(std::uint32_t logical_base = 0x00010000);
+    [[nodiscard]] bool process_data_mapped() const { return mapped_; }
+    [[nodiscard]] std::span<std::uint8_t> outputs(std::size_t slave);
+    [[nodiscard]] std::span<const std::uint8_t> inputs(std::size_t slave) const;
+    [[nodiscard]] std::span<std::uint8_t> process_image() { return image_; }
+    /// The LRW working counter when every slave answers: 2 per slave with outputs (write) plus
+    /// 1 per slave with inputs (read).
+    [[nodiscard]] std::uint16_t expected_wkc() const { return expected_wkc_; }
+    /// Sends the cyclic LRW frame (no waiting). Errors: NotConfigured, link errors.
+    VoidResult send_process_data();
+    /// Waits for the cyclic frame until `deadline`, copies inputs, returns its WKC. Errors:
+    /// NoResponse (lost frame); a WKC mismatch is counted and returned as WorkingCounter with
+    /// last_error() naming the slaves that did not answer.
+    Result<std::uint16_t> receive_process_data(TimePoint deadline);
+    /// send + receive with the frame timeout.
+    Result<std::uint16_t> exchange_process_data();
+    [[nodiscard]] const ProcessDataStats& stats() const { return stats_; }
+    /// Finds the slaves that do not answer (FPRD of AL status per slave) and returns the
+    /// sentence: "cyclic LRW working counter 4, expected 7: slave 2 (DS-BVS) does not answer".
+    std::string diagnose_wkc(std::uint16_t wkc);
+
+    // ---- Distributed clocks ----------------------------------------------------------------
+    /// Latches receive times, computes propagation delays and offsets to the master time, and
+    /// runs the static drift compensation (ARMW of the reference clock's system time). Slaves
+    /// without DC are skipped. Errors: NoResponse, WorkingCounter.
+    VoidResult configure_dc();
+    /// 0x0910 of one slave (ns since 2000-01-01). Errors: WorkingCounter, NoResponse.
+    Result<std::uint64_t> read_system_time(std::size_t slave);
+    /// Programs SYNC0 (cycle, shift) and activates it, starting 10 ms after the slave's time.
+    VoidResult configure_sync0(std::size_t slave, Duration cycle, Duration shift = {});
+    /// Reads every DC slave's system time in one frame and reports offsets to the reference.
+    Result<std::vector<DcSlaveStatus>> dc_status();
+
+    // ---- Diagnostics -----------------------------------------------------------------------
+    /// The sentence describing the last failure ("slave 2 (AKD2G): ...").
+    [[nodiscard]] const std::string& last_error() const { return last_error_; }
+    /// "slave 2 (AKD2G)".
+    [[nodiscard]] std::string slave_label(std::size_t slave) const;
+    [[nodiscard]] IClock& clock() { return clock_; }
+    [[nodiscard]] const MasterConfig& config() const { return config_; }
+    [[nodiscard]] MasterConfig& config() { return config_; }
+    /// Master time on the EtherCAT scale (ns since 2000-01-01).
+    [[nodiscard]] std::uint64_t master_time_ns() const;
+
+private:
+    VoidResult set_error(std::error_code ec, std::string sentence);
+    VoidResult check_slave(std::size_t slave);
+    VoidResult setup_mailbox_sms(std::size_t slave);
+    VoidResult mailbox_exchange_sdo(std::size_t slave, std::vector<std::uint8_t> payload,
+                                    MailboxMessage& reply, std::uint16_t index,
+                                    std::uint8_t subindex, const char* what);
+    Result<MailboxMessage> read_coe_reply(std::size_t slave, CoeService service);
+    Result<std::vector<std::uint8_t>> sdo_info_request(std::size_t slave,
+                                                       std::vector<std::uint8_t> request,
+                                                       std::uint8_t response_opcode);
+    std::uint8_t next_counter(std::size_t slave);
+    std::uint8_t next_index() { return index_++; }
+
+    IEcatLink& link_;
+    IClock& clock_;
+    MasterConfig config_;
+    std::vector<SlaveInfo> slaves_;
+    std::uint8_t index_ = 0;
+    std::vector<std::uint8_t> tx_buffer_ = std::vector<std::uint8_t>(kMaxFrameSize);
+    std::vector<std::uint8_t> rx_buffer_ = std::vector<std::uint8_t>(kMaxFrameSize + 64);
+    std::string last_error_;
+    EmergencyHandler emergency_handler_;
+    // Process data.
+    bool mapped_ = false;
+    std::uint32_t logical_base_ = 0;
+    std::vector<std::uint8_t> image_;
+    std::size_t output_size_ = 0;
+    std::uint16_t expected_wkc_ = 0;
+    std::array<Datagram, 1> cyclic_{};
+    std::optional<std::uint8_t> cyclic_index_;
+    ProcessDataStats stats_;
+    std::optional<std::size_t> dc_reference_;
+};
+
+} // namespace codrive::ethercat

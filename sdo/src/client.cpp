@@ -1,0 +1,766 @@
+// SPDX-License-Identifier: Apache-2.0
+// SDO client state machine: expedited, segmented and block upload/download (CiA 301 §7.2.4.3).
+#include "client_transfer.hpp"
+
+#include <codrive/sdo/client.hpp>
+#include <codrive/sdo/protocol.hpp>
+
+#include <algorithm>
+#include <fmt/format.h>
+
+namespace codrive::sdo {
+
+using detail::BlockReceiver;
+using detail::BlockSender;
+using detail::ClientState;
+
+namespace {
+
+constexpr std::size_t kMaxSdoSize = 0xFFFFFFFFU; // the SDO size field is 32 bits
+constexpr std::size_t kMaxReserve = 16U * 1024U * 1024U;
+
+std::string mux(std::uint16_t index, std::uint8_t subindex) {
+    return fmt::format("0x{:04X}:{:02X}", index, subindex);
+}
+
+std::string bytes_of(std::size_t done, std::optional<std::size_t> total) {
+    return total ? fmt::format("{} of {} bytes", done, *total) : fmt::format("{} bytes", done);
+}
+
+FrameKind expected_kind(ClientState s) {
+    switch (s) {
+    case ClientState::InitiateUpload:
+        return FrameKind::InitiateUploadResponse;
+    case ClientState::UploadSegment:
+        return FrameKind::UploadSegmentResponse;
+    case ClientState::InitiateDownload:
+        return FrameKind::InitiateDownloadResponse;
+    case ClientState::DownloadSegment:
+        return FrameKind::DownloadSegmentResponse;
+    case ClientState::BlockDownloadInitiate:
+        return FrameKind::BlockDownloadInitiateResponse;
+    case ClientState::BlockDownloadAck:
+        return FrameKind::BlockDownloadAck;
+    case ClientState::BlockDownloadEnd:
+        return FrameKind::BlockDownloadEndResponse;
+    case ClientState::BlockUploadInitiate:
+        return FrameKind::BlockUploadInitiateResponse;
+    case ClientState::BlockUploadData:
+        return FrameKind::BlockSegment;
+    case ClientState::BlockUploadEnd:
+        return FrameKind::BlockUploadEndRequest;
+    case ClientState::Queued:
+        break;
+    }
+    return FrameKind::Invalid;
+}
+
+/// Marks the time of the frame or tick being handled, for the duration of the handler.
+class DispatchScope {
+public:
+    DispatchScope(TimePoint& slot, TimePoint now) : slot_(slot), saved_(slot) { slot_ = now; }
+    ~DispatchScope() { slot_ = saved_; }
+    DispatchScope(const DispatchScope&) = delete;
+    DispatchScope& operator=(const DispatchScope&) = delete;
+
+private:
+    TimePoint& slot_;
+    TimePoint saved_;
+};
+
+} // namespace
+
+namespace detail {
+SdoError size_mismatch(NodeId node, std::uint16_t index, std::uint8_t subindex, std::size_t got,
+                       std::size_t want) {
+    SdoError e;
+    e.node = node;
+    e.index = index;
+    e.subindex = subindex;
+    e.direction = Direction::Upload;
+    e.cause = make_error_code(SdoErrc::SizeMismatch);
+    e.detail = fmt::format("object has {} bytes, the requested type {}", got, want);
+    return e;
+}
+} // namespace detail
+
+SdoClient::SdoClient(ICanBus& bus, const IClock& clock, ClientConfig config)
+    : bus_(bus), clock_(clock), config_(config),
+      request_id_(config.request_id != 0 ? config.request_id : cob::sdo_rx(config.node)),
+      response_id_(config.response_id != 0 ? config.response_id : cob::sdo_tx(config.node)) {}
+
+SdoClient::~SdoClient() = default;
+
+bool SdoClient::busy() const {
+    return active_ != nullptr || !queue_.empty();
+}
+
+TransferId SdoClient::upload(std::uint16_t index, std::uint8_t subindex, UploadCallback done,
+                             TransferOptions options) {
+    auto t = std::make_unique<Transfer>();
+    t->direction = Direction::Upload;
+    t->index = index;
+    t->subindex = subindex;
+    t->options = std::move(options);
+    t->on_upload = std::move(done);
+    return enqueue(std::move(t));
+}
+
+TransferId SdoClient::upload(std::uint16_t index, std::uint8_t subindex, UploadSink sink,
+                             DoneCallback done, TransferOptions options) {
+    auto t = std::make_unique<Transfer>();
+    t->direction = Direction::Upload;
+    t->index = index;
+    t->subindex = subindex;
+    t->options = std::move(options);
+    t->sink = std::move(sink);
+    t->on_done = std::move(done);
+    return enqueue(std::move(t));
+}
+
+TransferId SdoClient::download(std::uint16_t index, std::uint8_t subindex, Bytes data,
+                               DoneCallback done, TransferOptions options) {
+    return download(index, subindex, bytes_source(std::move(data)), std::move(done),
+                    std::move(options));
+}
+
+TransferId SdoClient::download(std::uint16_t index, std::uint8_t subindex, DownloadSource source,
+                               DoneCallback done, TransferOptions options) {
+    auto t = std::make_unique<Transfer>();
+    t->direction = Direction::Download;
+    t->index = index;
+    t->subindex = subindex;
+    t->options = std::move(options);
+    t->source = std::move(source);
+    t->total = t->source.size;
+    t->on_done = std::move(done);
+    return enqueue(std::move(t));
+}
+
+TransferId SdoClient::enqueue(std::unique_ptr<Transfer> t) {
+    t->id = next_id_++;
+    t->timeout = t->options.timeout.value_or(config_.timeout);
+    t->retries_left = t->options.retries.value_or(config_.retries);
+    const TransferId id = t->id;
+    queue_.push_back(std::move(t));
+    if (!active_ && !in_callback_) {
+        start_next(clock_.now());
+    }
+    return id;
+}
+
+bool SdoClient::cancel(TransferId id) {
+    if (active_ && active_->id == id) {
+        (void)send(make_abort(active_->index, active_->subindex,
+                              static_cast<std::uint32_t>(SdoAbort::General)));
+        fail(make_error_code(SdoErrc::Cancelled), "cancelled by the application");
+        return true;
+    }
+    const auto it =
+        std::find_if(queue_.begin(), queue_.end(), [id](const auto& t) { return t->id == id; });
+    if (it == queue_.end()) {
+        return false;
+    }
+    std::unique_ptr<Transfer> t = std::move(*it);
+    queue_.erase(it);
+    SdoError e = make_error(*t, make_error_code(SdoErrc::Cancelled), "cancelled before it started",
+                            AbortOrigin::None);
+    ++stats_.failed;
+    if (t->on_upload) {
+        t->on_upload(tl::unexpected(std::move(e)));
+    } else if (t->on_done) {
+        t->on_done(tl::unexpected(std::move(e)));
+    }
+    return true;
+}
+
+void SdoClient::start_next(TimePoint now) {
+    while (!active_ && !queue_.empty() && !in_callback_) {
+        active_ = std::move(queue_.front());
+        queue_.pop_front();
+        start(*active_, now);
+    }
+}
+
+bool SdoClient::send(const Payload& payload) {
+    return bus_.send(Frame::make(request_id_, payload)).has_value();
+}
+
+void SdoClient::arm(TimePoint now) {
+    // The timer only ever moves earlier here; on_tick() pushes it out again. A stream of
+    // requests therefore re-arms the event loop's timer about once per timeout, not per frame.
+    active_->activity = now;
+    deadline_ = std::min(deadline_, now + active_->timeout);
+}
+
+void SdoClient::start(Transfer& t, TimePoint now) {
+    const bool block = t.options.mode == Mode::Block;
+    if (t.direction == Direction::Upload) {
+        if (block) {
+            t.protocol = Protocol::Block;
+            t.state = ClientState::BlockUploadInitiate;
+            t.block_size = std::clamp<std::uint8_t>(t.options.block_size, 1, kMaxBlockSize);
+            t.initiate = make_block_upload_initiate(t.index, t.subindex, t.options.crc,
+                                                    t.block_size, t.options.pst);
+        } else {
+            t.state = ClientState::InitiateUpload;
+            t.initiate = make_initiate_upload(t.index, t.subindex);
+        }
+    } else {
+        const std::size_t size = t.source.size;
+        if (size > kMaxSdoSize) {
+            fail(make_error_code(SdoErrc::TooLarge),
+                 fmt::format("{} bytes, the SDO size field holds at most {}", size, kMaxSdoSize));
+            return;
+        }
+        const auto size32 = static_cast<std::uint32_t>(size);
+        if (block) {
+            t.protocol = Protocol::Block;
+            t.state = ClientState::BlockDownloadInitiate;
+            t.initiate = make_block_download_initiate(t.index, t.subindex, t.options.crc, size32);
+        } else if (t.options.mode == Mode::Auto && size >= 1 && size <= kExpeditedMax) {
+            std::array<std::uint8_t, kExpeditedMax> data{};
+            if (!read_source(std::span<std::uint8_t>(data.data(), size))) {
+                return;
+            }
+            t.protocol = Protocol::Expedited;
+            t.state = ClientState::InitiateDownload;
+            t.done = size;
+            t.initiate = make_initiate_download_expedited(
+                t.index, t.subindex, std::span<const std::uint8_t>(data.data(), size));
+        } else {
+            t.protocol = Protocol::Segmented;
+            t.state = ClientState::InitiateDownload;
+            t.initiate = make_initiate_download_segmented(t.index, t.subindex, size32);
+        }
+    }
+    if (!send(t.initiate)) {
+        fail(make_error_code(SdoErrc::SendFailed), "initiate request refused by the bus");
+        return;
+    }
+    arm(now);
+}
+
+bool SdoClient::on_frame(const Frame& frame, TimePoint now) {
+    const DispatchScope scope(dispatch_now_, now);
+    if (config_.watch_boot_up && frame.id == cob::heartbeat(config_.node) && frame.len == 1 &&
+        frame.data[0] == 0 && !frame.rtr()) {
+        if (active_) {
+            // CiA 301 §7.2.8.3.2.1: boot-up means the node reset; its SDO server forgot us.
+            const auto& t = *active_;
+            fail(make_error_code(SdoErrc::NodeRebooted),
+                 fmt::format("boot-up message received after {}", bytes_of(t.done, t.total)));
+        }
+        return false;
+    }
+    if (frame.id != response_id_ || frame.extended() || frame.rtr() || frame.error()) {
+        ++stats_.frames_ignored;
+        return false;
+    }
+    if (!active_ || active_->state == ClientState::Queued) {
+        ++stats_.unexpected_responses;
+        return true;
+    }
+    if (active_->state == ClientState::BlockUploadData) {
+        handle_block_upload_segment(frame, now);
+    } else {
+        handle_response(frame, now);
+    }
+    return true;
+}
+
+void SdoClient::handle_response(const Frame& frame, TimePoint now) {
+    Transfer& t = *active_;
+    const FrameInfo info = parse_frame(frame.payload(), Sender::Server);
+    if (info.kind == FrameKind::Abort) {
+        fail(std::error_code(static_cast<int>(info.abort_code), sdo_abort_category()), {},
+             AbortOrigin::Server);
+        return;
+    }
+    const bool upload_switch = t.state == ClientState::BlockUploadInitiate &&
+                               info.kind == FrameKind::InitiateUploadResponse;
+    if (info.kind != expected_kind(t.state) && !upload_switch) {
+        abort_and_fail(static_cast<std::uint32_t>(SdoAbort::UnknownCommand),
+                       fmt::format("expected {}, received {}", to_string(expected_kind(t.state)),
+                                   to_string(info.kind)));
+        return;
+    }
+    switch (info.kind) {
+    case FrameKind::InitiateUploadResponse:
+    case FrameKind::InitiateDownloadResponse:
+    case FrameKind::BlockDownloadInitiateResponse:
+    case FrameKind::BlockUploadInitiateResponse:
+        if (info.index != t.index || info.subindex != t.subindex) {
+            // CiA 301 leaves this open; a response for another object means client and server
+            // disagree about the transfer, so it cannot continue.
+            (void)send(
+                make_abort(t.index, t.subindex, static_cast<std::uint32_t>(SdoAbort::General)));
+            fail(make_error_code(SdoErrc::WrongObject),
+                 fmt::format("server answered for {} instead of {}", mux(info.index, info.subindex),
+                             mux(t.index, t.subindex)),
+                 AbortOrigin::Client);
+            return;
+        }
+        break;
+    default:
+        break;
+    }
+
+    switch (t.state) {
+    case ClientState::InitiateUpload:
+    case ClientState::BlockUploadInitiate:
+        if (info.kind == FrameKind::InitiateUploadResponse) {
+            if (info.expedited) {
+                t.protocol = Protocol::Expedited;
+                const std::span<const std::uint8_t> data(info.data.data(), info.data_len);
+                if ((t.sink.begin && !t.sink.begin(data.size())) || !deliver(data)) {
+                    abort_and_fail(static_cast<std::uint32_t>(SdoAbort::DataTransfer),
+                                   "the local data sink refused the data");
+                    return;
+                }
+                finish({});
+                return;
+            }
+            t.protocol = Protocol::Segmented;
+            if (info.size_indicated) {
+                t.total = info.size;
+                if (!t.sink.write) {
+                    t.buffer.reserve(std::min<std::size_t>(info.size, kMaxReserve));
+                }
+            }
+            if (t.sink.begin && !t.sink.begin(t.total)) {
+                abort_and_fail(static_cast<std::uint32_t>(SdoAbort::DataTransfer),
+                               "the local data sink refused the size");
+                return;
+            }
+            t.toggle = false;
+            t.state = ClientState::UploadSegment;
+            if (!send(make_upload_segment_request(t.toggle))) {
+                fail(make_error_code(SdoErrc::SendFailed), "segment request refused by the bus");
+                return;
+            }
+            arm(now);
+            return;
+        }
+        // Block upload initiate response.
+        t.crc = t.options.crc && info.crc;
+        if (info.size_indicated) {
+            t.total = info.size;
+            if (!t.sink.write) {
+                t.buffer.reserve(std::min<std::size_t>(info.size, kMaxReserve));
+            }
+        }
+        if (t.sink.begin && !t.sink.begin(t.total)) {
+            abort_and_fail(static_cast<std::uint32_t>(SdoAbort::DataTransfer),
+                           "the local data sink refused the size");
+            return;
+        }
+        t.receiver.reset(t.block_size);
+        t.state = ClientState::BlockUploadData;
+        if (!send(make_block_upload_start())) {
+            fail(make_error_code(SdoErrc::SendFailed), "start request refused by the bus");
+            return;
+        }
+        arm(now);
+        return;
+
+    case ClientState::UploadSegment: {
+        if (info.toggle != t.toggle) {
+            abort_and_fail(static_cast<std::uint32_t>(SdoAbort::ToggleBit),
+                           fmt::format("segment after {} had toggle {}, expected {}",
+                                       bytes_of(t.done, t.total), info.toggle ? 1 : 0,
+                                       t.toggle ? 1 : 0));
+            return;
+        }
+        const std::span<const std::uint8_t> data(info.data.data(), info.data_len);
+        if (t.total && t.done + data.size() > *t.total) {
+            abort_and_fail(
+                static_cast<std::uint32_t>(SdoAbort::LengthTooHigh),
+                fmt::format("server sent more than the {} bytes it announced", *t.total));
+            return;
+        }
+        if (!deliver(data)) {
+            abort_and_fail(static_cast<std::uint32_t>(SdoAbort::DataTransfer),
+                           "the local data sink refused the data");
+            return;
+        }
+        t.done += data.size();
+        report_progress();
+        if (info.last) {
+            if (t.total && t.done != *t.total) {
+                abort_and_fail(static_cast<std::uint32_t>(SdoAbort::LengthTooLow),
+                               fmt::format("server sent {} bytes, announced {}", t.done, *t.total));
+                return;
+            }
+            finish({});
+            return;
+        }
+        t.toggle = !t.toggle;
+        if (!send(make_upload_segment_request(t.toggle))) {
+            fail(make_error_code(SdoErrc::SendFailed), "segment request refused by the bus");
+            return;
+        }
+        arm(now);
+        return;
+    }
+
+    case ClientState::InitiateDownload:
+        if (t.protocol == Protocol::Expedited) {
+            finish({});
+            return;
+        }
+        t.toggle = false;
+        send_download_segment(now);
+        return;
+
+    case ClientState::DownloadSegment:
+        if (info.toggle != t.toggle) {
+            abort_and_fail(static_cast<std::uint32_t>(SdoAbort::ToggleBit),
+                           fmt::format("segment response after {} had toggle {}, expected {}",
+                                       bytes_of(t.done, t.total), info.toggle ? 1 : 0,
+                                       t.toggle ? 1 : 0));
+            return;
+        }
+        report_progress();
+        if (t.last_sent) {
+            finish({});
+            return;
+        }
+        t.toggle = !t.toggle;
+        send_download_segment(now);
+        return;
+
+    case ClientState::BlockDownloadInitiate:
+        if (info.block_size == 0 || info.block_size > kMaxBlockSize) {
+            abort_and_fail(static_cast<std::uint32_t>(SdoAbort::InvalidBlockSize),
+                           fmt::format("server asked for block size {}", info.block_size));
+            return;
+        }
+        t.crc = t.options.crc && info.crc;
+        t.block_size = info.block_size;
+        t.sender.reset(t.source.size);
+        send_sub_block(now);
+        return;
+
+    case ClientState::BlockDownloadAck: {
+        const auto r = t.sender.on_ack(info.seqno, info.block_size);
+        if (r == BlockSender::AckResult::InvalidSequence) {
+            abort_and_fail(static_cast<std::uint32_t>(SdoAbort::InvalidSequence),
+                           fmt::format("server acknowledged segment {} of a {}-segment sub-block",
+                                       info.seqno, t.sender.segments()));
+            return;
+        }
+        if (r == BlockSender::AckResult::InvalidBlockSize) {
+            abort_and_fail(static_cast<std::uint32_t>(SdoAbort::InvalidBlockSize),
+                           fmt::format("server asked for block size {}", info.block_size));
+            return;
+        }
+        stats_.retransmitted_segments +=
+            static_cast<std::uint64_t>(t.sender.segments() - info.seqno);
+        t.done = t.sender.acknowledged();
+        report_progress();
+        if (r == BlockSender::AckResult::Done) {
+            t.state = ClientState::BlockDownloadEnd;
+            if (!send(
+                    make_block_download_end(t.sender.last_unused(), t.crc ? t.sender.crc() : 0))) {
+                fail(make_error_code(SdoErrc::SendFailed), "end request refused by the bus");
+                return;
+            }
+            arm(now);
+            return;
+        }
+        t.block_size = info.block_size;
+        send_sub_block(now);
+        return;
+    }
+
+    case ClientState::BlockDownloadEnd:
+        finish({});
+        return;
+
+    case ClientState::BlockUploadEnd: {
+        auto& rx = t.receiver;
+        if (!rx.finish(info.unused,
+                       [this](std::span<const std::uint8_t> d) { return deliver(d); })) {
+            abort_and_fail(static_cast<std::uint32_t>(SdoAbort::DataTransfer),
+                           "the local data sink refused the data");
+            return;
+        }
+        t.done = rx.received();
+        if (t.crc && rx.crc() != info.crc_value) {
+            abort_and_fail(static_cast<std::uint32_t>(SdoAbort::CrcError),
+                           fmt::format("CRC 0x{:04X} received, 0x{:04X} computed over {} bytes",
+                                       info.crc_value, rx.crc(), t.done));
+            return;
+        }
+        if (t.total && t.done != *t.total) {
+            abort_and_fail(static_cast<std::uint32_t>(SdoAbort::LengthMismatch),
+                           fmt::format("server sent {} bytes, announced {}", t.done, *t.total));
+            return;
+        }
+        if (!send(make_block_upload_end_response())) {
+            fail(make_error_code(SdoErrc::SendFailed), "end response refused by the bus");
+            return;
+        }
+        report_progress();
+        finish({});
+        return;
+    }
+
+    case ClientState::BlockUploadData:
+    case ClientState::Queued:
+        break;
+    }
+}
+
+void SdoClient::handle_block_upload_segment(const Frame& frame, TimePoint now) {
+    Transfer& t = *active_;
+    const FrameInfo info = parse_frame(frame.payload(), Sender::Server, true);
+    if (info.kind == FrameKind::Abort) {
+        fail(std::error_code(static_cast<int>(info.abort_code), sdo_abort_category()), {},
+             AbortOrigin::Server);
+        return;
+    }
+    using R = BlockReceiver::SegmentResult;
+    const auto r =
+        t.receiver.on_segment(info, [this](std::span<const std::uint8_t> d) { return deliver(d); });
+    switch (r) {
+    case R::InvalidSequence:
+        abort_and_fail(static_cast<std::uint32_t>(SdoAbort::InvalidSequence),
+                       fmt::format("segment with sequence number {} in a sub-block of {}",
+                                   info.seqno, t.receiver.block_size()));
+        return;
+    case R::WriteFailed:
+        abort_and_fail(static_cast<std::uint32_t>(SdoAbort::DataTransfer),
+                       "the local data sink refused the data");
+        return;
+    case R::Stale:
+        arm(now);
+        return;
+    case R::Stored:
+    case R::Skipped:
+        t.done = t.receiver.received();
+        t.gap_activity = now;
+        deadline_ = std::min(deadline_, now + config_.block_gap_timeout);
+        arm(now);
+        return;
+    case R::SubBlockDone:
+        t.done = t.receiver.received();
+        report_progress();
+        send_block_upload_ack(now);
+        return;
+    }
+}
+
+void SdoClient::send_block_upload_ack(TimePoint now, bool early) {
+    Transfer& t = *active_;
+    const std::uint8_t ackseq = t.receiver.ackseq();
+    const bool complete = t.receiver.complete();
+    t.receiver.start_sub_block(t.block_size, early);
+    t.gap_activity = kNever;
+    if (complete) {
+        t.state = ClientState::BlockUploadEnd;
+    }
+    if (!send(make_block_upload_ack(ackseq, t.block_size))) {
+        fail(make_error_code(SdoErrc::SendFailed), "sub-block response refused by the bus");
+        return;
+    }
+    arm(now);
+}
+
+void SdoClient::send_download_segment(TimePoint now) {
+    Transfer& t = *active_;
+    const std::size_t total = t.source.size;
+    const std::size_t n = std::min(kSegmentData, total - t.done);
+    std::array<std::uint8_t, kSegmentData> data{};
+    if (!read_source(std::span<std::uint8_t>(data.data(), n))) {
+        return;
+    }
+    t.done += n;
+    t.last_sent = t.done == total;
+    t.state = ClientState::DownloadSegment;
+    if (!send(make_download_segment(t.toggle, t.last_sent,
+                                    std::span<const std::uint8_t>(data.data(), n)))) {
+        fail(make_error_code(SdoErrc::SendFailed), "segment refused by the bus");
+        return;
+    }
+    arm(now);
+}
+
+void SdoClient::send_sub_block(TimePoint now) {
+    Transfer& t = *active_;
+    if (!t.sender.fill(t.block_size,
+                       [this](std::span<std::uint8_t> out) { return read_source(out); })) {
+        return;
+    }
+    t.state = ClientState::BlockDownloadAck;
+    for (std::uint8_t seq = 1; seq <= t.sender.segments(); ++seq) {
+        if (!send(t.sender.segment(seq))) {
+            fail(make_error_code(SdoErrc::SendFailed),
+                 fmt::format("block segment {} refused by the bus", seq));
+            return;
+        }
+    }
+    arm(now);
+}
+
+bool SdoClient::deliver(std::span<const std::uint8_t> data) {
+    Transfer& t = *active_;
+    if (t.sink.write) {
+        return data.empty() || t.sink.write(data);
+    }
+    t.buffer.insert(t.buffer.end(), data.begin(), data.end());
+    return true;
+}
+
+bool SdoClient::read_source(std::span<std::uint8_t> out) {
+    Transfer& t = *active_;
+    if (out.empty() || (t.source.read && t.source.read(out))) {
+        return true;
+    }
+    // The server is told the data cannot be supplied (CiA 301 abort 0x08000020).
+    if (t.state != ClientState::Queued) {
+        (void)send(
+            make_abort(t.index, t.subindex, static_cast<std::uint32_t>(SdoAbort::DataTransfer)));
+    }
+    fail(make_error_code(SdoErrc::LocalTransferError),
+         fmt::format("the data source failed after {}", bytes_of(t.done, t.total)));
+    return false;
+}
+
+void SdoClient::report_progress() {
+    const Transfer& t = *active_;
+    if (t.options.progress) {
+        t.options.progress(t.done, t.total);
+    }
+}
+
+TimePoint SdoClient::next_deadline() const {
+    return deadline_;
+}
+
+void SdoClient::reschedule() {
+    if (!active_) {
+        deadline_ = kNever;
+        return;
+    }
+    const Transfer& t = *active_;
+    deadline_ = t.activity + t.timeout;
+    if (t.gap_activity != kNever) {
+        deadline_ = std::min(deadline_, t.gap_activity + config_.block_gap_timeout);
+    }
+}
+
+void SdoClient::on_tick(TimePoint now) {
+    const DispatchScope scope(dispatch_now_, now);
+    if (active_) {
+        Transfer& t = *active_;
+        if (t.state == ClientState::BlockUploadData && t.gap_activity != kNever &&
+            now >= t.gap_activity + config_.block_gap_timeout) {
+            // A sub-block stalled (its last segment was lost): acknowledge what arrived in
+            // sequence so the server repeats the rest (CiA 301 §7.2.4.3.14).
+            ++stats_.early_acks;
+            send_block_upload_ack(now, /*early=*/true);
+        } else if (now >= t.activity + t.timeout) {
+            on_timeout(now);
+        }
+    }
+    reschedule();
+}
+
+void SdoClient::on_timeout(TimePoint now) {
+    Transfer& t = *active_;
+    const bool initiate =
+        t.state == ClientState::InitiateUpload ||
+        (t.state == ClientState::InitiateDownload && t.protocol == Protocol::Expedited);
+    if (initiate && t.retries_left > 0) {
+        --t.retries_left;
+        ++stats_.retries;
+        if (send(t.initiate)) {
+            arm(now);
+            return;
+        }
+    }
+    std::string phase;
+    switch (t.state) {
+    case ClientState::InitiateUpload:
+    case ClientState::InitiateDownload:
+    case ClientState::BlockDownloadInitiate:
+    case ClientState::BlockUploadInitiate:
+        phase = "no response to initiate request";
+        break;
+    case ClientState::UploadSegment:
+        phase = fmt::format("no response to segment request after {}", bytes_of(t.done, t.total));
+        break;
+    case ClientState::DownloadSegment:
+        phase = fmt::format("no response to segment after {}", bytes_of(t.done, t.total));
+        break;
+    case ClientState::BlockDownloadAck:
+        phase = fmt::format("no sub-block response after {}", bytes_of(t.done, t.total));
+        break;
+    case ClientState::BlockDownloadEnd:
+        phase = "no response to end request";
+        break;
+    case ClientState::BlockUploadData:
+        phase = fmt::format("no block segment after {}", bytes_of(t.done, t.total));
+        break;
+    case ClientState::BlockUploadEnd:
+        phase = "no end request after the last segment";
+        break;
+    case ClientState::Queued:
+        break;
+    }
+    (void)send(make_abort(t.index, t.subindex, static_cast<std::uint32_t>(SdoAbort::Timeout)));
+    fail(make_error_code(SdoErrc::Timeout), std::move(phase));
+}
+
+SdoError SdoClient::make_error(const Transfer& t, std::error_code cause, std::string detail,
+                               AbortOrigin origin) const {
+    SdoError e;
+    e.node = config_.node;
+    e.index = t.index;
+    e.subindex = t.subindex;
+    e.direction = t.direction;
+    e.protocol = t.protocol;
+    e.cause = cause;
+    e.origin = origin;
+    e.timeout = t.timeout;
+    e.detail = std::move(detail);
+    return e;
+}
+
+void SdoClient::abort_and_fail(std::uint32_t code, std::string detail) {
+    const Transfer& t = *active_;
+    (void)send(make_abort(t.index, t.subindex, code));
+    fail(std::error_code(static_cast<int>(code), sdo_abort_category()), std::move(detail),
+         AbortOrigin::Client);
+}
+
+void SdoClient::fail(std::error_code cause, std::string detail, AbortOrigin origin) {
+    finish(tl::unexpected(make_error(*active_, cause, std::move(detail), origin)));
+}
+
+void SdoClient::finish(SdoResult<void> outcome) {
+    std::unique_ptr<Transfer> t = std::move(active_);
+    if (outcome) {
+        ++stats_.completed;
+    } else {
+        ++stats_.failed;
+    }
+    in_callback_ = true;
+    if (t->on_upload) {
+        if (outcome) {
+            t->on_upload(std::move(t->buffer));
+        } else {
+            t->on_upload(tl::unexpected(std::move(outcome.error())));
+        }
+    } else if (t->on_done) {
+        t->on_done(std::move(outcome));
+    }
+    in_callback_ = false;
+    // Inside on_frame()/on_tick() the dispatch time is current enough; reading the clock again
+    // costs a system call per request on some targets.
+    start_next(dispatch_now_ != kNever ? dispatch_now_ : clock_.now());
+}
+
+} // namespace codrive::sdo

@@ -1,0 +1,59 @@
+// SPDX-License-Identifier: Apache-2.0
+// State of one client transfer (private to the client).
+#pragma once
+
+#include "block_receiver.hpp"
+#include "block_sender.hpp"
+
+#include <codrive/sdo/client.hpp>
+#include <codrive/sdo/protocol.hpp>
+
+namespace codrive::sdo::detail {
+
+enum class ClientState : std::uint8_t {
+    Queued,
+    InitiateUpload,
+    UploadSegment,
+    InitiateDownload,
+    DownloadSegment,
+    BlockDownloadInitiate,
+    BlockDownloadAck,
+    BlockDownloadEnd,
+    BlockUploadInitiate,
+    BlockUploadData,
+    BlockUploadEnd,
+};
+
+struct ClientTransfer {
+    TransferId id = 0;
+    Direction direction = Direction::Upload;
+    std::uint16_t index = 0;
+    std::uint8_t subindex = 0;
+    TransferOptions options;
+    Duration timeout{0};
+    int retries_left = 0;
+
+    UploadCallback on_upload; ///< in-memory upload
+    DoneCallback on_done;     ///< everything else
+    UploadSink sink;          ///< empty `write`: collect into `buffer`
+    Bytes buffer;
+    DownloadSource source;
+
+    ClientState state = ClientState::Queued;
+    Protocol protocol = Protocol::Unknown;
+    bool toggle = false;
+    bool last_sent = false;
+    bool crc = false;
+    std::uint8_t block_size = kMaxBlockSize;
+    std::size_t done = 0;
+    std::optional<std::size_t> total;
+    /// Last frame sent or received: the response timeout runs from here.
+    TimePoint activity = kNever;
+    /// Last block segment of a sub-block not yet acknowledged (kNever: none pending).
+    TimePoint gap_activity = kNever;
+    Payload initiate{};
+    BlockSender sender;
+    BlockReceiver receiver;
+};
+
+} // namespace codrive::sdo::detail

@@ -1,0 +1,640 @@
+// SPDX-License-Identifier: Apache-2.0
+// SDO server state machine (CiA 301 §7.2.4.3): one transfer at a time per channel.
+#include "block_receiver.hpp"
+#include "block_sender.hpp"
+
+#include <codrive/sdo/protocol.hpp>
+#include <codrive/sdo/server.hpp>
+
+#include <algorithm>
+
+namespace codrive::sdo {
+
+using detail::BlockReceiver;
+using detail::BlockSender;
+
+namespace {
+
+constexpr std::uint32_t key(std::uint16_t index, std::uint8_t sub) {
+    return (static_cast<std::uint32_t>(index) << 8) | sub;
+}
+
+tl::unexpected<SdoAbort> refuse(SdoAbort a) {
+    return tl::unexpected(a);
+}
+
+} // namespace
+
+struct detail::ServerSession {
+    enum class State : std::uint8_t {
+        Idle,
+        UploadSegment,
+        DownloadSegment,
+        BlockDownloadData,
+        BlockDownloadEnd,
+        BlockUploadStart,
+        BlockUploadAck,
+        BlockUploadEnd,
+    };
+    State state = State::Idle;
+    std::uint16_t index = 0;
+    std::uint8_t sub = 0;
+    bool toggle = false;
+    bool crc = false;
+    std::uint8_t block_size = kMaxBlockSize;
+    std::size_t done = 0;
+    std::optional<std::size_t> total;
+    /// The server's timer: may run early (on_tick() re-arms it), never late.
+    TimePoint deadline = kNever;
+    /// Last frame of the running transfer: the client timeout runs from here.
+    TimePoint activity = kNever;
+    /// Last block segment of a sub-block not yet acknowledged (kNever: none pending).
+    TimePoint gap_activity = kNever;
+    /// Upload: the object's bytes (copied from the dictionary) or a domain reader.
+    DomainReader reader;
+    /// Download: collected bytes for the dictionary, or a domain writer.
+    std::optional<DomainWriter> writer;
+    std::vector<std::uint8_t> buffer;
+    SdoAbort write_error = SdoAbort::DataTransfer;
+    BlockSender sender;
+    BlockReceiver receiver;
+};
+
+namespace {
+using State = detail::ServerSession::State;
+} // namespace
+
+SdoServer::SdoServer(ObjectDictionary& od, ICanBus& bus, ServerConfig config)
+    : od_(od), bus_(bus), config_(config),
+      request_id_(config.request_id != 0 ? config.request_id : cob::sdo_rx(config.node)),
+      response_id_(config.response_id != 0 ? config.response_id : cob::sdo_tx(config.node)),
+      session_(std::make_unique<detail::ServerSession>()) {
+    config_.block_size = std::clamp<std::uint8_t>(config_.block_size, 1, kMaxBlockSize);
+}
+
+SdoServer::~SdoServer() = default;
+
+void SdoServer::set_domain_upload(std::uint16_t index, std::uint8_t sub,
+                                  DomainUploadHandler handler) {
+    upload_handlers_[key(index, sub)] = std::move(handler);
+}
+
+void SdoServer::set_domain_download(std::uint16_t index, std::uint8_t sub,
+                                    DomainDownloadHandler handler) {
+    download_handlers_[key(index, sub)] = std::move(handler);
+}
+
+bool SdoServer::busy() const {
+    return session_->state != State::Idle;
+}
+
+TimePoint SdoServer::next_deadline() const {
+    return session_->deadline;
+}
+
+// ---- the state machine, as free helpers over the session --------------------------------------
+
+namespace {
+
+struct Ctx {
+    ObjectDictionary& od;
+    ICanBus& bus;
+    const ServerConfig& config;
+    std::uint32_t response_id;
+    detail::ServerSession& s;
+    ServerStats& stats;
+    TimePoint now;
+
+    bool send(const Payload& p) const { return bus.send(Frame::make(response_id, p)).has_value(); }
+
+    void cancel_writer() const {
+        if (s.writer && s.writer->cancel) {
+            s.writer->cancel();
+        }
+        s.writer.reset();
+    }
+    void idle() const {
+        s.state = State::Idle;
+        s.gap_activity = kNever;
+        s.reader = {};
+        s.writer.reset();
+    }
+    void abort(SdoAbort code) const { abort(s.index, s.sub, code); }
+    void abort(std::uint16_t index, std::uint8_t sub, SdoAbort code) const {
+        ++stats.aborts_sent;
+        (void)send(make_abort(index, sub, static_cast<std::uint32_t>(code)));
+        cancel_writer();
+        idle();
+    }
+    void arm() const {
+        s.activity = now;
+        s.deadline = std::min(s.deadline, now + config.timeout);
+    }
+    void complete() const {
+        ++stats.completed;
+        idle();
+    }
+};
+
+/// The data of an upload: a domain reader or a copy of the dictionary value (so a value that
+/// changes while segments go out stays consistent).
+tl::expected<void, SdoAbort>
+open_upload(Ctx& c, const std::map<std::uint32_t, DomainUploadHandler>& handlers) {
+    auto& s = c.s;
+    if (auto h = handlers.find(key(s.index, s.sub)); h != handlers.end()) {
+        auto reader = h->second(s.index, s.sub);
+        if (!reader) {
+            return refuse(reader.error());
+        }
+        s.reader = std::move(*reader);
+        return {};
+    }
+    auto bytes = c.od.read(s.index, s.sub);
+    if (!bytes) {
+        return refuse(bytes.error());
+    }
+    s.buffer.assign(bytes->begin(), bytes->end());
+    s.reader.size = s.buffer.size();
+    s.reader.read = [&s, pos = std::size_t{0}](
+                        std::span<std::uint8_t> out) mutable -> tl::expected<void, SdoAbort> {
+        if (out.size() > s.buffer.size() - pos) {
+            return refuse(SdoAbort::General);
+        }
+        std::copy_n(s.buffer.begin() + static_cast<std::ptrdiff_t>(pos), out.size(), out.begin());
+        pos += out.size();
+        return {};
+    };
+    return {};
+}
+
+/// Checks a download before accepting data (CiA 301: refuse early, with the precise code).
+tl::expected<void, SdoAbort>
+open_download(Ctx& c, const std::map<std::uint32_t, DomainDownloadHandler>& handlers,
+              std::optional<std::size_t> size) {
+    auto& s = c.s;
+    s.buffer.clear();
+    s.writer.reset();
+    if (auto h = handlers.find(key(s.index, s.sub)); h != handlers.end()) {
+        auto writer = h->second(s.index, s.sub, size);
+        if (!writer) {
+            return refuse(writer.error());
+        }
+        s.writer = std::move(*writer);
+        return {};
+    }
+    const Object* obj = c.od.find(s.index);
+    if (obj == nullptr) {
+        return refuse(SdoAbort::NoObject);
+    }
+    const SubObject* sub = obj->find(s.sub);
+    if (sub == nullptr) {
+        return refuse(SdoAbort::NoSubindex);
+    }
+    if (!writable(sub->access)) {
+        return refuse(SdoAbort::ReadOnly);
+    }
+    const std::size_t fixed = data_type_size(sub->type);
+    if (size && fixed != 0) {
+        if (*size > fixed) {
+            return refuse(SdoAbort::LengthTooHigh);
+        }
+        if (*size < fixed) {
+            return refuse(SdoAbort::LengthTooLow);
+        }
+    }
+    return {};
+}
+
+bool write_data(Ctx& c, std::span<const std::uint8_t> data) {
+    auto& s = c.s;
+    if (s.writer) {
+        if (data.empty()) {
+            return true;
+        }
+        if (auto ok = s.writer->write(data); !ok) {
+            s.write_error = ok.error();
+            return false;
+        }
+        return true;
+    }
+    s.buffer.insert(s.buffer.end(), data.begin(), data.end());
+    return true;
+}
+
+tl::expected<void, SdoAbort> commit_download(Ctx& c) {
+    auto& s = c.s;
+    if (s.writer) {
+        auto w = std::move(*s.writer);
+        s.writer.reset();
+        return w.finish ? w.finish() : tl::expected<void, SdoAbort>{};
+    }
+    return c.od.write(s.index, s.sub, s.buffer);
+}
+
+void send_segment(Ctx& c) {
+    auto& s = c.s;
+    const std::size_t n = std::min(kSegmentData, s.reader.size - s.done);
+    std::array<std::uint8_t, kSegmentData> data{};
+    if (n > 0) {
+        if (auto ok = s.reader.read(std::span<std::uint8_t>(data.data(), n)); !ok) {
+            c.abort(ok.error());
+            return;
+        }
+    }
+    s.done += n;
+    const bool last = s.done == s.reader.size;
+    (void)c.send(
+        make_upload_segment(s.toggle, last, std::span<const std::uint8_t>(data.data(), n)));
+    s.toggle = !s.toggle;
+    if (last) {
+        c.complete();
+    } else {
+        c.arm();
+    }
+}
+
+void send_sub_block(Ctx& c) {
+    auto& s = c.s;
+    SdoAbort err = SdoAbort::DataTransfer;
+    const bool ok = s.sender.fill(s.block_size, [&](std::span<std::uint8_t> out) {
+        auto r = s.reader.read(out);
+        if (!r) {
+            err = r.error();
+        }
+        return r.has_value();
+    });
+    if (!ok) {
+        c.abort(err);
+        return;
+    }
+    s.state = State::BlockUploadAck;
+    for (std::uint8_t seq = 1; seq <= s.sender.segments(); ++seq) {
+        (void)c.send(s.sender.segment(seq));
+    }
+    c.arm();
+}
+
+/// Initiate upload response for an opened upload; also used by a block upload that switches
+/// protocol (size <= pst).
+void respond_upload(Ctx& c) {
+    auto& s = c.s;
+    const std::size_t size = s.reader.size;
+    if (size >= 1 && size <= kExpeditedMax && c.config.expedited_upload) {
+        std::array<std::uint8_t, kExpeditedMax> data{};
+        if (auto ok = s.reader.read(std::span<std::uint8_t>(data.data(), size)); !ok) {
+            c.abort(ok.error());
+            return;
+        }
+        (void)c.send(make_initiate_upload_expedited(
+            s.index, s.sub, std::span<const std::uint8_t>(data.data(), size)));
+        c.complete();
+        return;
+    }
+    if (size > 0xFFFFFFFFU) {
+        c.abort(SdoAbort::LengthTooHigh);
+        return;
+    }
+    s.state = State::UploadSegment;
+    s.toggle = false;
+    s.done = 0;
+    (void)c.send(make_initiate_upload_segmented(s.index, s.sub, static_cast<std::uint32_t>(size)));
+    c.arm();
+}
+
+} // namespace
+
+bool SdoServer::on_frame(const Frame& frame, TimePoint now) {
+    if (frame.id != request_id_ || frame.extended() || frame.rtr() || frame.error()) {
+        ++stats_.frames_ignored;
+        return false;
+    }
+    detail::ServerSession& s = *session_;
+    Ctx c{od_, bus_, config_, response_id_, s, stats_, now};
+    const bool in_block = s.state == State::BlockDownloadData;
+    const FrameInfo info = parse_frame(frame.payload(), Sender::Client, in_block);
+    ++stats_.requests;
+
+    if (info.kind == FrameKind::Abort) {
+        ++stats_.aborts_received;
+        c.cancel_writer();
+        c.idle();
+        return true;
+    }
+
+    // A new initiate request ends whatever ran before: the client has given up on it.
+    switch (info.kind) {
+    case FrameKind::InitiateUploadRequest:
+    case FrameKind::InitiateDownloadRequest:
+    case FrameKind::BlockUploadInitiateRequest:
+    case FrameKind::BlockDownloadInitiateRequest:
+        c.cancel_writer();
+        c.idle();
+        s.index = info.index;
+        s.sub = info.subindex;
+        s.done = 0;
+        s.total.reset();
+        s.write_error = SdoAbort::DataTransfer;
+        if (access_hook_) {
+            const Direction dir = (info.kind == FrameKind::InitiateUploadRequest ||
+                                   info.kind == FrameKind::BlockUploadInitiateRequest)
+                                      ? Direction::Upload
+                                      : Direction::Download;
+            if (auto refused = access_hook_(s.index, s.sub, dir)) {
+                c.abort(*refused);
+                return true;
+            }
+        }
+        break;
+    default:
+        break;
+    }
+
+    const auto unexpected = [&] { c.abort(SdoAbort::UnknownCommand); };
+
+    switch (info.kind) {
+    case FrameKind::InitiateUploadRequest:
+        if (auto ok = open_upload(c, upload_handlers_); !ok) {
+            c.abort(ok.error());
+            return true;
+        }
+        respond_upload(c);
+        return true;
+
+    case FrameKind::InitiateDownloadRequest: {
+        std::optional<std::size_t> size;
+        if (info.expedited) {
+            if (info.size_indicated) {
+                size = info.data_len;
+            } else if (const SubObject* sub = od_.find(s.index, s.sub)) {
+                // e=1, s=0: size unspecified; a fixed-size object takes its own size.
+                const std::size_t fixed = data_type_size(sub->type);
+                size = fixed != 0 && fixed <= kExpeditedMax ? fixed : kExpeditedMax;
+            } else {
+                size = kExpeditedMax;
+            }
+        } else if (info.size_indicated) {
+            size = info.size;
+        }
+        if (auto ok = open_download(c, download_handlers_, size); !ok) {
+            c.abort(ok.error());
+            return true;
+        }
+        if (info.expedited) {
+            if (!write_data(c, std::span<const std::uint8_t>(info.data.data(), *size))) {
+                c.abort(s.write_error);
+                return true;
+            }
+            if (auto ok = commit_download(c); !ok) {
+                c.abort(ok.error());
+                return true;
+            }
+            (void)c.send(make_initiate_download_response(s.index, s.sub));
+            c.complete();
+            return true;
+        }
+        s.total = size;
+        s.toggle = false;
+        s.state = State::DownloadSegment;
+        (void)c.send(make_initiate_download_response(s.index, s.sub));
+        c.arm();
+        return true;
+    }
+
+    case FrameKind::UploadSegmentRequest:
+        if (s.state != State::UploadSegment) {
+            unexpected();
+            return true;
+        }
+        if (info.toggle != s.toggle) {
+            c.abort(SdoAbort::ToggleBit);
+            return true;
+        }
+        send_segment(c);
+        return true;
+
+    case FrameKind::DownloadSegmentRequest: {
+        if (s.state != State::DownloadSegment) {
+            unexpected();
+            return true;
+        }
+        if (info.toggle != s.toggle) {
+            c.abort(SdoAbort::ToggleBit);
+            return true;
+        }
+        const std::span<const std::uint8_t> data(info.data.data(), info.data_len);
+        if (s.total && s.done + data.size() > *s.total) {
+            c.abort(SdoAbort::LengthTooHigh);
+            return true;
+        }
+        if (!write_data(c, data)) {
+            c.abort(s.write_error);
+            return true;
+        }
+        s.done += data.size();
+        if (info.last) {
+            if (s.total && s.done != *s.total) {
+                c.abort(SdoAbort::LengthMismatch);
+                return true;
+            }
+            if (auto ok = commit_download(c); !ok) {
+                c.abort(ok.error());
+                return true;
+            }
+            (void)c.send(make_download_segment_response(s.toggle));
+            c.complete();
+            return true;
+        }
+        (void)c.send(make_download_segment_response(s.toggle));
+        s.toggle = !s.toggle;
+        c.arm();
+        return true;
+    }
+
+    case FrameKind::BlockDownloadInitiateRequest: {
+        std::optional<std::size_t> size;
+        if (info.size_indicated) {
+            size = info.size;
+        }
+        if (auto ok = open_download(c, download_handlers_, size); !ok) {
+            c.abort(ok.error());
+            return true;
+        }
+        s.total = size;
+        s.crc = config_.crc && info.crc;
+        s.block_size = config_.block_size;
+        s.receiver.reset(s.block_size);
+        s.state = State::BlockDownloadData;
+        (void)c.send(make_block_download_initiate_response(s.index, s.sub, s.crc, s.block_size));
+        c.arm();
+        return true;
+    }
+
+    case FrameKind::BlockSegment: {
+        using R = BlockReceiver::SegmentResult;
+        const auto r = s.receiver.on_segment(
+            info, [&c](std::span<const std::uint8_t> d) { return write_data(c, d); });
+        switch (r) {
+        case R::InvalidSequence:
+            c.abort(SdoAbort::InvalidSequence);
+            return true;
+        case R::WriteFailed:
+            c.abort(s.write_error);
+            return true;
+        case R::Stale:
+            c.arm();
+            return true;
+        case R::Stored:
+        case R::Skipped:
+            if (s.total && s.receiver.received() > *s.total) {
+                c.abort(SdoAbort::LengthTooHigh);
+                return true;
+            }
+            s.gap_activity = now;
+            s.deadline = std::min(s.deadline, now + config_.block_gap_timeout);
+            c.arm();
+            return true;
+        case R::SubBlockDone:
+            break;
+        }
+        const std::uint8_t ackseq = s.receiver.ackseq();
+        if (s.receiver.complete()) {
+            s.state = State::BlockDownloadEnd;
+        }
+        s.receiver.start_sub_block(s.block_size);
+        s.gap_activity = kNever;
+        (void)c.send(make_block_download_ack(ackseq, s.block_size));
+        c.arm();
+        return true;
+    }
+
+    case FrameKind::BlockDownloadEndRequest: {
+        if (s.state != State::BlockDownloadEnd) {
+            unexpected();
+            return true;
+        }
+        if (!s.receiver.finish(
+                info.unused, [&c](std::span<const std::uint8_t> d) { return write_data(c, d); })) {
+            c.abort(s.write_error);
+            return true;
+        }
+        if (s.crc && s.receiver.crc() != info.crc_value) {
+            c.abort(SdoAbort::CrcError);
+            return true;
+        }
+        if (s.total && s.receiver.received() != *s.total) {
+            c.abort(SdoAbort::LengthMismatch);
+            return true;
+        }
+        if (auto ok = commit_download(c); !ok) {
+            c.abort(ok.error());
+            return true;
+        }
+        (void)c.send(make_block_download_end_response());
+        c.complete();
+        return true;
+    }
+
+    case FrameKind::BlockUploadInitiateRequest: {
+        if (info.block_size == 0 || info.block_size > kMaxBlockSize) {
+            c.abort(SdoAbort::InvalidBlockSize);
+            return true;
+        }
+        if (auto ok = open_upload(c, upload_handlers_); !ok) {
+            c.abort(ok.error());
+            return true;
+        }
+        if (info.pst != 0 && s.reader.size <= info.pst) {
+            // CiA 301 §7.2.4.3.13: at or below the protocol switch threshold the server may
+            // answer with an ordinary initiate upload response.
+            respond_upload(c);
+            return true;
+        }
+        if (s.reader.size > 0xFFFFFFFFU) {
+            c.abort(SdoAbort::LengthTooHigh);
+            return true;
+        }
+        s.crc = config_.crc && info.crc;
+        s.block_size = info.block_size;
+        s.sender.reset(s.reader.size);
+        s.state = State::BlockUploadStart;
+        (void)c.send(make_block_upload_initiate_response(
+            s.index, s.sub, s.crc, static_cast<std::uint32_t>(s.reader.size)));
+        c.arm();
+        return true;
+    }
+
+    case FrameKind::BlockUploadStart:
+        if (s.state != State::BlockUploadStart) {
+            unexpected();
+            return true;
+        }
+        send_sub_block(c);
+        return true;
+
+    case FrameKind::BlockUploadAck: {
+        if (s.state != State::BlockUploadAck) {
+            unexpected();
+            return true;
+        }
+        const auto r = s.sender.on_ack(info.seqno, info.block_size);
+        if (r == BlockSender::AckResult::InvalidSequence) {
+            c.abort(SdoAbort::InvalidSequence);
+            return true;
+        }
+        if (r == BlockSender::AckResult::InvalidBlockSize) {
+            c.abort(SdoAbort::InvalidBlockSize);
+            return true;
+        }
+        if (r == BlockSender::AckResult::Done) {
+            s.state = State::BlockUploadEnd;
+            (void)c.send(make_block_upload_end(s.sender.last_unused(), s.crc ? s.sender.crc() : 0));
+            c.arm();
+            return true;
+        }
+        s.block_size = info.block_size;
+        send_sub_block(c);
+        return true;
+    }
+
+    case FrameKind::BlockUploadEndResponse:
+        if (s.state != State::BlockUploadEnd) {
+            unexpected();
+            return true;
+        }
+        c.complete();
+        return true;
+
+    default:
+        unexpected();
+        return true;
+    }
+}
+
+void SdoServer::on_tick(TimePoint now) {
+    detail::ServerSession& s = *session_;
+    Ctx c{od_, bus_, config_, response_id_, s, stats_, now};
+    if (s.state == State::BlockDownloadData && s.gap_activity != kNever &&
+        now >= s.gap_activity + config_.block_gap_timeout) {
+        // The sub-block stalled, most likely because its last segment was lost: acknowledge
+        // what arrived in sequence so the client repeats the rest (CiA 301 §7.2.4.3.10).
+        const std::uint8_t ackseq = s.receiver.ackseq();
+        s.receiver.start_sub_block(s.block_size, /*early=*/true);
+        s.gap_activity = kNever;
+        ++stats_.early_acks;
+        (void)c.send(make_block_download_ack(ackseq, s.block_size));
+        c.arm();
+    } else if (s.state != State::Idle && now >= s.activity + config_.timeout) {
+        ++stats_.timeouts;
+        c.abort(SdoAbort::Timeout);
+    }
+    if (s.state == State::Idle) {
+        s.deadline = kNever;
+        return;
+    }
+    s.deadline = s.activity + config_.timeout;
+    if (s.gap_activity != kNever) {
+        s.deadline = std::min(s.deadline, s.gap_activity + config_.block_gap_timeout);
+    }
+}
+
+} // namespace codrive::sdo

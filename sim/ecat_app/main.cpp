@@ -1,0 +1,149 @@
+// SPDX-License-Identifier: Apache-2.0
+// codrive-ecat-sim: a chain of simulated EtherCAT slaves answering on a raw Ethernet interface.
+#include <codrive/sim/ecat/drive_profiles.hpp>
+#include <codrive/sim/ecat/segment.hpp>
+
+#include <codrive/ethercat/al_state.hpp>
+#include <codrive/ethercat/pcap_writer.hpp>
+#include <codrive/ethercat/raw_socket_link.hpp>
+
+#include <codrive/core/value.hpp>
+
+#include <CLI/CLI.hpp>
+#include <fmt/format.h>
+
+#include <atomic>
+#include <csignal>
+#include <cstdio>
+#include <vector>
+
+namespace {
+
+std::atomic<bool> g_stop{false};
+std::atomic<int> g_toggle{0};
+
+void on_stop(int) {
+    g_stop = true;
+}
+void on_usr1(int) {
+    ++g_toggle;
+}
+
+} // namespace
+
+int main(int argc, char** argv) {
+    using namespace codrive;
+    using namespace codrive::ethercat;
+    CLI::App app{"codrive-ecat-sim: simulated EtherCAT slaves (FIO, AKD2G, DS-BVS) on a raw "
+                 "Ethernet interface (e.g. one end of a veth pair). The CAN simulator is the "
+                 "separate codrive-sim."};
+    std::string iface;
+    std::vector<std::string> profiles;
+    int mute_on_signal = -1;
+    std::vector<int> mailbox_silent;
+    std::vector<std::string> refuse;
+    std::string pcap;
+    bool echo = false;
+    app.add_option("--ethercat", iface, "interface to answer on")->required();
+    app.add_option("--slave", profiles, "slave profile in chain order: fio, akd2g, ds-bvs");
+    app.add_option("--mute-on-signal", mute_on_signal,
+                   "SIGUSR1 toggles this slave silent (it stops answering)");
+    app.add_option("--mailbox-silent", mailbox_silent,
+                   "this slave consumes mailbox requests but never answers");
+    app.add_option("--refuse", refuse,
+                   "POS:STATE:CODE — refuse the transition into STATE with AL status CODE");
+    app.add_option("--pcap", pcap, "write every frame received and sent to this pcap file");
+    app.add_flag("--echo", echo, "return frames untouched (raw-socket floor for benchmarks)");
+    CLI11_PARSE(app, argc, argv);
+
+    sim::ecat::EcatSegment segment;
+    if (!echo) {
+        if (profiles.empty()) {
+            profiles = {"fio", "akd2g", "ds-bvs"};
+        }
+        std::uint32_t serial = 1001;
+        for (const auto& p : profiles) {
+            auto slave = sim::ecat::make_drive_slave(p, serial++);
+            if (!slave) {
+                std::fprintf(stderr,
+                             "codrive-ecat-sim: unknown slave profile '%s' (use fio, "
+                             "akd2g or ds-bvs)\n",
+                             p.c_str());
+                return 2;
+            }
+            segment.add(std::move(slave));
+        }
+    }
+    for (int pos : mailbox_silent) {
+        if (pos >= 0 && static_cast<std::size_t>(pos) < segment.size()) {
+            segment.slave(static_cast<std::size_t>(pos)).faults().mailbox_silent = true;
+        }
+    }
+    for (const auto& r : refuse) {
+        const auto a = r.find(':');
+        const auto b = r.rfind(':');
+        const auto pos = parse_uint(r.substr(0, a));
+        const auto parsed =
+            a == b ? std::nullopt : al_state_from_string(r.substr(a + 1, b - a - 1));
+        const auto code = parse_uint(r.substr(b + 1));
+        if (!pos || !parsed.has_value() || !code || *pos >= segment.size()) {
+            std::fprintf(stderr,
+                         "codrive-ecat-sim: bad --refuse '%s' (POS:STATE:CODE, e.g. "
+                         "1:op:0x001A)\n",
+                         r.c_str());
+            return 2;
+        }
+        const AlState state = parsed.value_or(AlState::Init);
+        segment.slave(*pos).faults().refuse[state] = static_cast<std::uint16_t>(*code);
+    }
+
+    auto link = RawSocketLink::open(iface);
+    if (!link) {
+        std::fprintf(stderr, "codrive-ecat-sim: %s\n",
+                     RawSocketLink::describe_open_error(iface, link.error()).c_str());
+        return 3;
+    }
+    PcapWriter writer;
+    if (!pcap.empty()) {
+        if (!writer.open(pcap)) {
+            std::fprintf(stderr, "codrive-ecat-sim: cannot write %s\n", pcap.c_str());
+            return 2;
+        }
+        (*link)->set_tap([&](std::span<const std::uint8_t> f, bool) { writer.write(f); });
+    }
+    std::signal(SIGTERM, on_stop);
+    std::signal(SIGINT, on_stop);
+    std::signal(SIGUSR1, on_usr1);
+    std::printf("codrive-ecat-sim: %zu slave(s) on %s ready\n", segment.size(), iface.c_str());
+    std::fflush(stdout);
+
+    std::vector<std::uint8_t> buf(kMaxFrameSize + 64);
+    int toggles_seen = 0;
+    while (!g_stop) {
+        if (const int t = g_toggle.load(); t != toggles_seen) {
+            toggles_seen = t;
+            if (mute_on_signal >= 0 && static_cast<std::size_t>(mute_on_signal) < segment.size()) {
+                auto& f = segment.slave(static_cast<std::size_t>(mute_on_signal)).faults();
+                f.silent = !f.silent;
+                std::printf("codrive-ecat-sim: slave %d %s\n", mute_on_signal,
+                            f.silent ? "stops answering" : "answers again");
+                std::fflush(stdout);
+            }
+        }
+        auto n = (*link)->receive(buf, SteadyClock::now() + milliseconds(100));
+        if (!n) {
+            continue;
+        }
+        std::span<std::uint8_t> frame(buf.data(), *n);
+        if (!echo && !segment.process(frame, SteadyClock::now())) {
+            continue;
+        }
+        if (echo && frame.size() > 6) {
+            frame[6] = static_cast<std::uint8_t>(frame[6] | 0x02);
+        }
+        (void)(*link)->send(frame);
+    }
+    std::printf("codrive-ecat-sim: stopped after %llu frames\n",
+                static_cast<unsigned long long>(segment.frames()));
+    return 0;
+}

@@ -1,0 +1,32 @@
+// SPDX-License-Identifier: Apache-2.0
+// The device behind a simulated EtherCAT slave controller: object dictionary, model, emergencies.
+#pragma once
+
+#include <codrive/core/object_dictionary.hpp>
+#include <codrive/core/time.hpp>
+#include <codrive/emcy/message.hpp>
+#include <codrive/ethercat/al_state.hpp>
+
+#include <vector>
+
+namespace codrive::sim::ecat {
+
+/// What the ESC model needs from the device application (the "PDI side" of a real slave).
+class EcatApplication {
+public:
+    virtual ~EcatApplication() = default;
+    /// The object dictionary served over CoE; 1C12h/1C13h and 16xxh/1Axxh define process data.
+    virtual ObjectDictionary& od() = 0;
+    /// Advances the device model to `now` (called before each frame so inputs are fresh).
+    virtual void step(TimePoint now) = 0;
+    /// The ESM changed state (after the ESC accepted the transition).
+    virtual void on_state_change(ethercat::AlState from, ethercat::AlState to) = 0;
+    /// Process outputs were just written into the object dictionary (in OP).
+    virtual void on_outputs(TimePoint now) = 0;
+    /// Emergencies raised since the last call; the ESC sends them as CoE emergency messages.
+    virtual std::vector<emcy::EmcyMessage> take_emergencies() = 0;
+    /// Test hook: raise a device fault with this EMCY error code (no-op if unsupported).
+    virtual void inject_fault(std::uint16_t /*error_code*/) {}
+};
+
+} // namespace codrive::sim::ecat

@@ -1,0 +1,105 @@
+// SPDX-License-Identifier: Apache-2.0
+// A simulated EtherCAT slave controller (ESC): register memory, station address, AL control and
+// status (ESM), SII EEPROM, sync managers with mailbox semantics, FMMUs, working counter, DC.
+#pragma once
+
+#include <codrive/sim/ecat/application.hpp>
+#include <codrive/sim/ecat/coe_server.hpp>
+
+#include <codrive/ethercat/al_state.hpp>
+#include <codrive/ethercat/datagram.hpp>
+#include <codrive/ethercat/mailbox.hpp>
+#include <codrive/ethercat/registers.hpp>
+#include <codrive/ethercat/sii.hpp>
+
+#include <cstdint>
+#include <deque>
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace codrive::sim::ecat {
+
+/// Fault injection for tests.
+struct EscFaults {
+    bool silent = false;         ///< processes nothing (frames pass through untouched)
+    bool mailbox_silent = false; ///< consumes mailbox requests but never answers
+    /// Refuse an up-transition into a state with this AL status code.
+    std::map<ethercat::AlState, std::uint16_t> refuse;
+};
+
+/// Where the frame is in the chain (for auto-increment addressing and DC receive times).
+struct ChainContext {
+    std::size_t position = 0;
+    std::size_t chain_length = 1;
+    TimePoint now{};
+};
+
+class EscSlave {
+public:
+    /// `sii` describes identity, mailbox and sync manager defaults; it is also the EEPROM image.
+    EscSlave(ethercat::SiiInfo sii, std::unique_ptr<EcatApplication> app, bool has_dc = true);
+
+    /// Processes one datagram as the frame passes this slave (adds to the WKC in place).
+    void process(const ethercat::DatagramRef& dg, const ChainContext& ctx);
+    /// Before a frame: advances the application and refreshes the input buffer (SM3).
+    void before_frame(TimePoint now);
+    /// After a frame: consumes a written mailbox (CoE), applies fresh outputs (SM2).
+    void after_frame(TimePoint now);
+
+    [[nodiscard]] ethercat::AlState state() const { return state_; }
+    [[nodiscard]] std::uint16_t al_status_code() const;
+    [[nodiscard]] std::uint16_t station_address() const;
+    [[nodiscard]] const ethercat::SiiInfo& sii() const { return sii_; }
+    [[nodiscard]] EcatApplication& app() { return *app_; }
+    [[nodiscard]] EscFaults& faults() { return faults_; }
+    [[nodiscard]] std::uint64_t system_time(TimePoint now) const;
+    [[nodiscard]] bool sync0_active() const;
+    [[nodiscard]] std::uint64_t frames_seen() const { return frames_seen_; }
+    /// Direct register access (tests).
+    [[nodiscard]] std::uint8_t reg8(std::uint16_t addr) const { return mem_[addr]; }
+    [[nodiscard]] std::uint16_t reg16(std::uint16_t addr) const;
+
+private:
+    void write_memory(std::uint16_t addr, std::span<const std::uint8_t> data, TimePoint now);
+    bool read_memory(std::uint16_t addr, std::span<std::uint8_t> out, bool or_into, TimePoint now);
+    bool write_allowed_by_sm(std::uint16_t addr, std::size_t len);
+    bool read_allowed_by_sm(std::uint16_t addr, std::size_t len);
+    void after_sm_write(std::uint16_t addr, std::size_t len);
+    void after_sm_read(std::uint16_t addr, std::size_t len);
+    bool logical(const ethercat::DatagramRef& dg, bool& read_done, bool& write_done, TimePoint now);
+    void on_al_control(std::uint16_t value);
+    void set_al_status(ethercat::AlState s, bool error, std::uint16_t code);
+    [[nodiscard]] std::uint16_t check_transition(ethercat::AlState to);
+    void on_sii_control();
+    void latch_receive_times(const ChainContext& ctx);
+    void refresh_dc(TimePoint now);
+    void send_mailbox(std::vector<std::uint8_t> payload, ethercat::MailboxType type);
+    void load_mailbox_out();
+    [[nodiscard]] ethercat::SyncManager sm(unsigned n) const;
+    void set_sm_status(unsigned n, std::uint8_t status);
+    [[nodiscard]] std::size_t pdo_bytes(std::uint16_t assign_index);
+    void pack_inputs();
+    void unpack_outputs(TimePoint now);
+    std::uint64_t local_time(TimePoint now) const;
+
+    ethercat::SiiInfo sii_;
+    std::vector<std::uint8_t> eeprom_;
+    std::unique_ptr<EcatApplication> app_;
+    std::unique_ptr<CoeServer> coe_;
+    std::vector<std::uint8_t> mem_ = std::vector<std::uint8_t>(0x10000, 0);
+    ethercat::AlState state_ = ethercat::AlState::Init;
+    EscFaults faults_;
+    bool mailbox_in_full_ = false;  ///< SM0 written by the master, not consumed yet
+    bool mailbox_out_full_ = false; ///< SM1 holds a message the master has not read
+    std::deque<std::vector<std::uint8_t>> outbox_;
+    std::uint8_t mailbox_counter_ = 0;
+    bool outputs_fresh_ = false;
+    std::uint64_t frames_seen_ = 0;
+    std::int64_t local_base_ns_ = 0;
+    TimePoint epoch_{};
+    bool epoch_set_ = false;
+};
+
+} // namespace codrive::sim::ecat

@@ -1,0 +1,63 @@
+// SPDX-License-Identifier: Apache-2.0
+// A chain of simulated EtherCAT slaves and an in-process link to it (unit tests, no sockets).
+#pragma once
+
+#include <codrive/sim/ecat/esc_slave.hpp>
+
+#include <codrive/ethercat/link.hpp>
+
+#include <deque>
+#include <memory>
+#include <vector>
+
+namespace codrive::sim::ecat {
+
+/// Slaves in line: every slave processes each datagram in turn; the last one returns the frame
+/// (the way back through the ports does no processing), with the source MAC's locally
+/// administered bit set as an ESC's port 0 does.
+class EcatSegment {
+public:
+    EscSlave& add(std::unique_ptr<EscSlave> slave);
+    [[nodiscard]] std::size_t size() const { return slaves_.size(); }
+    [[nodiscard]] EscSlave& slave(std::size_t i) { return *slaves_[i]; }
+
+    /// Processes a frame in place; returns false if it is not a well-formed EtherCAT frame
+    /// (a real segment would drop it).
+    bool process(std::span<std::uint8_t> frame, TimePoint now);
+    [[nodiscard]] std::uint64_t frames() const { return frames_; }
+    [[nodiscard]] std::uint64_t dropped() const { return dropped_; }
+
+private:
+    std::vector<std::unique_ptr<EscSlave>> slaves_;
+    std::uint64_t frames_ = 0;
+    std::uint64_t dropped_ = 0;
+};
+
+/// An IEcatLink that hands frames to an EcatSegment synchronously, on a FakeClock: receive()
+/// with nothing pending advances the clock to the deadline and times out; idle() advances it.
+class SegmentLink final : public ethercat::IEcatLink {
+public:
+    SegmentLink(EcatSegment& segment, FakeClock& clock) : segment_(segment), clock_(clock) {}
+    VoidResult send(std::span<const std::uint8_t> frame) override;
+    Result<std::size_t> receive(std::span<std::uint8_t> buffer, TimePoint deadline) override;
+    void idle(Duration d) override { clock_.advance(d); }
+    [[nodiscard]] std::string name() const override { return "in-process segment"; }
+
+    /// Drops the next `n` frames (lost on the wire).
+    void drop_next(int n) { drop_ = n; }
+    [[nodiscard]] const std::vector<std::vector<std::uint8_t>>& sent() const { return sent_; }
+    void record(bool on) { record_ = on; }
+    /// Per-frame wire time the clock advances by.
+    void set_latency(Duration d) { latency_ = d; }
+
+private:
+    EcatSegment& segment_;
+    FakeClock& clock_;
+    std::deque<std::vector<std::uint8_t>> pending_;
+    std::vector<std::vector<std::uint8_t>> sent_;
+    int drop_ = 0;
+    bool record_ = false;
+    Duration latency_ = microseconds(20);
+};
+
+} // namespace codrive::sim::ecat

@@ -1,0 +1,157 @@
+// SPDX-License-Identifier: Apache-2.0
+// A simulated CANopen drive: object dictionary, SDO server, NMT slave, heartbeat, SYNC, EMCY,
+// PDOs and one or two CiA 402 axes, on any ICanBus (SocketCAN or the virtual bus).
+#pragma once
+
+#include <codrive/core/can_bus.hpp>
+#include <codrive/core/eds.hpp>
+#include <codrive/core/event_loop.hpp>
+#include <codrive/core/object_dictionary.hpp>
+#include <codrive/nmt/state.hpp>
+#include <codrive/sim/drive_core.hpp>
+#include <codrive/sim/profile.hpp>
+
+#include <cstdint>
+#include <functional>
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace codrive::nmt {
+class NmtSlave;
+class HeartbeatProducer;
+class HeartbeatConsumer;
+class NodeGuardingResponder;
+} // namespace codrive::nmt
+namespace codrive::sdo {
+class SdoServer;
+}
+namespace codrive::sync {
+class SyncConsumer;
+}
+namespace codrive::emcy {
+class EmcyProducer;
+}
+namespace codrive::pdo {
+class DevicePdo;
+}
+
+namespace codrive::sim {
+
+/// The manufacturer object that controls the simulation (sub-indexes below); axis n uses
+/// kControlObject + n. Writing 1 injects, writing 0 to kControlSto releases STO.
+inline constexpr std::uint16_t kControlObject = 0x2FF0;
+inline constexpr std::uint8_t kControlSto = 1;
+inline constexpr std::uint8_t kControlOverCurrent = 2;
+inline constexpr std::uint8_t kControlFollowingError = 3;
+inline constexpr std::uint8_t kControlHeartbeatLoss = 4;
+inline constexpr std::uint8_t kControlNodeReset = 5;
+
+struct SimDeviceConfig {
+    NodeId node = 1;
+    const SimProfile* profile = nullptr; ///< required
+    unsigned axes = 0;                   ///< 0: the profile's default
+    Duration step = milliseconds(1);     ///< motion step
+    MachineConfig machine;               ///< per axis (counts per revolution from the profile)
+};
+
+/// Counters for tests and the daemon's status line.
+struct SimDeviceStats {
+    std::uint64_t emcy_sent = 0;
+    std::uint64_t boot_ups = 0;
+    std::uint64_t steps = 0;
+};
+
+/// One simulated node. Sans-I/O: feed frames with on_frame(), run on_tick() at
+/// next_deadline(); it sends through the bus given at construction. Nothing is sent before
+/// start() (power-on: boot-up message, then pre-operational).
+class SimDevice final : public ITimed {
+public:
+    using LogHandler = std::function<void(const std::string&)>;
+
+    /// Builds the dictionary and services. `config.profile` must be set.
+    SimDevice(ICanBus& bus, SimDeviceConfig config);
+    ~SimDevice() override;
+    SimDevice(const SimDevice&) = delete;
+    SimDevice& operator=(const SimDevice&) = delete;
+
+    /// Power-on: sends the boot-up message and enters pre-operational (CiA 301 §7.3.2.1).
+    void start(TimePoint now);
+    void on_frame(const Frame& frame, TimePoint now);
+    [[nodiscard]] TimePoint next_deadline() const override;
+    void on_tick(TimePoint now) override;
+
+    /// Fault injection on one axis (NodeReset and HeartbeatLoss act on the whole device).
+    void inject(unsigned axis, FaultKind kind, TimePoint now);
+    /// NMT reset node done locally: application + communication parameters, boot-up.
+    void reset_node(TimePoint now);
+    /// Sets a parameter as if it had been saved with 1010h, so resets keep it (command-line
+    /// settings such as the producer heartbeat time). Errors: the dictionary's write abort.
+    tl::expected<void, SdoAbort> store_parameter(std::uint16_t index, std::uint8_t subindex,
+                                                 std::span<const std::uint8_t> data);
+
+    [[nodiscard]] ObjectDictionary& od() { return od_; }
+    [[nodiscard]] DriveCore& axis(unsigned i) { return *axes_.at(i); }
+    [[nodiscard]] std::size_t axis_count() const { return axes_.size(); }
+    [[nodiscard]] NodeId node() const { return config_.node; }
+    [[nodiscard]] const SimProfile& profile() const { return *config_.profile; }
+    [[nodiscard]] nmt::NmtState nmt_state() const;
+    [[nodiscard]] const SimDeviceStats& stats() const { return stats_; }
+    /// "node 1 akd2g (2 axes)".
+    [[nodiscard]] std::string summary() const;
+    /// Messages worth a log line ("node 1: EMCY 0x8611 F6001 ... (axis 1)").
+    void set_log_handler(LogHandler h) { log_ = std::move(h); }
+
+    /// The device described as an EDS (CiA 306): identity, PDO counts, every object with its
+    /// type, access, mappability, factory default and limits.
+    [[nodiscard]] DeviceDescription describe() const;
+
+private:
+    struct ActiveError {
+        std::uint16_t code = 0;
+        std::uint8_t reg = 0;
+        int axis = -1; ///< -1 for communication errors
+        bool warning = false;
+    };
+
+    void build_objects();
+    void install_hooks();
+    void apply_comm_parameters(TimePoint now);
+    void restore(bool communication_only);
+    void save();
+    void on_axis_event(const AxisEvent& e);
+    void raise_error(const FaultCode& code, int axis, bool warning);
+    void clear_errors(int axis, bool warnings_only, std::uint16_t code);
+    void update_error_register();
+    void send_emcy(std::uint16_t code, std::uint8_t reg, int axis);
+    void heartbeat_lost();
+    void heartbeat_recovered();
+    void log(const std::string& text);
+
+    ICanBus& bus_;
+    SimDeviceConfig config_;
+    ObjectDictionary od_;
+    std::vector<std::unique_ptr<DriveCore>> axes_;
+    std::unique_ptr<sdo::SdoServer> server_;
+    std::unique_ptr<nmt::NmtSlave> nmt_;
+    std::unique_ptr<nmt::HeartbeatProducer> heartbeat_;
+    std::unique_ptr<nmt::HeartbeatConsumer> consumer_;
+    std::unique_ptr<nmt::NodeGuardingResponder> guarding_;
+    std::unique_ptr<sync::SyncConsumer> sync_;
+    std::unique_ptr<emcy::EmcyProducer> emcy_;
+    std::unique_ptr<pdo::DevicePdo> pdo_;
+    std::map<std::uint32_t, Value> factory_; ///< (index << 8 | sub) → value after construction
+    std::map<std::uint32_t, Value> stored_;  ///< what reset node restores (1010h "save")
+    std::vector<ActiveError> errors_;
+    std::uint8_t consumer_node_ = 0;
+    bool started_ = false;
+    bool reset_pending_ = false;
+    bool emcy_enabled_ = true;
+    TimePoint now_{};
+    TimePoint next_step_ = kNever;
+    SimDeviceStats stats_;
+    LogHandler log_;
+};
+
+} // namespace codrive::sim

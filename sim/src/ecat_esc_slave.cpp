@@ -1,0 +1,538 @@
+// SPDX-License-Identifier: Apache-2.0
+// Simulated ESC: datagram processing with working counters (ETG.1000.4 §5.4), sync manager
+// mailbox/buffer rules and FMMUs (ET1100 datasheet §2/§8), the ESM (ETG.1000.6 §6.4), SII
+// EEPROM interface and DC registers (ETG.1000.4 §9).
+#include <codrive/sim/ecat/esc_slave.hpp>
+
+#include <codrive/core/endian.hpp>
+#include <codrive/ethercat/mailbox.hpp>
+
+#include <algorithm>
+#include <cstring>
+
+namespace codrive::sim::ecat {
+
+using namespace codrive::ethercat;
+
+namespace {
+
+constexpr std::int64_t kHopNs = 500; // simulated per-slave forwarding delay for DC receive times
+
+bool read_only_register(std::uint32_t a) {
+    return a < 0x0010 || (a >= 0x0110 && a < 0x0112) || (a >= 0x0130 && a < 0x0140) ||
+           (a >= 0x0800 && a < 0x0880 && (a - 0x0800) % 8 == 5) || (a >= 0x0900 && a < 0x0910) ||
+           (a >= 0x0918 && a < 0x0920) || (a >= 0x092C && a < 0x0930);
+}
+
+bool overlaps(std::uint32_t a, std::size_t len, std::uint32_t b, std::size_t blen) {
+    return a < b + blen && b < a + len;
+}
+
+} // namespace
+
+EscSlave::EscSlave(SiiInfo sii, std::unique_ptr<EcatApplication> app, bool has_dc)
+    : sii_(std::move(sii)), eeprom_(build_sii(sii_)), app_(std::move(app)) {
+    coe_ = std::make_unique<CoeServer>(app_->od(), sii_.tx_mailbox_size);
+    mem_[reg::kType] = 0x11;
+    mem_[reg::kRevision] = 0x02;
+    mem_[reg::kFmmuCount] = 8;
+    mem_[reg::kSmCount] = 8;
+    mem_[reg::kRamSize] = 8;
+    mem_[reg::kPortDescriptor] = 0x0F;
+    put_le<std::uint16_t>(mem_.data() + reg::kFeatures, has_dc ? 0x0004 : 0x0000);
+    put_le<std::uint16_t>(mem_.data() + reg::kStationAlias, sii_.alias);
+    set_al_status(AlState::Init, false, 0);
+    // Every simulated clock starts somewhere else, as real free-running ESC clocks do.
+    local_base_ns_ = static_cast<std::int64_t>((sii_.serial % 97) + 1) * 1'000'000'007LL;
+}
+
+std::uint16_t EscSlave::reg16(std::uint16_t addr) const {
+    return get_le<std::uint16_t>(mem_.data() + addr);
+}
+
+std::uint16_t EscSlave::station_address() const {
+    return reg16(reg::kStationAddress);
+}
+
+std::uint16_t EscSlave::al_status_code() const {
+    return reg16(reg::kAlStatusCode);
+}
+
+SyncManager EscSlave::sm(unsigned n) const {
+    return SyncManager::decode(std::span<const std::uint8_t>(mem_).subspan(reg::sm(n), 8));
+}
+
+void EscSlave::set_sm_status(unsigned n, std::uint8_t status) {
+    mem_[reg::sm(n) + 5U] = status;
+}
+
+std::uint64_t EscSlave::local_time(TimePoint now) const {
+    return static_cast<std::uint64_t>(
+        std::chrono::duration_cast<nanoseconds>(now.time_since_epoch()).count() + local_base_ns_);
+}
+
+std::uint64_t EscSlave::system_time(TimePoint now) const {
+    return local_time(now) + get_le<std::uint64_t>(mem_.data() + reg::kDcSystemTimeOffset);
+}
+
+bool EscSlave::sync0_active() const {
+    return (mem_[reg::kDcActivation] & 0x03) == 0x03 &&
+           get_le<std::uint32_t>(mem_.data() + reg::kDcSync0CycleTime) != 0;
+}
+
+void EscSlave::set_al_status(AlState s, bool error, std::uint16_t code) {
+    put_le<std::uint16_t>(
+        mem_.data() + reg::kAlStatus,
+        static_cast<std::uint16_t>(static_cast<unsigned>(s) | (error ? kAlErrorFlag : 0U)));
+    put_le<std::uint16_t>(mem_.data() + reg::kAlStatusCode, code);
+}
+
+bool EscSlave::write_allowed_by_sm(std::uint16_t addr, std::size_t len) {
+    for (unsigned n = 0; n < 2; ++n) {
+        const SyncManager s = sm(n);
+        if (!s.enabled() || !s.is_mailbox() || !overlaps(addr, len, s.start, s.length)) {
+            continue;
+        }
+        if (!s.master_writes() || mailbox_in_full_) {
+            return false;
+        }
+    }
+    return true;
+}
+
+bool EscSlave::read_allowed_by_sm(std::uint16_t addr, std::size_t len) {
+    for (unsigned n = 0; n < 2; ++n) {
+        const SyncManager s = sm(n);
+        if (!s.enabled() || !s.is_mailbox() || !overlaps(addr, len, s.start, s.length)) {
+            continue;
+        }
+        if (s.master_writes() || !mailbox_out_full_) {
+            return false;
+        }
+    }
+    return true;
+}
+
+void EscSlave::after_sm_write(std::uint16_t addr, std::size_t len) {
+    for (unsigned n = 0; n < 4; ++n) {
+        const SyncManager s = sm(n);
+        if (!s.enabled() || s.length == 0 || !s.master_writes()) {
+            continue;
+        }
+        const std::uint32_t last = s.start + s.length - 1U;
+        if (last >= addr && last < addr + len) {
+            // Writing the buffer's last byte completes it (ET1100 datasheet §8.2).
+            if (s.is_mailbox()) {
+                mailbox_in_full_ = true;
+                set_sm_status(n, SyncManager::kStatusMailboxFull);
+            } else {
+                outputs_fresh_ = true;
+            }
+        }
+    }
+}
+
+void EscSlave::after_sm_read(std::uint16_t addr, std::size_t len) {
+    for (unsigned n = 0; n < 2; ++n) {
+        const SyncManager s = sm(n);
+        if (!s.enabled() || !s.is_mailbox() || s.master_writes() || s.length == 0) {
+            continue;
+        }
+        const std::uint32_t last = s.start + s.length - 1U;
+        if (last >= addr && last < addr + len) {
+            mailbox_out_full_ = false;
+            set_sm_status(n, 0);
+            load_mailbox_out();
+        }
+    }
+}
+
+void EscSlave::refresh_dc(TimePoint now) {
+    put_le<std::uint64_t>(mem_.data() + reg::kDcSystemTime, system_time(now));
+}
+
+bool EscSlave::read_memory(std::uint16_t addr, std::span<std::uint8_t> out, bool or_into,
+                           TimePoint now) {
+    if (addr + out.size() > mem_.size() || !read_allowed_by_sm(addr, out.size())) {
+        return false;
+    }
+    if (overlaps(addr, out.size(), reg::kDcSystemTime, 8)) {
+        refresh_dc(now);
+    }
+    for (std::size_t i = 0; i < out.size(); ++i) {
+        out[i] = or_into ? static_cast<std::uint8_t>(out[i] | mem_[addr + i]) : mem_[addr + i];
+    }
+    after_sm_read(addr, out.size());
+    return true;
+}
+
+void EscSlave::write_memory(std::uint16_t addr, std::span<const std::uint8_t> data, TimePoint now) {
+    for (std::size_t i = 0; i < data.size(); ++i) {
+        const std::uint32_t a = addr + static_cast<std::uint32_t>(i);
+        if (!read_only_register(a)) {
+            mem_[a] = data[i];
+        }
+    }
+    after_sm_write(addr, data.size());
+    if (overlaps(addr, data.size(), reg::kAlControl, 2)) {
+        on_al_control(reg16(reg::kAlControl));
+    }
+    if (overlaps(addr, data.size(), reg::kSiiControl, 2)) {
+        on_sii_control();
+    }
+    if (overlaps(addr, data.size(), reg::kDcSystemTime, 8) && data.size() >= 4 &&
+        addr == reg::kDcSystemTime) {
+        // Drift control input: the reference time distributed by ARMW/FRMW (ETG.1000.4 §9.1.3).
+        std::uint64_t received = get_le<std::uint64_t>(mem_.data() + reg::kDcSystemTime);
+        const auto delay = get_le<std::uint32_t>(mem_.data() + reg::kDcSystemTimeDelay);
+        const auto own = static_cast<std::int64_t>(system_time(now));
+        const std::int64_t diff = static_cast<std::int64_t>(received + delay) - own;
+        // A real ESC slews its clock by a control loop; the model corrects in one step.
+        const auto offset = get_le<std::uint64_t>(mem_.data() + reg::kDcSystemTimeOffset);
+        put_le<std::uint64_t>(mem_.data() + reg::kDcSystemTimeOffset,
+                              offset + static_cast<std::uint64_t>(diff));
+        put_le<std::uint32_t>(mem_.data() + reg::kDcSystemTimeDifference,
+                              static_cast<std::uint32_t>(static_cast<std::int32_t>(diff)));
+    }
+}
+
+void EscSlave::latch_receive_times(const ChainContext& ctx) {
+    const std::uint64_t t = local_time(ctx.now);
+    const auto pos = static_cast<std::int64_t>(ctx.position);
+    const auto n = static_cast<std::int64_t>(ctx.chain_length);
+    const std::uint64_t port0 = t + static_cast<std::uint64_t>(pos * kHopNs);
+    const std::uint64_t port1 = t + static_cast<std::uint64_t>((2 * n - 1 - pos) * kHopNs);
+    put_le<std::uint32_t>(mem_.data() + reg::kDcReceiveTimePort0,
+                          static_cast<std::uint32_t>(port0));
+    put_le<std::uint32_t>(mem_.data() + reg::kDcReceiveTimePort0 + 4,
+                          static_cast<std::uint32_t>(port1));
+    put_le<std::uint64_t>(mem_.data() + reg::kDcReceiveTimeLocal, port0);
+}
+
+bool EscSlave::logical(const DatagramRef& dg, bool& read_done, bool& write_done, TimePoint now) {
+    // Process data moves only in SAFE-OP and OP: below, the application keeps SM2/SM3 off.
+    if (state_ != AlState::SafeOp && state_ != AlState::Op) {
+        return false;
+    }
+    const std::uint32_t start = dg.address();
+    const std::size_t len = dg.data.size();
+    for (unsigned f = 0; f < 8; ++f) {
+        const Fmmu fm = Fmmu::decode(std::span<const std::uint8_t>(mem_).subspan(reg::fmmu(f), 16));
+        if ((fm.activate & 1) == 0 || fm.length == 0 ||
+            !overlaps(start, len, fm.logical_start, fm.length)) {
+            continue;
+        }
+        const std::uint32_t ov_start = std::max(start, fm.logical_start);
+        const std::uint32_t ov_end = std::min<std::uint32_t>(
+            start + static_cast<std::uint32_t>(len), fm.logical_start + fm.length);
+        const std::size_t n = ov_end - ov_start;
+        const auto phys =
+            static_cast<std::uint16_t>(fm.physical_start + (ov_start - fm.logical_start));
+        auto window = dg.data.subspan(ov_start - start, n);
+        if ((fm.type & Fmmu::kRead) != 0 && command_reads(dg.command)) {
+            read_done = read_memory(phys, window, false, now) || read_done;
+        }
+        if ((fm.type & Fmmu::kWrite) != 0 && command_writes(dg.command)) {
+            write_memory(phys, window, now);
+            write_done = true;
+        }
+    }
+    return read_done || write_done;
+}
+
+void EscSlave::process(const DatagramRef& dg, const ChainContext& ctx) {
+    if (faults_.silent) {
+        return;
+    }
+    bool addressed = false;
+    const Addressing mode = addressing_of(dg.command);
+    switch (mode) {
+    case Addressing::AutoIncrement:
+        addressed = dg.adp() == 0;
+        dg.set_adp(static_cast<std::uint16_t>(dg.adp() + 1));
+        break;
+    case Addressing::Configured:
+        addressed = dg.adp() == station_address();
+        break;
+    case Addressing::Broadcast:
+        addressed = true;
+        dg.set_adp(static_cast<std::uint16_t>(dg.adp() + 1));
+        break;
+    case Addressing::Logical:
+    case Addressing::None:
+        break;
+    }
+    bool read_done = false;
+    bool write_done = false;
+    const std::uint16_t ado = dg.ado();
+    if (mode == Addressing::Logical) {
+        logical(dg, read_done, write_done, ctx.now);
+    } else if (dg.command == Command::Armw || dg.command == Command::Frmw) {
+        if (addressed) {
+            read_done = read_memory(ado, dg.data, false, ctx.now);
+        } else if (write_allowed_by_sm(ado, dg.data.size())) {
+            write_memory(ado, dg.data, ctx.now);
+            write_done = true;
+        }
+    } else if (addressed) {
+        if (mode == Addressing::Broadcast && dg.command == Command::Bwr &&
+            ado == reg::kDcReceiveTimePort0) {
+            latch_receive_times(ctx);
+            write_done = true;
+        } else {
+            std::vector<std::uint8_t> incoming;
+            if (command_writes(dg.command) && command_reads(dg.command)) {
+                incoming.assign(dg.data.begin(), dg.data.end());
+            }
+            if (command_reads(dg.command)) {
+                read_done = read_memory(ado, dg.data, dg.command == Command::Brd, ctx.now);
+            }
+            if (command_writes(dg.command)) {
+                std::span<const std::uint8_t> src = incoming.empty()
+                                                        ? std::span<const std::uint8_t>(dg.data)
+                                                        : std::span<const std::uint8_t>(incoming);
+                if (ado + src.size() <= mem_.size() && write_allowed_by_sm(ado, src.size())) {
+                    write_memory(ado, src, ctx.now);
+                    write_done = true;
+                }
+            }
+        }
+    }
+    dg.set_wkc(
+        static_cast<std::uint16_t>(dg.wkc() + wkc_increment(dg.command, read_done, write_done)));
+}
+
+void EscSlave::on_sii_control() {
+    const std::uint16_t ctl = reg16(reg::kSiiControl);
+    if ((ctl & sii_ctl::kRead) != 0) {
+        const std::uint32_t word = get_le<std::uint32_t>(mem_.data() + reg::kSiiAddress);
+        for (std::size_t i = 0; i < 8; ++i) {
+            const std::size_t b = static_cast<std::size_t>(word) * 2 + i;
+            mem_[reg::kSiiData + i] = b < eeprom_.size() ? eeprom_[b] : 0xFF;
+        }
+        put_le<std::uint16_t>(mem_.data() + reg::kSiiControl, sii_ctl::kReadSize8);
+    } else if ((ctl & (sii_ctl::kWrite | sii_ctl::kReload)) != 0) {
+        // The simulated EEPROM is read-only.
+        put_le<std::uint16_t>(mem_.data() + reg::kSiiControl,
+                              sii_ctl::kReadSize8 | sii_ctl::kCommandError);
+    }
+}
+
+std::size_t EscSlave::pdo_bytes(std::uint16_t assign_index) {
+    ObjectDictionary& od = app_->od();
+    std::size_t bits = 0;
+    const auto count = od.get<std::uint8_t>(assign_index, 0).value_or(0);
+    for (std::uint8_t i = 1; i <= count; ++i) {
+        const auto pdo = od.get<std::uint16_t>(assign_index, i).value_or(0);
+        const auto n = od.get<std::uint8_t>(pdo, 0).value_or(0);
+        for (std::uint8_t e = 1; e <= n; ++e) {
+            bits += od.get<std::uint32_t>(pdo, e).value_or(0) & 0xFFU;
+        }
+    }
+    return (bits + 7) / 8;
+}
+
+std::uint16_t EscSlave::check_transition(AlState to) {
+    if (auto it = faults_.refuse.find(to); it != faults_.refuse.end()) {
+        return it->second;
+    }
+    if (to == AlState::PreOp && state_ == AlState::Init && sii_.has_mailbox()) {
+        const SyncManager s0 = sm(0);
+        const SyncManager s1 = sm(1);
+        if (!s0.enabled() || !s1.enabled() || !s0.is_mailbox() || !s1.is_mailbox() ||
+            s0.start != sii_.rx_mailbox_offset || s0.length != sii_.rx_mailbox_size ||
+            s1.start != sii_.tx_mailbox_offset || s1.length != sii_.tx_mailbox_size ||
+            !s0.master_writes() || s1.master_writes()) {
+            return al_code::kInvalidMailboxConfigPreop;
+        }
+    }
+    if (to == AlState::SafeOp && state_ == AlState::PreOp) {
+        const std::size_t out = pdo_bytes(0x1C12);
+        const std::size_t in = pdo_bytes(0x1C13);
+        const SyncManager s2 = sm(2);
+        const SyncManager s3 = sm(3);
+        if (s2.length != out || (out > 0 && !s2.enabled())) {
+            return al_code::kInvalidOutputConfig;
+        }
+        if (s3.length != in || (in > 0 && !s3.enabled())) {
+            return al_code::kInvalidInputConfig;
+        }
+    }
+    return al_code::kNoError;
+}
+
+void EscSlave::on_al_control(std::uint16_t value) {
+    const bool ack = (value & kAlErrorFlag) != 0;
+    const bool error_pending = (reg16(reg::kAlStatus) & kAlErrorFlag) != 0;
+    if (error_pending && !ack) {
+        return; // a pending error must be acknowledged first (ETG.1000.6 §6.4.1.3)
+    }
+    if (ack) {
+        set_al_status(state_, false, 0);
+    }
+    const auto to = al_state_from_bits(value);
+    if (!to) {
+        set_al_status(state_, true, al_code::kUnknownState);
+        return;
+    }
+    if (*to == state_) {
+        return;
+    }
+    if (*to == AlState::Boot) {
+        set_al_status(state_, true, al_code::kBootstrapNotSupported);
+        return;
+    }
+    if (!transition_allowed(state_, *to)) {
+        set_al_status(state_, true, al_code::kInvalidStateChange);
+        return;
+    }
+    if (const std::uint16_t code = check_transition(*to); code != al_code::kNoError) {
+        set_al_status(state_, true, code);
+        return;
+    }
+    const AlState from = state_;
+    state_ = *to;
+    set_al_status(state_, false, 0);
+    if (state_ == AlState::Init) {
+        mailbox_in_full_ = false;
+        mailbox_out_full_ = false;
+        outbox_.clear();
+        set_sm_status(0, 0);
+        set_sm_status(1, 0);
+    }
+    app_->on_state_change(from, state_);
+}
+
+void EscSlave::load_mailbox_out() {
+    if (mailbox_out_full_ || outbox_.empty()) {
+        return;
+    }
+    const SyncManager s1 = sm(1);
+    if (!s1.enabled() || s1.length == 0) {
+        return;
+    }
+    std::vector<std::uint8_t> msg = std::move(outbox_.front());
+    outbox_.pop_front();
+    msg.resize(s1.length, 0);
+    std::memcpy(mem_.data() + s1.start, msg.data(), msg.size());
+    mailbox_out_full_ = true;
+    set_sm_status(1, SyncManager::kStatusMailboxFull);
+}
+
+void EscSlave::send_mailbox(std::vector<std::uint8_t> payload, MailboxType type) {
+    MailboxMessage m;
+    m.header.type = type;
+    mailbox_counter_ = static_cast<std::uint8_t>(mailbox_counter_ % 7 + 1);
+    m.header.counter = mailbox_counter_;
+    m.payload = std::move(payload);
+    auto bytes = m.encode();
+    if (bytes.size() > sii_.tx_mailbox_size) {
+        return; // the CoE server never builds more than the mailbox holds
+    }
+    outbox_.push_back(std::move(bytes));
+    load_mailbox_out();
+}
+
+void EscSlave::pack_inputs() {
+    const SyncManager s3 = sm(3);
+    if (!s3.enabled() || s3.length == 0) {
+        return;
+    }
+    ObjectDictionary& od = app_->od();
+    std::size_t bit = 0;
+    const auto count = od.get<std::uint8_t>(0x1C13, 0).value_or(0);
+    for (std::uint8_t i = 1; i <= count; ++i) {
+        const auto pdo = od.get<std::uint16_t>(0x1C13, i).value_or(0);
+        const auto n = od.get<std::uint8_t>(pdo, 0).value_or(0);
+        for (std::uint8_t e = 1; e <= n; ++e) {
+            const auto entry = od.get<std::uint32_t>(pdo, e).value_or(0);
+            const std::size_t bits = entry & 0xFFU;
+            const std::size_t at = s3.start + bit / 8;
+            const std::size_t bytes = bits / 8;
+            if ((entry >> 16) != 0 &&
+                at + bytes <= static_cast<std::size_t>(s3.start) + s3.length) {
+                auto v = od.read(static_cast<std::uint16_t>(entry >> 16),
+                                 static_cast<std::uint8_t>(entry >> 8));
+                for (std::size_t k = 0; k < bytes; ++k) {
+                    mem_[at + k] = v && k < v->size() ? (*v)[k] : 0;
+                }
+            }
+            bit += bits;
+        }
+    }
+}
+
+void EscSlave::unpack_outputs(TimePoint now) {
+    const SyncManager s2 = sm(2);
+    ObjectDictionary& od = app_->od();
+    std::size_t bit = 0;
+    const auto count = od.get<std::uint8_t>(0x1C12, 0).value_or(0);
+    for (std::uint8_t i = 1; i <= count; ++i) {
+        const auto pdo = od.get<std::uint16_t>(0x1C12, i).value_or(0);
+        const auto n = od.get<std::uint8_t>(pdo, 0).value_or(0);
+        for (std::uint8_t e = 1; e <= n; ++e) {
+            const auto entry = od.get<std::uint32_t>(pdo, e).value_or(0);
+            const std::size_t bits = entry & 0xFFU;
+            const std::size_t at = s2.start + bit / 8;
+            const std::size_t bytes = bits / 8;
+            if ((entry >> 16) != 0 &&
+                at + bytes <= static_cast<std::size_t>(s2.start) + s2.length) {
+                (void)od.write(static_cast<std::uint16_t>(entry >> 16),
+                               static_cast<std::uint8_t>(entry >> 8),
+                               std::span<const std::uint8_t>(mem_.data() + at, bytes), true);
+            }
+            bit += bits;
+        }
+    }
+    app_->on_outputs(now);
+}
+
+void EscSlave::before_frame(TimePoint now) {
+    ++frames_seen_;
+    if (faults_.silent) {
+        return;
+    }
+    app_->step(now);
+    if (state_ == AlState::SafeOp || state_ == AlState::Op) {
+        pack_inputs();
+    }
+}
+
+void EscSlave::after_frame(TimePoint now) {
+    if (faults_.silent) {
+        return;
+    }
+    if (mailbox_in_full_) {
+        const SyncManager s0 = sm(0);
+        auto msg = MailboxMessage::decode(
+            std::span<const std::uint8_t>(mem_).subspan(s0.start, s0.length));
+        mailbox_in_full_ = false;
+        set_sm_status(0, 0);
+        if (!faults_.mailbox_silent && state_ != AlState::Init) {
+            if (!msg) {
+                std::vector<std::uint8_t> err{0x01, 0x00, 0x05, 0x00}; // invalid header
+                send_mailbox(std::move(err), MailboxType::Error);
+            } else if (msg->header.type == MailboxType::Coe) {
+                for (auto& reply : coe_->handle(msg->payload, state_)) {
+                    send_mailbox(std::move(reply), MailboxType::Coe);
+                }
+            } else {
+                std::vector<std::uint8_t> err{0x01, 0x00, 0x02, 0x00}; // unsupported protocol
+                send_mailbox(std::move(err), MailboxType::Error);
+            }
+        }
+    }
+    if (state_ != AlState::Init) {
+        for (const auto& e : app_->take_emergencies()) {
+            send_mailbox(CoeServer::emergency(e), MailboxType::Coe);
+        }
+    }
+    if (outputs_fresh_) {
+        outputs_fresh_ = false;
+        if (state_ == AlState::Op) {
+            unpack_outputs(now);
+        }
+    }
+}
+
+} // namespace codrive::sim::ecat

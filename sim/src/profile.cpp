@@ -1,0 +1,379 @@
+// SPDX-License-Identifier: Apache-2.0
+// The built-in simulated drive models (AKD2G, DS-BVS, FIO), from the specs in shared/specs.
+#include <codrive/sim/profile.hpp>
+
+#include <algorithm>
+
+namespace codrive::sim {
+
+std::string_view to_string(FaultKind k) {
+    switch (k) {
+    case FaultKind::Sto:
+        return "sto";
+    case FaultKind::OverCurrent:
+        return "overcurrent";
+    case FaultKind::FollowingError:
+        return "following-error";
+    case FaultKind::HeartbeatLoss:
+        return "heartbeat-loss";
+    case FaultKind::NodeReset:
+        return "node-reset";
+    }
+    return "?";
+}
+
+bool parse_fault_kind(std::string_view text, FaultKind& out) {
+    if (text == "sto") {
+        out = FaultKind::Sto;
+    } else if (text == "overcurrent" || text == "over-current" || text == "oc") {
+        out = FaultKind::OverCurrent;
+    } else if (text == "following-error" || text == "ferr" || text == "following") {
+        out = FaultKind::FollowingError;
+    } else if (text == "heartbeat" || text == "heartbeat-loss" || text == "hb-loss" ||
+               text == "hb") {
+        out = FaultKind::HeartbeatLoss;
+    } else if (text == "reset" || text == "node-reset") {
+        out = FaultKind::NodeReset;
+    } else {
+        return false;
+    }
+    return true;
+}
+
+const HomingMethod* SimProfile::find_homing(std::int8_t method) const {
+    auto it = std::find_if(homing_methods.begin(), homing_methods.end(),
+                           [method](const HomingMethod& m) { return m.method == method; });
+    return it == homing_methods.end() ? nullptr : &*it;
+}
+
+bool SimProfile::accepts_mode(std::int8_t mode) const {
+    return std::find(accepted_modes.begin(), accepted_modes.end(), mode) != accepted_modes.end();
+}
+
+const FaultCode& SimProfile::code_for(FaultKind k) const {
+    switch (k) {
+    case FaultKind::Sto:
+        return sto_fault;
+    case FaultKind::OverCurrent:
+        return over_current;
+    case FaultKind::FollowingError:
+        return following_error;
+    case FaultKind::HeartbeatLoss:
+    case FaultKind::NodeReset:
+        break;
+    }
+    return heartbeat_loss;
+}
+
+namespace {
+
+HomingMethod hm(std::int8_t method, HomingRef ref, std::int8_t dir, bool index, std::int8_t edge,
+                std::string text) {
+    return HomingMethod{method, ref, dir, index, edge, std::move(text)};
+}
+
+// Kollmorgen AKD2G, CAN option "C" (akd2g.md; [M] manual, [STD] CiA fill-ins).
+SimProfile make_akd2g() {
+    SimProfile p;
+    p.name = "akd2g";
+    p.vendor_name = "Kollmorgen";
+    p.product_name = "AKD2G";
+    p.device_type = 0x00020192;         // §5.2.1
+    p.vendor_id = 0x0000006A;           // §5.2.16
+    p.product_code_1_axis = 0x11110100; // bit fields of §2.8: family 1, HW 1, 1 axis, SIL2
+    p.product_code_2_axes = 0x11210100; // 2 axes
+    p.revision = 0x03010000;            // byte 3 = FW minor, byte 2 = map revision
+    p.device_name = "AKD2G-SPE-6V03D-A1C1-0000";
+    p.hw_version = "A";
+    p.sw_version = "02-03-01-001 (codrive-sim)";
+    p.default_axes = 2;
+    p.max_axes = 2;
+    p.axis_offset = 0x800;                         // §4: axis 2 = index + 0x800
+    p.supported_modes = 0xAD;                      // 6502h §5.5
+    p.accepted_modes = {-2, -1, 1, 3, 4, 6, 8, 9}; // CSV accepted although 6502h omits it (AMB-13)
+    p.default_mode = 8;                            // not stated; CSP is what a CAN master will use
+    p.homing_methods = {
+        hm(-4, HomingRef::HomeSwitch, 1, false, -1,
+           "reference switch fast, home on switch slow, positive"),
+        hm(-3, HomingRef::HomeSwitch, -1, false, 1,
+           "reference switch fast, home on switch slow, negative"),
+        hm(-2, HomingRef::HardStop, 1, false, 0, "mechanical stop, positive"),
+        hm(-1, HomingRef::HardStop, -1, false, 0, "mechanical stop, negative"),
+        hm(1, HomingRef::LimitSwitch, -1, true, 0, "negative limit switch with zeroing"),
+        hm(2, HomingRef::LimitSwitch, 1, true, 0, "positive limit switch with zeroing"),
+        hm(8, HomingRef::HomeSwitch, 1, true, -1, "reference switch with zeroing, positive"),
+        hm(12, HomingRef::HomeSwitch, -1, true, 1, "reference switch with zeroing, negative"),
+        hm(17, HomingRef::LimitSwitch, -1, false, 0, "negative limit switch"),
+        hm(18, HomingRef::LimitSwitch, 1, false, 0, "positive limit switch (AMB-17)"),
+        hm(24, HomingRef::HomeSwitch, 1, false, -1, "reference switch, positive"),
+        hm(28, HomingRef::HomeSwitch, -1, false, 1, "reference switch, negative"),
+        hm(33, HomingRef::IndexPulse, -1, true, 0, "index pulse, negative"),
+        hm(34, HomingRef::IndexPulse, 1, true, 0, "index pulse, positive"),
+        hm(35, HomingRef::CurrentPosition, 1, false, 0, "current position"),
+    };
+    p.default_homing_method = 35;
+    p.quick_stop_options = {1, 2, 5, 6}; // §5.4
+    p.quick_stop_default = 2;
+    p.has_option_objects = false; // no 605Bh..605Eh (§5.4)
+    p.quick_stop_ignored_in_pt = true;
+    p.counts_per_rev = 65536; // 6092h feed 65536/1 (§5.11)
+    p.velocity_in_rpm = false;
+    p.profile_velocity = 655360;          // 10 rev/s (sim default; manual gives none)
+    p.profile_acceleration = 6553600;     // 100 rev/s²
+    p.quick_stop_deceleration = 13107200; // AXIS#.CS.DEC (5002h:2)
+    p.following_error_window = 262144;    // 4 rev; 0 would switch monitoring off
+    p.following_error_timeout = 10;
+    p.position_window = 655; // AXIS#.SETTLE.P (5016h:1), ~0.01 rev
+    p.position_window_time = 0;
+    p.velocity_window = 6553;
+    p.velocity_window_time = 10;
+    p.homing_speed_switch = 327680; // 5 rev/s
+    p.homing_speed_zero = 32768;
+    p.homing_acceleration = 6553600;
+    p.akd2g_objects = true;
+    p.has_interpolation_period = true;
+    p.sto_bit8 = true;
+    p.sto_fault = {0xFF0B, 0x01, "F9000 Safe torque off"};
+    p.sto_warning = {0xFF0C, 0x01, "W9000 Safe torque off"};
+    p.over_current = {0xFF07, 0x01, "F2002 Output over current"};
+    p.following_error = {0x8611, 0x01, "F6001 Following error magnitude fault"};
+    p.heartbeat_loss = {0x8130, 0x01, "F7002 Fieldbus Heartbeat lost"};
+    p.heartbeat_loss_is_fault = true;
+    p.error_register_generic_only = true; // §5.2.2
+    p.has_error_history_1003 = true;
+    p.rpdo_default_type = 0xFF; // AMB-9
+    p.tpdo_default_type = 0xFF;
+    p.default_can_maps = true; // AMB-10 suggestion
+    p.max_mapped_entries = 8;
+    p.node_guarding = true;
+    p.has_sync_objects = true;
+    return p;
+}
+
+// DINGS DS-BVS/BVM (ds-bvs.md).
+SimProfile make_ds_bvs() {
+    SimProfile p;
+    p.name = "ds-bvs";
+    p.vendor_name = "DINGS Motion";
+    p.product_name = "DS-BVS";
+    p.device_type = 0x00020192;
+    p.vendor_id = 0x00444D53;           // not in the manual: sim choice ("DMS")
+    p.product_code_1_axis = 0x42565331; // not in the manual: sim choice ("BVS1")
+    p.product_code_2_axes = 0x42565331;
+    p.revision = 0x00010001;
+    p.device_name = "DS-BVS";
+    p.hw_version = "1.0";
+    p.sw_version = "1.1 (codrive-sim)";
+    p.default_axes = 1;
+    p.max_axes = 1;
+    p.supported_modes = 0x3AF; // 6502h
+    p.accepted_modes = {1, 3, 6, 8, 9, 10, -8, -9, -10, -12, -128};
+    p.default_mode = 3; // PVM
+    p.homing_methods = {
+        hm(37, HomingRef::CurrentPosition, 1, false, 0, "actual position"),
+        hm(27, HomingRef::HomeSwitch, -1, false, 1, "home switch, negative speed"),
+        hm(23, HomingRef::HomeSwitch, 1, false, -1, "home switch, positive speed"),
+        hm(18, HomingRef::LimitSwitch, 1, false, 0, "positive limit switch"),
+        hm(17, HomingRef::LimitSwitch, -1, false, 0, "negative limit switch"),
+        hm(-3, HomingRef::HardStop, 1, false, 0, "current threshold, positive"),
+        hm(-4, HomingRef::HardStop, -1, false, 0, "current threshold, negative"),
+    };
+    p.default_homing_method = 17;
+    p.homing_moves_by_offset = true;
+    p.has_supported_homing_object = true;
+    p.quick_stop_options = {0, 1, 2, 5, 6};
+    p.quick_stop_default = 6;
+    p.has_option_objects = true;
+    p.shutdown_default = 0;
+    p.disable_operation_default = 1;
+    p.halt_default = 1;
+    p.fault_reaction_default = 0;
+    p.has_abort_connection = true;
+    p.abort_connection_default = 0;
+    p.counts_per_rev = 500; // 608Fh:01 default, treated as counts (spec §7)
+    p.velocity_in_rpm = true;
+    p.profile_velocity = 1000;
+    p.profile_acceleration = 1000;
+    p.quick_stop_deceleration = 1000;
+    p.max_profile_velocity = 1000;
+    p.following_error_window = 100000;
+    p.following_error_timeout = 0;
+    p.position_window = 5;
+    p.position_window_time = 10;
+    p.velocity_window = 30;
+    p.velocity_window_time = 30;
+    p.homing_speed_switch = 100;
+    p.homing_speed_zero = 10;
+    p.homing_acceleration = 10000;
+    p.ds_bvs_objects = true;
+    // The manual documents no STO; its emergency input (60FDh bit 3) stands in: generic error.
+    p.sto_fault = {0x1000, 0x01, "generic error (emergency input)"};
+    p.sto_warning = {0, 0, ""};
+    p.over_current = {0x2310, 0x03, "over current"};
+    p.following_error = {0x8611, 0x21, "following error"};
+    p.heartbeat_loss = {0x8130, 0x11, "heartbeat error"}; // [S] CiA 301 code
+    p.heartbeat_loss_is_fault = false;                    // reaction per 1029h:01 and 6007h
+    p.has_error_history_1003 = false;
+    p.has_error_history_4080 = true;
+    p.pdo_cob_id_read_only = true;
+    p.tpdo_no_rtr_bit = true;
+    p.rpdo_default_type = 0xFF;
+    p.tpdo_default_type = 0;
+    p.max_mapped_entries = 10;
+    p.has_error_behaviour_1029 = true;
+    return p;
+}
+
+// Kuhnke FIO Drive Control (kuhnke-fio.md), EtherCAT only.
+SimProfile make_fio() {
+    SimProfile p;
+    p.name = "fio";
+    p.vendor_name = "Kendrion Kuhnke";
+    p.product_name = "FIO Drive Control";
+    p.device_type = 0x00060192;
+    p.vendor_id = 0x0048554B;
+    p.product_code_1_axis = 0x0002BA67;
+    p.product_code_2_axes = 0x0002BA67;
+    p.revision = 0;
+    p.device_name = "FIO Drive Control";
+    p.hw_version = "1";
+    p.sw_version = "V2039 (codrive-sim)";
+    p.can = false;
+    p.supported_modes = 0x3AF;
+    p.accepted_modes = {-2, -1, 1, 2, 3, 4, 6, 8, 9, 10};
+    p.default_mode = 0;
+    p.homing_methods = {
+        hm(1, HomingRef::LimitSwitch, -1, true, 0, "negative limit switch and index"),
+        hm(2, HomingRef::LimitSwitch, 1, true, 0, "positive limit switch and index"),
+    };
+    // Home switch methods (kuhnke-fio.md §5.5 with CiA 402 positions): 3/4 and 19/20 switch on
+    // the positive side, 5/6 and 21/22 on the negative side, 7-14 and 23-30 narrow switch with
+    // reversal at a limit switch. The simulated switch is the region [2, 3] rev.
+    const auto add = [&p](int m, std::int8_t dir, bool index, std::int8_t edge, const char* text) {
+        p.homing_methods.push_back(
+            hm(static_cast<std::int8_t>(m), HomingRef::HomeSwitch, dir, index, edge, text));
+    };
+    for (int m : {3, 4}) {
+        add(m, 1, true, -1, "home switch (positive side) and index");
+    }
+    for (int m : {5, 6}) {
+        add(m, -1, true, 1, "home switch (negative side) and index");
+    }
+    for (int m : {7, 8}) {
+        add(m, 1, true, -1, "home switch, reversal at LS+, index");
+    }
+    for (int m : {9, 10}) {
+        add(m, 1, true, 1, "home switch, reversal at LS+, index");
+    }
+    for (int m : {11, 12}) {
+        add(m, -1, true, 1, "home switch, reversal at LS-, index");
+    }
+    for (int m : {13, 14}) {
+        add(m, -1, true, -1, "home switch, reversal at LS-, index");
+    }
+    p.homing_methods.push_back(
+        hm(17, HomingRef::LimitSwitch, -1, false, 0, "negative limit switch"));
+    p.homing_methods.push_back(
+        hm(18, HomingRef::LimitSwitch, 1, false, 0, "positive limit switch"));
+    for (int m : {19, 20}) {
+        add(m, 1, false, -1, "home switch (positive side)");
+    }
+    for (int m : {21, 22}) {
+        add(m, -1, false, 1, "home switch (negative side)");
+    }
+    for (int m : {23, 24}) {
+        add(m, 1, false, -1, "home switch, reversal at LS+");
+    }
+    for (int m : {25, 26}) {
+        add(m, 1, false, 1, "home switch, reversal at LS+");
+    }
+    for (int m : {27, 28}) {
+        add(m, -1, false, 1, "home switch, reversal at LS-");
+    }
+    for (int m : {29, 30}) {
+        add(m, -1, false, -1, "home switch, reversal at LS-");
+    }
+    p.homing_methods.push_back(
+        hm(33, HomingRef::IndexPulse, -1, true, 0, "next index pulse, negative"));
+    p.homing_methods.push_back(
+        hm(34, HomingRef::IndexPulse, 1, true, 0, "next index pulse, positive"));
+    p.homing_methods.push_back(hm(35, HomingRef::CurrentPosition, 1, false, 0, "current position"));
+    // Homing on block: the mechanical block replaces the limit switch. -1/-2 and -17/-18 home
+    // on the block itself; -7..-14 and -23..-30 search the home switch and reverse at the block
+    // (the simulated stops lie just beyond the limit switches, so they behave as 7..14, 23..30).
+    p.homing_methods.push_back(hm(-1, HomingRef::HardStop, -1, false, 0, "block, negative"));
+    p.homing_methods.push_back(hm(-2, HomingRef::HardStop, 1, false, 0, "block, positive"));
+    p.homing_methods.push_back(
+        hm(-17, HomingRef::HardStop, -1, false, 0, "block, negative, no index"));
+    p.homing_methods.push_back(
+        hm(-18, HomingRef::HardStop, 1, false, 0, "block, positive, no index"));
+    const std::size_t switch_methods = p.homing_methods.size();
+    for (std::size_t i = 0; i < switch_methods; ++i) {
+        const HomingMethod m = p.homing_methods[i];
+        if (m.ref == HomingRef::HomeSwitch &&
+            ((m.method >= 7 && m.method <= 14) || (m.method >= 23 && m.method <= 30))) {
+            HomingMethod b = m;
+            b.method = static_cast<std::int8_t>(-m.method);
+            b.text = m.text + " (block instead of limit switch)";
+            p.homing_methods.push_back(b);
+        }
+    }
+    p.default_homing_method = 35;
+    p.quick_stop_options = {0, 1, 2, 5, 6};
+    p.quick_stop_default = 1;
+    p.has_option_objects = true;
+    p.shutdown_default = 1;
+    p.disable_operation_default = 1;
+    p.halt_default = 1;
+    p.fault_reaction_default = 2;
+    p.has_abort_connection = true;
+    p.abort_connection_default = -1;
+    p.counts_per_rev = 3600; // 60A8h default: 0.1 degree
+    p.velocity_in_rpm = true;
+    p.profile_velocity = 500;
+    p.profile_acceleration = 500;
+    p.quick_stop_deceleration = 5000;
+    p.max_profile_velocity = 30000;
+    p.following_error_window = 256;
+    p.following_error_timeout = 100;
+    p.position_window = 10;
+    p.position_window_time = 100;
+    p.velocity_window = 0;
+    p.velocity_window_time = 0;
+    p.homing_speed_switch = 50;
+    p.homing_speed_zero = 10;
+    p.homing_acceleration = 500;
+    p.ds_bvs_objects = true; // 6062h, 6067h/6068h, 6080h, 6085h, 6086h, 608Fh exist too
+    p.has_interpolation_period = true;
+    p.sto_fault = {0x1000, 0x01, "generic error (power cut-off)"};
+    p.over_current = {0x2300, 0x03, "current at controller output too high (error number 02h)"};
+    p.following_error = {0x8611, 0x21, "following error (error number 0Dh)"};
+    p.heartbeat_loss = {0x8000, 0x11, "fieldbus error (error number 04h)"};
+    p.heartbeat_loss_is_fault = false;
+    p.has_error_history_1003 = true;
+    return p;
+}
+
+} // namespace
+
+const SimProfile* find_profile(std::string_view name) {
+    static const SimProfile akd2g = make_akd2g();
+    static const SimProfile ds_bvs = make_ds_bvs();
+    static const SimProfile fio = make_fio();
+    if (name == "akd2g" || name == "AKD2G") {
+        return &akd2g;
+    }
+    if (name == "ds-bvs" || name == "dsbvs" || name == "DS-BVS") {
+        return &ds_bvs;
+    }
+    if (name == "fio" || name == "kuhnke-fio") {
+        return &fio;
+    }
+    return nullptr;
+}
+
+std::vector<const SimProfile*> all_profiles() {
+    return {find_profile("akd2g"), find_profile("ds-bvs"), find_profile("fio")};
+}
+
+} // namespace codrive::sim

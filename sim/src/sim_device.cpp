@@ -1,0 +1,609 @@
+// SPDX-License-Identifier: Apache-2.0
+// A simulated CANopen drive: services around the object dictionary and the CiA 402 axes.
+#include <codrive/sim/sim_device.hpp>
+
+#include <codrive/emcy/producer.hpp>
+#include <codrive/nmt/heartbeat_consumer.hpp>
+#include <codrive/nmt/heartbeat_producer.hpp>
+#include <codrive/nmt/node_guarding.hpp>
+#include <codrive/nmt/slave.hpp>
+#include <codrive/pdo/device.hpp>
+#include <codrive/pdo/quirks.hpp>
+#include <codrive/sdo/server.hpp>
+#include <codrive/sync/consumer.hpp>
+
+#include <fmt/format.h>
+
+#include <algorithm>
+
+namespace codrive::sim {
+
+pdo::PdoQuirks sim_pdo_quirks(const SimProfile& p); // sim_device_objects.cpp
+
+namespace {
+
+constexpr std::uint32_t key(std::uint16_t index, std::uint8_t sub) {
+    return (static_cast<std::uint32_t>(index) << 8) | sub;
+}
+constexpr std::uint32_t kSaveSignature = 0x65766173; // "save" (CiA 301 §7.5.2.13)
+constexpr std::uint32_t kLoadSignature = 0x64616F6C; // "load" (CiA 301 §7.5.2.14)
+
+using WriteResult = tl::expected<void, SdoAbort>;
+
+} // namespace
+
+SimDevice::SimDevice(ICanBus& bus, SimDeviceConfig config) : bus_(bus), config_(config) {
+    const SimProfile& p = *config_.profile;
+    unsigned n = config_.axes == 0 ? p.default_axes : config_.axes;
+    n = std::clamp(n, 1U, p.max_axes);
+    for (unsigned a = 0; a < n; ++a) {
+        axes_.push_back(std::make_unique<DriveCore>(od_, p, a, config_.machine));
+        axes_.back()->set_event_handler([this](const AxisEvent& e) { on_axis_event(e); });
+    }
+    build_objects();
+    for (const auto& [index, o] : od_.objects()) {
+        for (const auto& [si, s] : o.subs) {
+            factory_[key(index, si)] = s.value;
+        }
+    }
+    stored_ = factory_;
+
+    sdo::ServerConfig sc;
+    sc.node = config_.node;
+    server_ = std::make_unique<sdo::SdoServer>(od_, bus_, sc);
+    nmt_ = std::make_unique<nmt::NmtSlave>(config_.node);
+    heartbeat_ = std::make_unique<nmt::HeartbeatProducer>(bus_, config_.node);
+    consumer_ = std::make_unique<nmt::HeartbeatConsumer>();
+    if (p.node_guarding) {
+        guarding_ = std::make_unique<nmt::NodeGuardingResponder>(bus_, config_.node);
+    }
+    sync_ = std::make_unique<sync::SyncConsumer>();
+    emcy_ = std::make_unique<emcy::EmcyProducer>(bus_, config_.node);
+    pdo::DevicePdoOptions po;
+    po.node = config_.node;
+    po.quirks = sim_pdo_quirks(p);
+    po.sync_id = 0;             // SYNC arrives through the SYNC consumer's hook
+    po.write_through_od = true; // controlword writes run the state machine at once
+    pdo_ = std::make_unique<pdo::DevicePdo>(od_, bus_, po);
+    install_hooks();
+}
+
+SimDevice::~SimDevice() = default;
+
+nmt::NmtState SimDevice::nmt_state() const {
+    return nmt_->state();
+}
+
+std::string SimDevice::summary() const {
+    return fmt::format("node {} {} ({} {})", config_.node, config_.profile->name, axes_.size(),
+                       axes_.size() == 1 ? "axis" : "axes");
+}
+
+void SimDevice::log(const std::string& text) {
+    if (log_) {
+        log_(text);
+    }
+}
+
+void SimDevice::install_hooks() {
+    const SimProfile& p = *config_.profile;
+    nmt_->set_state_handler([this](nmt::NmtState, nmt::NmtState to) {
+        heartbeat_->set_state(to);
+        if (guarding_) {
+            guarding_->set_state(to);
+        }
+        pdo_->set_operational(to == nmt::NmtState::Operational, now_);
+        log(fmt::format("node {}: NMT {}", config_.node, nmt::to_string(to)));
+    });
+    nmt_->set_reset_handler([this](nmt::NmtCommand c) {
+        // Handled after the frame: restore parameters, then boot-up (CiA 301 §7.3.2.2).
+        restore(c == nmt::NmtCommand::ResetCommunication);
+        if (c == nmt::NmtCommand::ResetNode) {
+            for (auto& a : axes_) {
+                a->power_on();
+            }
+            errors_.clear();
+            update_error_register();
+        }
+        start(now_);
+    });
+    consumer_->set_handler([this](const nmt::ErrorControlEvent& e) {
+        if (e.kind == nmt::ErrorControlEventKind::HeartbeatLost) {
+            log(fmt::format("node {}: {}", config_.node, e.text));
+            heartbeat_lost();
+        } else if (e.kind == nmt::ErrorControlEventKind::HeartbeatRecovered) {
+            heartbeat_recovered();
+        }
+    });
+    if (guarding_) {
+        guarding_->set_handler([this](const nmt::ErrorControlEvent& e) {
+            if (e.kind == nmt::ErrorControlEventKind::LifeGuardLost) {
+                log(fmt::format("node {}: {}", config_.node, e.text));
+                heartbeat_lost();
+            }
+        });
+    }
+    sync_->set_hook([this](const sync::SyncReception& r) { pdo_->on_sync(r.counter, r.time); });
+
+    od_.on_write(
+        0x1017,
+        [this](std::uint16_t, std::uint8_t, std::span<const std::uint8_t> d) -> WriteResult {
+            heartbeat_->set_period(milliseconds(get_le<std::uint16_t>(d.data())), now_);
+            return {};
+        });
+    od_.on_write(
+        0x1016,
+        [this](std::uint16_t, std::uint8_t sub, std::span<const std::uint8_t> d) -> WriteResult {
+            if (sub != 1 || d.size() < 4) {
+                return {};
+            }
+            const auto v = get_le<std::uint32_t>(d.data());
+            const auto producer = static_cast<NodeId>((v >> 16) & 0xFF);
+            if ((v >> 24) != 0) {
+                return tl::unexpected(SdoAbort::InvalidValue);
+            }
+            if (consumer_node_ != 0) {
+                consumer_->remove(consumer_node_);
+            }
+            consumer_node_ = 0;
+            if (producer != 0 && (v & 0xFFFF) != 0) {
+                if (!consumer_->configure_from_1016(v)) {
+                    return tl::unexpected(SdoAbort::InvalidValue);
+                }
+                consumer_node_ = producer;
+            }
+            return {};
+        });
+    od_.on_write(
+        0x1014,
+        [this](std::uint16_t, std::uint8_t, std::span<const std::uint8_t> d) -> WriteResult {
+            const auto v = get_le<std::uint32_t>(d.data());
+            emcy_enabled_ = (v & cob::kInvalidBit) == 0;
+            emcy_->set_cob_id(v & Frame::kStdMask);
+            return {};
+        });
+    if (guarding_) {
+        const auto guard = [this](std::uint16_t index, std::uint8_t,
+                                  std::span<const std::uint8_t> d) -> WriteResult {
+            auto gt = od_.get<std::uint16_t>(0x100C, 0).value_or(0);
+            auto lf = od_.get<std::uint8_t>(0x100D, 0).value_or(0);
+            if (index == 0x100C) {
+                gt = get_le<std::uint16_t>(d.data());
+            } else {
+                lf = d[0];
+            }
+            guarding_->set_life_guarding(milliseconds(gt), lf);
+            return {};
+        };
+        od_.on_write(0x100C, guard);
+        od_.on_write(0x100D, guard);
+    }
+    if (p.has_sync_objects) {
+        const auto sync = [this](std::uint16_t index, std::uint8_t,
+                                 std::span<const std::uint8_t> d) -> WriteResult {
+            sync::SyncConsumerConfig sc;
+            sc.node = config_.node;
+            std::uint32_t id = od_.get<std::uint32_t>(0x1005, 0).value_or(cob::kSync);
+            std::uint32_t period = od_.get<std::uint32_t>(0x1006, 0).value_or(0);
+            (index == 0x1005 ? id : period) = get_le<std::uint32_t>(d.data());
+            if (index == 0x1005 && (id & (cob::kFrameBit | cob::kRtrBit)) != 0) {
+                return tl::unexpected(SdoAbort::InvalidValue); // 11-bit consumer only
+            }
+            sc.cob_id = id & Frame::kStdMask;
+            sc.cycle_period = microseconds(period);
+            if (!sync_->configure(sc)) {
+                return tl::unexpected(SdoAbort::InvalidValue);
+            }
+            return {};
+        };
+        od_.on_write(0x1005, sync);
+        od_.on_write(0x1006, sync);
+    }
+    od_.on_write(
+        0x1010,
+        [this](std::uint16_t, std::uint8_t, std::span<const std::uint8_t> d) -> WriteResult {
+            if (d.size() < 4 || get_le<std::uint32_t>(d.data()) != kSaveSignature) {
+                return tl::unexpected(SdoAbort::DataTransfer);
+            }
+            save();
+            return {};
+        });
+    od_.on_read(0x1010, [](std::uint16_t, std::uint8_t sub, SubObject& s) {
+        if (sub == 1) {
+            s.value = *Value::from_uint(DataType::Unsigned32, 1); // saves on command only
+        }
+    });
+    od_.on_read(0x1011, [](std::uint16_t, std::uint8_t sub, SubObject& s) {
+        if (sub == 1) {
+            s.value = *Value::from_uint(DataType::Unsigned32, 1);
+        }
+    });
+    od_.on_write(
+        0x1011,
+        [this](std::uint16_t, std::uint8_t, std::span<const std::uint8_t> d) -> WriteResult {
+            if (d.size() < 4 || get_le<std::uint32_t>(d.data()) != kLoadSignature) {
+                return tl::unexpected(SdoAbort::DataTransfer);
+            }
+            if (config_.profile->name == "ds-bvs" &&
+                nmt_->state() != nmt::NmtState::PreOperational) {
+                return tl::unexpected(SdoAbort::DataTransferState); // ds-bvs.md §4.1
+            }
+            stored_ = factory_; // effective after the next reset (CiA 301 §7.5.2.14)
+            return {};
+        });
+    const auto clear_history = [](std::uint16_t, std::uint8_t sub,
+                                  std::span<const std::uint8_t> d) -> WriteResult {
+        if (sub == 0 && (d.empty() || d[0] != 0)) {
+            return tl::unexpected(SdoAbort::InvalidValue); // only 0 clears (CiA 301 §7.5.2.4)
+        }
+        return {};
+    };
+    if (p.has_error_history_1003) {
+        od_.on_write(0x1003, clear_history);
+    }
+    if (p.has_error_history_4080) {
+        od_.on_write(0x4080, clear_history);
+    }
+    for (unsigned a = 0; a < axes_.size(); ++a) {
+        const auto index = static_cast<std::uint16_t>(kControlObject + a);
+        od_.on_write(index,
+                     [this, a](std::uint16_t, std::uint8_t sub,
+                               std::span<const std::uint8_t> d) -> WriteResult {
+                         const bool on = !d.empty() && d[0] != 0;
+                         switch (sub) {
+                         case kControlSto:
+                             axes_[a]->set_sto(on);
+                             break;
+                         case kControlOverCurrent:
+                             if (on) {
+                                 inject(a, FaultKind::OverCurrent, now_);
+                             }
+                             break;
+                         case kControlFollowingError:
+                             if (on) {
+                                 inject(a, FaultKind::FollowingError, now_);
+                             }
+                             break;
+                         case kControlHeartbeatLoss:
+                             if (on) {
+                                 inject(a, FaultKind::HeartbeatLoss, now_);
+                             }
+                             break;
+                         case kControlNodeReset:
+                             // After the SDO response has gone out (next tick).
+                             reset_pending_ = on;
+                             break;
+                         default:
+                             break;
+                         }
+                         return {};
+                     });
+        od_.on_read(index, [this, a](std::uint16_t, std::uint8_t sub, SubObject& s) {
+            const std::uint8_t v = sub == kControlSto && axes_[a]->sto() ? 1 : 0;
+            if (sub != 0) {
+                s.value = *Value::from_uint(DataType::Unsigned8, v);
+            }
+        });
+    }
+}
+
+void SimDevice::save() {
+    const bool volatile_maps = config_.profile->name == "akd2g"; // akd2g.md §2.9
+    for (const auto& [index, o] : od_.objects()) {
+        if (volatile_maps &&
+            ((index >= 0x1600 && index <= 0x1603) || (index >= 0x1A00 && index <= 0x1A03))) {
+            continue;
+        }
+        for (const auto& [si, sub] : o.subs) {
+            if (writable(sub.access)) {
+                stored_[key(index, si)] = sub.value;
+            }
+        }
+    }
+}
+
+tl::expected<void, SdoAbort> SimDevice::store_parameter(std::uint16_t index, std::uint8_t subindex,
+                                                        std::span<const std::uint8_t> data) {
+    auto r = od_.write(index, subindex, data, true);
+    if (r) {
+        if (const SubObject* s = od_.find(index, subindex)) {
+            stored_[key(index, subindex)] = s->value;
+        }
+    }
+    return r;
+}
+
+void SimDevice::restore(bool communication_only) {
+    for (const auto& [k, v] : stored_) {
+        const auto index = static_cast<std::uint16_t>(k >> 8);
+        const auto sub = static_cast<std::uint8_t>(k & 0xFF);
+        if (communication_only && (index < 0x1000 || index > 0x1FFF)) {
+            continue;
+        }
+        if (SubObject* s = od_.find(index, sub)) {
+            s->value = v;
+        }
+    }
+    if (!communication_only) {
+        // Values that are not "stored" parameters come back from the factory table (actual
+        // values are rewritten by the axes at once).
+        for (const auto& [k, v] : factory_) {
+            if (stored_.count(k) == 0) {
+                if (SubObject* s = od_.find(static_cast<std::uint16_t>(k >> 8),
+                                            static_cast<std::uint8_t>(k & 0xFF))) {
+                    s->value = v;
+                }
+            }
+        }
+    }
+}
+
+void SimDevice::apply_comm_parameters(TimePoint now) {
+    heartbeat_->set_period(milliseconds(od_.get<std::uint16_t>(0x1017, 0).value_or(0)), now);
+    const auto emcy_id = od_.get<std::uint32_t>(0x1014, 0).value_or(cob::emcy(config_.node));
+    emcy_enabled_ = (emcy_id & cob::kInvalidBit) == 0;
+    emcy_->set_cob_id(emcy_id & Frame::kStdMask);
+    if (consumer_node_ != 0) {
+        consumer_->remove(consumer_node_);
+        consumer_node_ = 0;
+    }
+    const auto hb = od_.get<std::uint32_t>(0x1016, 1).value_or(0);
+    if (((hb >> 16) & 0xFF) != 0 && (hb & 0xFFFF) != 0 && consumer_->configure_from_1016(hb)) {
+        consumer_node_ = static_cast<std::uint8_t>((hb >> 16) & 0xFF);
+    }
+    sync::SyncConsumerConfig sc;
+    sc.node = config_.node;
+    sc.cob_id = od_.get<std::uint32_t>(0x1005, 0).value_or(cob::kSync) & Frame::kStdMask;
+    sc.cycle_period = microseconds(od_.get<std::uint32_t>(0x1006, 0).value_or(0));
+    (void)sync_->configure(sc);
+    if (guarding_) {
+        guarding_->reset_toggle();
+        guarding_->set_life_guarding(milliseconds(od_.get<std::uint16_t>(0x100C, 0).value_or(0)),
+                                     od_.get<std::uint8_t>(0x100D, 0).value_or(0));
+    }
+    pdo_->reload();
+}
+
+void SimDevice::start(TimePoint now) {
+    now_ = now;
+    started_ = true;
+    apply_comm_parameters(now);
+    // Boot-up (CiA 301 §7.2.8.3.3): one frame 700h+node, data 00h, then pre-operational.
+    (void)heartbeat_->send_boot_up();
+    ++stats_.boot_ups;
+    nmt_->boot_up();
+    heartbeat_->set_state(nmt_->state());
+    if (next_step_ == kNever) {
+        next_step_ = now + config_.step;
+    }
+    log(fmt::format("node {}: boot-up", config_.node));
+}
+
+void SimDevice::reset_node(TimePoint now) {
+    now_ = std::max(now_, now);
+    // Exactly what an NMT reset node command does (the reset handler restores and boots).
+    const Frame f = Frame::make(
+        cob::kNmt, {static_cast<std::uint8_t>(nmt::NmtCommand::ResetNode), config_.node});
+    if (started_) {
+        nmt_->on_frame(f, now);
+    }
+}
+
+void SimDevice::on_frame(const Frame& frame, TimePoint now) {
+    now_ = std::max(now_, now);
+    if (!started_ || frame.error()) {
+        return;
+    }
+    if (frame.id == cob::kNmt && !frame.extended()) {
+        nmt_->on_frame(frame, now);
+        return;
+    }
+    const bool sdo_ok = nmt_->sdo_allowed();
+    if (sdo_ok && server_->on_frame(frame, now)) {
+        return;
+    }
+    consumer_->on_frame(frame, now);
+    if (guarding_) {
+        guarding_->on_frame(frame, now);
+    }
+    if (nmt_->state() != nmt::NmtState::Stopped) {
+        sync_->on_frame(frame, now);
+        pdo_->on_frame(frame, now);
+    }
+}
+
+TimePoint SimDevice::next_deadline() const {
+    if (!started_) {
+        return kNever;
+    }
+    TimePoint t = next_step_;
+    if (reset_pending_) {
+        t = now_;
+    }
+    for (const ITimed* s :
+         std::initializer_list<const ITimed*>{server_.get(), heartbeat_.get(), consumer_.get(),
+                                              sync_.get(), emcy_.get(), pdo_.get()}) {
+        t = std::min(t, s->next_deadline());
+    }
+    if (guarding_) {
+        t = std::min(t, guarding_->next_deadline());
+    }
+    return t;
+}
+
+void SimDevice::on_tick(TimePoint now) {
+    now_ = std::max(now_, now);
+    if (!started_) {
+        return;
+    }
+    if (reset_pending_) {
+        reset_pending_ = false;
+        log(fmt::format("node {}: reset node (simulation control)", config_.node));
+        reset_node(now);
+    }
+    // Motion: fixed steps; a long stall (debugger, overloaded host) is not replayed.
+    if (next_step_ != kNever && now >= next_step_) {
+        if (now - next_step_ > config_.step * 100) {
+            next_step_ = now;
+        }
+        const double dt = std::chrono::duration<double>(config_.step).count();
+        while (next_step_ <= now) {
+            for (auto& a : axes_) {
+                a->step(dt);
+            }
+            ++stats_.steps;
+            next_step_ += config_.step;
+        }
+        pdo_->notify_changed();
+    }
+    for (ITimed* s :
+         std::initializer_list<ITimed*>{server_.get(), heartbeat_.get(), consumer_.get(),
+                                        sync_.get(), emcy_.get(), pdo_.get()}) {
+        if (s->next_deadline() <= now) {
+            s->on_tick(now);
+        }
+    }
+    if (guarding_ && guarding_->next_deadline() <= now) {
+        guarding_->on_tick(now);
+    }
+}
+
+void SimDevice::inject(unsigned axis, FaultKind kind, TimePoint now) {
+    now_ = std::max(now_, now);
+    log(fmt::format("node {}: inject {} on axis {}", config_.node, to_string(kind), axis + 1));
+    switch (kind) {
+    case FaultKind::NodeReset:
+        reset_node(now);
+        return;
+    case FaultKind::HeartbeatLoss:
+        heartbeat_lost();
+        return;
+    default:
+        if (axis < axes_.size()) {
+            axes_[axis]->inject(kind);
+        }
+        return;
+    }
+}
+
+void SimDevice::heartbeat_lost() {
+    const SimProfile& p = *config_.profile;
+    if (p.heartbeat_loss_is_fault) {
+        // AKD2G: F7002 "Fieldbus Heartbeat lost" (EMCY 8130h) faults the axes.
+        for (auto& a : axes_) {
+            a->raise_fault(p.heartbeat_loss);
+        }
+        return;
+    }
+    // DS-BVS: EMCY 8130h with 1001h bit 4, NMT reaction 1029h:01, drive reaction 6007h.
+    raise_error(p.heartbeat_loss, -1, false);
+    const auto behaviour = od_.get<std::uint8_t>(0x1029, 1).value_or(1);
+    if (behaviour == 0 && nmt_->state() == nmt::NmtState::Operational) {
+        nmt_->enter(nmt::NmtState::PreOperational);
+    } else if (behaviour == 2) {
+        nmt_->enter(nmt::NmtState::Stopped);
+    }
+    const auto option = od_.get<std::int16_t>(0x6007, 0).value_or(0);
+    for (auto& a : axes_) {
+        a->abort_connection(option);
+    }
+}
+
+void SimDevice::heartbeat_recovered() {
+    if (!config_.profile->heartbeat_loss_is_fault) {
+        clear_errors(-1, false, config_.profile->heartbeat_loss.emcy);
+    }
+}
+
+void SimDevice::on_axis_event(const AxisEvent& e) {
+    switch (e.kind) {
+    case AxisEvent::Kind::FaultRaised:
+        raise_error(e.code, static_cast<int>(e.axis), false);
+        break;
+    case AxisEvent::Kind::WarningRaised:
+        raise_error(e.code, static_cast<int>(e.axis), true);
+        break;
+    case AxisEvent::Kind::WarningCleared:
+        clear_errors(static_cast<int>(e.axis), true, e.code.emcy);
+        break;
+    case AxisEvent::Kind::FaultsCleared:
+        clear_errors(static_cast<int>(e.axis), false, 0);
+        break;
+    }
+}
+
+void SimDevice::raise_error(const FaultCode& code, int axis, bool warning) {
+    const bool known = std::any_of(errors_.begin(), errors_.end(), [&](const ActiveError& x) {
+        return x.code == code.emcy && x.axis == axis;
+    });
+    if (!known) {
+        errors_.push_back({code.emcy, code.error_register, axis, warning});
+    }
+    update_error_register();
+    // History: AKD2G 1003h keeps the first four EMCY bytes (AMB-7), DS-BVS 4080h the code.
+    const std::uint8_t reg = od_.get<std::uint8_t>(0x1001, 0).value_or(0);
+    const auto push = [this](std::uint16_t index, auto value) {
+        Object* o = od_.find(index);
+        if (o == nullptr) {
+            return;
+        }
+        const std::uint8_t max = 10;
+        for (std::uint8_t i = max; i > 1; --i) {
+            o->subs.at(i).value = o->subs.at(static_cast<std::uint8_t>(i - 1)).value;
+        }
+        od_.set(index, 1, value);
+        const auto n = od_.get<std::uint8_t>(index, 0).value_or(0);
+        od_.set<std::uint8_t>(index, 0,
+                              std::min<std::uint8_t>(max, static_cast<std::uint8_t>(n + 1)));
+    };
+    const auto axis_byte = static_cast<std::uint8_t>(axis < 0 ? 0 : axis + 1);
+    push(0x1003, static_cast<std::uint32_t>(code.emcy | (static_cast<std::uint32_t>(reg) << 16) |
+                                            (static_cast<std::uint32_t>(axis_byte) << 24)));
+    push(0x4080, code.emcy);
+    log(fmt::format("node {}: {} 0x{:04X} {}{}", config_.node, warning ? "warning" : "fault",
+                    code.emcy, code.text,
+                    axis < 0 ? std::string() : fmt::format(" (axis {})", axis + 1)));
+    send_emcy(code.emcy, reg, axis);
+}
+
+void SimDevice::clear_errors(int axis, bool warnings_only, std::uint16_t code) {
+    const auto before = errors_.size();
+    std::erase_if(errors_, [&](const ActiveError& e) {
+        if (e.axis != axis) {
+            return false;
+        }
+        if (code != 0) {
+            return e.code == code;
+        }
+        return warnings_only ? e.warning : !e.warning;
+    });
+    update_error_register();
+    if (before != 0 && errors_.empty()) {
+        // All faults and warnings gone: EMCY 0000h (akd2g.md §2.5, CiA 301 §7.2.7.1).
+        send_emcy(0x0000, od_.get<std::uint8_t>(0x1001, 0).value_or(0), axis);
+    }
+}
+
+void SimDevice::update_error_register() {
+    std::uint8_t reg = 0;
+    for (const auto& e : errors_) {
+        reg = static_cast<std::uint8_t>(reg | e.reg | 0x01);
+    }
+    if (config_.profile->error_register_generic_only) {
+        reg = reg != 0 ? 0x01 : 0x00; // AKD2G: only bit 0 is used
+    }
+    od_.set<std::uint8_t>(0x1001, 0, reg);
+}
+
+void SimDevice::send_emcy(std::uint16_t code, std::uint8_t reg, int axis) {
+    if (!started_ || !emcy_enabled_ || !nmt_->sync_emcy_allowed()) {
+        return;
+    }
+    std::array<std::uint8_t, 5> mfr{};
+    mfr[0] = static_cast<std::uint8_t>(axis < 0 ? 0 : axis + 1); // sim: axis number
+    if (emcy_->send(code, reg, mfr, now_)) {
+        ++stats_.emcy_sent;
+    }
+}
+
+} // namespace codrive::sim

@@ -1,0 +1,209 @@
+// SPDX-License-Identifier: Apache-2.0
+// The communication objects of a simulated node (CiA 301 §7.5) and its EDS description.
+#include <codrive/sim/sim_device.hpp>
+
+#include <codrive/core/cob_id.hpp>
+#include <codrive/pdo/od_objects.hpp>
+#include <codrive/pdo/quirks.hpp>
+
+namespace codrive::sim {
+
+namespace {
+
+Value u(DataType t, std::uint64_t v) {
+    if (auto r = Value::from_uint(t, v)) {
+        return *r;
+    }
+    return Value::zero(t);
+}
+
+SubObject sub(std::uint8_t si, std::string name, DataType t, Access a, std::uint64_t v) {
+    return SubObject::make(si, std::move(name), t, a, u(t, v));
+}
+
+Object record(std::uint16_t index, std::string name, ObjectCode code, std::vector<SubObject> subs,
+              DataType sub0_type = DataType::Unsigned8, Access sub0_access = Access::Ro) {
+    Object o;
+    o.index = index;
+    o.name = std::move(name);
+    o.code = code;
+    std::uint8_t highest = 0;
+    for (const auto& s : subs) {
+        highest = std::max(highest, s.subindex);
+    }
+    o.subs.emplace(0, sub(0, "Highest sub-index supported", sub0_type, sub0_access, highest));
+    for (auto& s : subs) {
+        const std::uint8_t si = s.subindex;
+        o.subs.emplace(si, std::move(s));
+    }
+    return o;
+}
+
+pdo::PdoQuirks quirks_for(const SimProfile& p) {
+    if (p.name == "akd2g") {
+        return pdo::quirks::akd2g();
+    }
+    if (p.name == "ds-bvs") {
+        return pdo::quirks::ds_bvs();
+    }
+    return pdo::quirks::standard();
+}
+
+} // namespace
+
+pdo::PdoQuirks sim_pdo_quirks(const SimProfile& p) {
+    return quirks_for(p);
+}
+
+void SimDevice::build_objects() {
+    const SimProfile& p = *config_.profile;
+    const NodeId node = config_.node;
+    using DT = DataType;
+    od_.add_var(0x1000, "Device type", DT::Unsigned32, Access::Ro,
+                u(DT::Unsigned32, p.device_type));
+    od_.add_var(0x1001, "Error register", DT::Unsigned8, Access::Ro, u(DT::Unsigned8, 0), true);
+    if (p.has_error_history_1003) {
+        std::vector<SubObject> subs;
+        for (std::uint8_t i = 1; i <= 10; ++i) {
+            subs.push_back(sub(i, "Standard error field", DT::Unsigned32, Access::Ro, 0));
+        }
+        auto o = record(0x1003, "Pre-defined error field", ObjectCode::Array, std::move(subs));
+        o.subs.at(0) = sub(0, "Number of errors", DT::Unsigned8, Access::Rw, 0);
+        od_.insert(std::move(o));
+    }
+    if (p.has_sync_objects) {
+        od_.add_var(0x1005, "COB-ID SYNC", DT::Unsigned32, Access::Rw,
+                    u(DT::Unsigned32, cob::kSync));
+        od_.add_var(0x1006, "Communication cycle period", DT::Unsigned32, Access::Rw,
+                    u(DT::Unsigned32, 0));
+    }
+    const Access string_access = p.name == "ds-bvs" ? Access::Const : Access::Ro;
+    od_.add_var(0x1008, "Manufacturer device name", DT::VisibleString, string_access,
+                Value::from_string(p.device_name));
+    od_.add_var(0x1009, "Manufacturer hardware version", DT::VisibleString, string_access,
+                Value::from_string(p.hw_version));
+    od_.add_var(0x100A, "Manufacturer software version", DT::VisibleString, string_access,
+                Value::from_string(p.sw_version));
+    if (p.node_guarding) {
+        od_.add_var(0x100C, "Guard time", DT::Unsigned16, Access::Rw, u(DT::Unsigned16, 0));
+        od_.add_var(0x100D, "Life time factor", DT::Unsigned8, Access::Rw, u(DT::Unsigned8, 0));
+    }
+    od_.insert(record(0x1010, "Store parameters", ObjectCode::Array,
+                      {sub(1, "Save all parameters", DT::Unsigned32, Access::Rw, 1)}));
+    od_.insert(record(0x1011, "Restore default parameters", ObjectCode::Array,
+                      {sub(1, "Restore all default parameters", DT::Unsigned32, Access::Rw, 1)}));
+    od_.add_var(0x1014, "COB-ID EMCY", DT::Unsigned32, Access::Rw,
+                u(DT::Unsigned32, cob::emcy(node)));
+    od_.insert(record(0x1016, "Consumer heartbeat time", ObjectCode::Array,
+                      {sub(1, "Consumer heartbeat time", DT::Unsigned32, Access::Rw, 0)}));
+    od_.add_var(0x1017, "Producer heartbeat time", DT::Unsigned16, Access::Rw,
+                u(DT::Unsigned16, 0));
+    const std::uint32_t product =
+        axes_.size() > 1 || config_.axes > 1 ? p.product_code_2_axes : p.product_code_1_axis;
+    od_.insert(record(0x1018, "Identity object", ObjectCode::Record,
+                      {sub(1, "Vendor-ID", DT::Unsigned32, Access::Ro, p.vendor_id),
+                       sub(2, "Product code", DT::Unsigned32, Access::Ro, product),
+                       sub(3, "Revision number", DT::Unsigned32, Access::Ro, p.revision),
+                       sub(4, "Serial number", DT::Unsigned32, Access::Ro, 0x00510000U + node)}));
+    if (p.has_error_behaviour_1029) {
+        od_.insert(record(0x1029, "Error behaviour", ObjectCode::Array,
+                          {sub(1, "Communication error", DT::Unsigned8, Access::Rw, 1),
+                           sub(2, "Application error", DT::Unsigned8, Access::Rw, 1)}));
+    }
+    if (p.akd2g_objects) {
+        od_.insert(record(
+            0x1200, "SDO server parameter", ObjectCode::Record,
+            {sub(1, "COB-ID client to server", DT::Unsigned32, Access::Ro, cob::sdo_rx(node)),
+             sub(2, "COB-ID server to client", DT::Unsigned32, Access::Ro, cob::sdo_tx(node))}));
+    }
+    if (p.has_error_history_4080) {
+        std::vector<SubObject> subs;
+        for (std::uint8_t i = 1; i <= 10; ++i) {
+            subs.push_back(sub(i, "Error code", DT::Unsigned16, Access::Ro, 0));
+        }
+        auto o = record(0x4080, "Error history", ObjectCode::Array, std::move(subs));
+        o.subs.at(0) = sub(0, "Number of entries", DT::Unsigned8, Access::Rw, 0);
+        o.subs.at(0).high_limit = u(DT::Unsigned8, 10);
+        od_.insert(std::move(o));
+    }
+
+    // PDO communication and mapping objects, shaped by the profile's PDO quirks.
+    const pdo::PdoQuirks q = quirks_for(p);
+    std::vector<pdo::PdoConfig> preset;
+    if (p.default_can_maps) {
+        // AKD2G: the manual gives no CAN default maps (AMB-10); the simulator offers
+        // RPDO1/TPDO1 for axis 1 and RPDO2/TPDO2 for axis 2 (the spec's suggestion).
+        using pdo::MappingEntry;
+        for (unsigned a = 0; a < axes_.size(); ++a) {
+            const auto off = static_cast<std::uint16_t>(a * p.axis_offset);
+            preset.push_back(
+                pdo::rpdo(a + 1,
+                          {MappingEntry{static_cast<std::uint16_t>(0x6040 + off), 0, 16},
+                           MappingEntry{static_cast<std::uint16_t>(0x607A + off), 0, 32}},
+                          p.rpdo_default_type));
+            auto t = pdo::tpdo(a + 1,
+                               {MappingEntry{static_cast<std::uint16_t>(0x6041 + off), 0, 16},
+                                MappingEntry{static_cast<std::uint16_t>(0x6064 + off), 0, 32}},
+                               p.tpdo_default_type);
+            t.comm.inhibit_time = 100; // 10 ms: event TPDOs of a moving axis stay readable
+            preset.push_back(std::move(t));
+        }
+    }
+    pdo::PdoObjectDefaults defaults;
+    defaults.rpdo_transmission_type = p.rpdo_default_type;
+    defaults.tpdo_transmission_type = p.tpdo_default_type;
+    defaults.preset = preset;
+    pdo::add_pdo_objects(od_, node, q, defaults);
+
+    // Simulation control (manufacturer range): one record per axis.
+    for (unsigned a = 0; a < axes_.size(); ++a) {
+        od_.insert(record(
+            static_cast<std::uint16_t>(kControlObject + a), "Simulation control",
+            ObjectCode::Record,
+            {sub(kControlSto, "STO input active", DT::Unsigned8, Access::Rw, 0),
+             sub(kControlOverCurrent, "Inject over-current", DT::Unsigned8, Access::Rw, 0),
+             sub(kControlFollowingError, "Inject following error", DT::Unsigned8, Access::Rw, 0),
+             sub(kControlHeartbeatLoss, "Inject heartbeat loss", DT::Unsigned8, Access::Rw, 0),
+             sub(kControlNodeReset, "Reset node", DT::Unsigned8, Access::Rw, 0)}));
+    }
+}
+
+DeviceDescription SimDevice::describe() const {
+    const SimProfile& p = *config_.profile;
+    DeviceDescription d;
+    d.file_info.file_name = p.name + "-node" + std::to_string(config_.node) + ".eds";
+    d.file_info.file_version = "1";
+    d.file_info.file_revision = "0";
+    d.file_info.eds_version = "4.0";
+    d.file_info.description =
+        "codrive-sim " + p.product_name + " (" + std::to_string(axes_.size()) + " axes), simulated";
+    d.file_info.created_by = "codrive-sim";
+    d.device_info.vendor_name = p.vendor_name;
+    d.device_info.vendor_number = p.vendor_id;
+    d.device_info.product_name = p.product_name;
+    d.device_info.product_number = od_.get<std::uint32_t>(0x1018, 2).value_or(0);
+    d.device_info.revision_number = p.revision;
+    d.device_info.baud_rates = p.name == "ds-bvs"
+                                   ? std::vector<unsigned>{20, 50, 125, 250, 500, 1000}
+                                   : std::vector<unsigned>{125, 250, 500, 1000};
+    d.device_info.simple_boot_up_slave = true;
+    d.device_info.granularity = 8;
+    d.device_info.nr_of_rx_pdo = 4;
+    d.device_info.nr_of_tx_pdo = 4;
+    d.od = od_;
+    // An EDS carries factory values: put every current value back to its default.
+    for (const auto& [index, o] : od_.objects()) {
+        for (const auto& [si, s] : o.subs) {
+            auto it = factory_.find((static_cast<std::uint32_t>(index) << 8) | si);
+            if (it != factory_.end()) {
+                if (SubObject* w = d.od.find(index, si)) {
+                    w->value = it->second;
+                    w->default_value = it->second;
+                }
+            }
+        }
+    }
+    return d;
+}
+
+} // namespace codrive::sim

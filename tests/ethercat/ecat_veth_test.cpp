@@ -1,0 +1,276 @@
+// SPDX-License-Identifier: Apache-2.0
+// The EtherCAT master over a real AF_PACKET socket on veth against codrive-ecat-sim running in
+// its own network namespace: scan, CoE, ESM, cyclic LRW, faults, tshark dissection.
+#include "veth_segment.hpp"
+
+#include <codrive/ethercat/error.hpp>
+#include <codrive/ethercat/pcap_writer.hpp>
+
+#include <codrive/core/sdo_abort.hpp>
+
+#include <fmt/format.h>
+
+#include <csignal>
+#include <sstream>
+#include <thread>
+#include <unistd.h>
+
+namespace codrive::testing {
+namespace {
+
+using namespace codrive::ethercat;
+
+const std::vector<std::string> kChain{"--slave", "fio", "--slave", "akd2g", "--slave", "ds-bvs"};
+
+std::vector<std::string> chain_with(std::vector<std::string> extra) {
+    std::vector<std::string> a = kChain;
+    a.insert(a.end(), extra.begin(), extra.end());
+    return a;
+}
+
+TEST_F(EcatVethTest, ScanFindsTheChainWithItsIdentities) {
+    start(kChain);
+    if (IsSkipped() || HasFatalFailure()) {
+        return;
+    }
+    ASSERT_TRUE(master_->scan()) << master_->last_error();
+    const auto& s = master_->slaves();
+    ASSERT_EQ(s.size(), 3U);
+    EXPECT_EQ(s[0].display_name(), "FIO Drive Control");
+    EXPECT_EQ(s[0].sii.vendor_id, 0x0048554BU);
+    EXPECT_EQ(s[0].sii.product_code, 0x0002BA67U);
+    EXPECT_EQ(s[1].display_name(), "AKD2G");
+    EXPECT_EQ(s[1].sii.vendor_id, 0x6AU);
+    EXPECT_EQ(s[2].display_name(), "DS-BVS");
+    EXPECT_EQ(s[2].station_address, 0x1003);
+    EXPECT_TRUE(s[1].sii.has_coe());
+}
+
+TEST_F(EcatVethTest, CoeReadsIdentityAndRoundTripsASegmentedString) {
+    start(kChain);
+    if (IsSkipped() || HasFatalFailure()) {
+        return;
+    }
+    ASSERT_TRUE(master_->scan()) << master_->last_error();
+    ASSERT_TRUE(master_->set_state_all(AlState::PreOp)) << master_->last_error();
+    auto vendor = master_->sdo_read<std::uint32_t>(1, 0x1018, 1);
+    ASSERT_TRUE(vendor) << master_->last_error();
+    EXPECT_EQ(*vendor, 0x6AU);
+    auto product = master_->sdo_read<std::uint32_t>(0, 0x1018, 2);
+    ASSERT_TRUE(product) << master_->last_error();
+    EXPECT_EQ(*product, 0x0002BA67U);
+    auto name = master_->sdo_upload(2, 0x1008, 0);
+    ASSERT_TRUE(name) << master_->last_error();
+    EXPECT_EQ(std::string(name->begin(), name->end()), "DS-BVS");
+    std::string text;
+    for (int i = 0; i < 30; ++i) {
+        text += fmt::format("veth segmented transfer {:02}|", i);
+    }
+    ASSERT_TRUE(
+        master_->sdo_download(1, 0x5FFF, 0, std::vector<std::uint8_t>(text.begin(), text.end())))
+        << master_->last_error();
+    auto back = master_->sdo_upload(1, 0x5FFF, 0);
+    ASSERT_TRUE(back) << master_->last_error();
+    EXPECT_EQ(std::string(back->begin(), back->end()), text);
+    auto missing = master_->sdo_upload(0, 0x2345, 9);
+    ASSERT_FALSE(missing);
+    EXPECT_EQ(missing.error(), SdoAbort::NoObject);
+}
+
+TEST_F(EcatVethTest, StateMachineReachesOpAndBack) {
+    start(kChain);
+    if (IsSkipped() || HasFatalFailure()) {
+        return;
+    }
+    ASSERT_TRUE(master_->scan()) << master_->last_error();
+    ASSERT_TRUE(master_->set_state_all(AlState::Op)) << master_->last_error();
+    for (std::size_t i = 0; i < 3; ++i) {
+        auto st = master_->read_al_status(i);
+        ASSERT_TRUE(st);
+        EXPECT_EQ(st->state, AlState::Op) << master_->slave_label(i);
+    }
+    ASSERT_TRUE(master_->set_state_all(AlState::Init)) << master_->last_error();
+    EXPECT_EQ(master_->read_al_status(2)->state, AlState::Init);
+}
+
+TEST_F(EcatVethTest, CyclicLrwThousandCyclesWithCorrectWorkingCounter) {
+    start(kChain);
+    if (IsSkipped() || HasFatalFailure()) {
+        return;
+    }
+    ASSERT_TRUE(master_->scan()) << master_->last_error();
+    ASSERT_TRUE(master_->set_state_all(AlState::Op)) << master_->last_error();
+    EXPECT_EQ(master_->expected_wkc(), 9);
+    auto out = master_->outputs(1); // AKD2G: 6040h + 607Ah
+    ASSERT_EQ(out.size(), 6U);
+    for (const std::uint16_t cw : {std::uint16_t{0x06}, std::uint16_t{0x07}, std::uint16_t{0x0F}}) {
+        put_le<std::uint16_t>(out.data(), cw);
+        for (int i = 0; i < 5; ++i) {
+            ASSERT_TRUE(master_->exchange_process_data()) << master_->last_error();
+        }
+    }
+    for (int i = 0; i < 1000; ++i) {
+        put_le<std::int32_t>(out.data() + 2, i);
+        auto wkc = master_->exchange_process_data();
+        ASSERT_TRUE(wkc) << "cycle " << i << ": " << master_->last_error();
+        EXPECT_EQ(*wkc, 9);
+    }
+    EXPECT_EQ(master_->stats().wkc_errors, 0U);
+    EXPECT_EQ(master_->stats().lost_frames, 0U);
+    EXPECT_EQ(get_le<std::uint16_t>(master_->inputs(1).data()) & 0x6F, 0x27)
+        << "AKD2G should be OPERATION ENABLED";
+    // The simulated drive follows CSP targets (real time passes between frames here).
+    EXPECT_NEAR(get_le<std::int32_t>(master_->inputs(1).data() + 2), 999, 50);
+}
+
+TEST_F(EcatVethTest, SlaveThatStopsAnsweringIsNamedInASentence) {
+    start(chain_with({"--mute-on-signal", "2"}));
+    if (IsSkipped() || HasFatalFailure()) {
+        return;
+    }
+    ASSERT_TRUE(master_->scan()) << master_->last_error();
+    ASSERT_TRUE(master_->set_state_all(AlState::Op)) << master_->last_error();
+    ASSERT_TRUE(master_->exchange_process_data()) << master_->last_error();
+    sim_->signal(SIGUSR1);
+    ASSERT_TRUE(sim_->wait_for_output("stops answering", std::chrono::milliseconds(3000)));
+    auto wkc = master_->exchange_process_data();
+    ASSERT_FALSE(wkc);
+    EXPECT_EQ(wkc.error(), EcatErrc::WorkingCounter);
+    EXPECT_EQ(master_->diagnose_wkc(6),
+              "cyclic LRW working counter 6, expected 9: slave 2 (DS-BVS) does not answer");
+}
+
+TEST_F(EcatVethTest, MailboxTimeoutIsReportedAsASentence) {
+    start(chain_with({"--mailbox-silent", "1"}));
+    if (IsSkipped() || HasFatalFailure()) {
+        return;
+    }
+    ASSERT_TRUE(master_->scan()) << master_->last_error();
+    ASSERT_TRUE(master_->request_state(1, AlState::PreOp)) << master_->last_error();
+    master_->config().mailbox_timeout = std::chrono::milliseconds(200);
+    auto r = master_->sdo_upload(1, 0x1018, 1);
+    ASSERT_FALSE(r);
+    EXPECT_EQ(r.error(), EcatErrc::MailboxTimeout);
+    EXPECT_EQ(master_->last_error(), "slave 1 (AKD2G): SDO upload 0x1018:01: no CoE answer "
+                                     "within 200 ms (mailbox timeout)");
+}
+
+TEST_F(EcatVethTest, RefusedStateChangeCarriesTheAlStatusCodeText) {
+    start(chain_with({"--refuse", "1:op:0x001A"}));
+    if (IsSkipped() || HasFatalFailure()) {
+        return;
+    }
+    ASSERT_TRUE(master_->scan()) << master_->last_error();
+    auto r = master_->set_state_all(AlState::Op);
+    ASSERT_FALSE(r);
+    EXPECT_EQ(r.error(), EcatErrc::StateChangeRefused);
+    EXPECT_EQ(master_->last_error(), "slave 1 (AKD2G): state change SAFE-OP → OP refused with AL "
+                                     "status code 0x001A (synchronization error); the slave "
+                                     "stays in SAFE-OP");
+}
+
+TEST_F(EcatVethTest, DistributedClocksReportSmallOffsets) {
+    start(kChain);
+    if (IsSkipped() || HasFatalFailure()) {
+        return;
+    }
+    ASSERT_TRUE(master_->scan()) << master_->last_error();
+    ASSERT_TRUE(master_->configure_dc()) << master_->last_error();
+    auto st = master_->dc_status();
+    ASSERT_TRUE(st) << master_->last_error();
+    ASSERT_EQ(st->size(), 3U);
+    for (const auto& s : *st) {
+        // All three simulated slaves see the frame within microseconds of each other.
+        EXPECT_LT(std::llabs(s.offset_to_reference), 100'000) << "slave " << s.position;
+        std::printf("DC slave %u: offset to reference %lld ns, delay %u ns\n", s.position,
+                    static_cast<long long>(s.offset_to_reference), s.delay);
+    }
+    ASSERT_TRUE(master_->configure_sync0(0, std::chrono::microseconds(1000)))
+        << master_->last_error();
+}
+
+TEST_F(EcatVethTest, CapturedFramesDissectWithoutMalformedPackets) {
+    start(kChain);
+    if (IsSkipped() || HasFatalFailure()) {
+        return;
+    }
+    const std::string pcap = fmt::format("/tmp/codrive-ecat-{}.pcap", ::getpid());
+    PcapWriter writer;
+    ASSERT_TRUE(writer.open(pcap));
+    link_->set_tap([&](std::span<const std::uint8_t> f, bool) { writer.write(f); });
+    ASSERT_TRUE(master_->scan()) << master_->last_error();
+    ASSERT_TRUE(master_->set_state_all(AlState::Op)) << master_->last_error();
+    ASSERT_TRUE(master_->sdo_upload(0, 0x1008, 0)) << master_->last_error();
+    (void)master_->sdo_upload(0, 0x2345, 0); // an abort on the wire too
+    for (int i = 0; i < 20; ++i) {
+        ASSERT_TRUE(master_->exchange_process_data()) << master_->last_error();
+    }
+    link_->set_tap({});
+    writer.close();
+    ASSERT_GT(writer.frames(), 100U);
+    auto all = run({"/usr/bin/tshark", "-r", pcap, "-Y", "ecat"});
+    ASSERT_EQ(all.status, 0) << all.output;
+    EXPECT_GT(std::count(all.output.begin(), all.output.end(), '\n'), 100);
+    auto coe = run({"/usr/bin/tshark", "-r", pcap, "-Y", "ecat_mailbox.coe"});
+    EXPECT_GT(std::count(coe.output.begin(), coe.output.end(), '\n'), 0) << coe.output;
+    auto bad =
+        run({"/usr/bin/tshark", "-r", pcap, "-Y", "_ws.malformed || _ws.expert.severity >= error"});
+    ASSERT_EQ(bad.status, 0) << bad.output;
+    // tshark warns on stderr when run as root; only packet lines matter.
+    std::string packets;
+    std::istringstream lines(bad.output);
+    for (std::string line; std::getline(lines, line);) {
+        if (line.rfind("Running as user", 0) != 0 && !line.empty()) {
+            packets += line + "\n";
+        }
+    }
+    EXPECT_EQ(packets, "") << "tshark flags malformed EtherCAT frames in " << pcap;
+    if (!HasFailure()) {
+        ::unlink(pcap.c_str());
+    }
+}
+
+TEST(EcatRawSocket, OpeningWithoutCapNetRawSaysWhatIsMissing) {
+    auto r = run({"/usr/bin/setpriv", "--reuid=65534", "--regid=65534", "--clear-groups",
+                  "--inh-caps=-all", ecat_sim_path(), "--ethercat", "lo", "--slave", "fio"});
+    EXPECT_EQ(r.status, 3) << r.output;
+    EXPECT_NE(r.output.find("needs CAP_NET_RAW"), std::string::npos) << r.output;
+}
+
+TEST(EcatRawSocket, MissingInterfaceIsNamed) {
+    auto link = RawSocketLink::open("nosuchif0");
+    ASSERT_FALSE(link);
+    EXPECT_EQ(RawSocketLink::describe_open_error("nosuchif0", link.error()),
+              "cannot open a raw EtherCAT socket on nosuchif0: there is no such network interface");
+}
+
+} // namespace
+} // namespace codrive::testing
+
+namespace codrive::testing {
+namespace {
+
+TEST_F(EcatVethTest, CliScansAndReadsAnObject) {
+    start({"--slave", "fio", "--slave", "akd2g"});
+    if (IsSkipped() || HasFatalFailure()) {
+        return;
+    }
+    link_.reset(); // the CLI opens its own socket
+    auto scan = run({tool_path("codrive"), "ecat", "scan", "--ethercat", veth_->master_if()});
+    ASSERT_EQ(scan.status, 0) << scan.output;
+    EXPECT_NE(scan.output.find("slave 0 @0x1001: FIO Drive Control vendor 0x0048554B"),
+              std::string::npos)
+        << scan.output;
+    EXPECT_NE(scan.output.find("slave 1 @0x1002: AKD2G vendor 0x0000006A"), std::string::npos);
+    auto read = run({tool_path("codrive"), "ecat", "sdo", "read", "--ethercat", veth_->master_if(),
+                     "-n", "1", "0x1018", "1"});
+    ASSERT_EQ(read.status, 0) << read.output;
+    EXPECT_NE(read.output.find("0x0000006A (106)"), std::string::npos) << read.output;
+    auto bad = run({tool_path("codrive"), "ecat", "sdo", "read", "--ethercat", veth_->master_if(),
+                    "-n", "0", "0x2345", "0"});
+    EXPECT_EQ(bad.status, 1);
+    EXPECT_NE(bad.output.find("aborted 0x06020000"), std::string::npos) << bad.output;
+}
+
+} // namespace
+} // namespace codrive::testing

@@ -1,0 +1,62 @@
+// SPDX-License-Identifier: Apache-2.0
+// Test harness for ethercat_tests: a veth pair whose slave end lives in its own network
+// namespace, with codrive-ecat-sim answering there and a master on the host end.
+#pragma once
+
+#include <codrive/ethercat/master.hpp>
+#include <codrive/ethercat/raw_socket_link.hpp>
+#include <codrive/testing/process.hpp>
+
+#include <gtest/gtest.h>
+
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace codrive::testing {
+
+/// True if CODRIVE_SKIP_ETHERCAT=1: tests that cannot create a veth pair are skipped instead of
+/// failing.
+bool ethercat_skip_requested();
+
+/// A veth pair "ecmP<n>" (host, master side) / "ecsP<n>" (inside netns "codrive-ecat-P-<n>").
+class VethPair {
+public:
+    VethPair();
+    ~VethPair();
+    VethPair(const VethPair&) = delete;
+    VethPair& operator=(const VethPair&) = delete;
+
+    /// Creates everything; false with `error()` explaining why (not root, no veth support).
+    bool create();
+    [[nodiscard]] const std::string& error() const { return error_; }
+    [[nodiscard]] const std::string& master_if() const { return master_if_; }
+    [[nodiscard]] const std::string& slave_if() const { return slave_if_; }
+    [[nodiscard]] const std::string& netns() const { return netns_; }
+
+private:
+    std::string master_if_;
+    std::string slave_if_;
+    std::string netns_;
+    std::string error_;
+    bool created_ = false;
+};
+
+/// Path of codrive-ecat-sim.
+std::string ecat_sim_path();
+
+/// Fixture: veth pair + simulator (arguments after --ethercat IFACE) + master on the host end.
+class EcatVethTest : public ::testing::Test {
+protected:
+    /// Starts the simulator with `sim_args` and opens the master link. Fails the test (or skips
+    /// with CODRIVE_SKIP_ETHERCAT=1) when veth cannot be created.
+    void start(const std::vector<std::string>& sim_args);
+    void TearDown() override;
+
+    std::unique_ptr<VethPair> veth_;
+    std::unique_ptr<Process> sim_;
+    std::unique_ptr<ethercat::RawSocketLink> link_;
+    std::unique_ptr<ethercat::Master> master_;
+};
+
+} // namespace codrive::testing

@@ -1,0 +1,84 @@
+// SPDX-License-Identifier: Apache-2.0
+// Multi-axis devices (EMCY routing, shared transport), interpolated position and the blocking
+// helper's header.
+#include "rig.hpp"
+
+#include <codrive/drives/blocking.hpp>
+#include <codrive/drives/drive_device.hpp>
+
+#include <gtest/gtest.h>
+
+namespace codrive::drives::testing {
+namespace {
+
+TEST(DriveDevice, Akd2gHasTwoAxesOnOneTransportAndSharesEmcy) {
+    FakeDevice dev(akd2g_profile(), 2);
+    FakeTransport tr(dev);
+    DriveDevice d(tr, akd2g_profile(), 5); // clamped to 2
+    ASSERT_EQ(d.axis_count(), 2U);
+    EXPECT_EQ(d.axis(2).name(), "node 5 axis 2");
+    EXPECT_EQ(d.axis(2).index(0x6041), 0x6841);
+
+    emcy::EmcyConsumer consumer;
+    d.attach_emcy_text(consumer, 5);
+    std::string text;
+    consumer.set_handler([&](const emcy::EmcyEvent& e) {
+        text = e.text;
+        d.on_emcy(e);
+    });
+    emcy::EmcyMessage m;
+    m.node = 5;
+    m.error_code = 0x8611;
+    m.error_register = 1;
+    consumer.on_frame(emcy::make_emcy_frame(m), TimePoint{});
+    EXPECT_NE(text.find("F6001 Following error magnitude fault"), std::string::npos) << text;
+    EXPECT_EQ(d.axis(1).last_error_code(), 0x8611);
+    EXPECT_EQ(d.axis(2).last_error_code(), 0x8611);
+    m.error_code = 0;
+    consumer.on_frame(emcy::make_emcy_frame(m), TimePoint{});
+    EXPECT_EQ(d.axis(2).last_error_code(), 0);
+}
+
+TEST(DriveDevice, PollsEveryAxisWithoutProcessData) {
+    FakeClock clock;
+    FakeDevice dev(akd2g_profile(), 2);
+    FakeTransport tr(dev);
+    AxisConfig base;
+    base.poll_period = milliseconds(2);
+    DriveDevice d(tr, akd2g_profile(), 2, base);
+    std::optional<DriveVoid> r1;
+    std::optional<DriveVoid> r2;
+    d.axis(1).enable([&](DriveVoid r) { r1 = r; });
+    d.axis(2).enable([&](DriveVoid r) { r2 = r; });
+    for (int i = 0; i < 300 && !(r1 && r2); ++i) {
+        clock.advance(milliseconds(1));
+        dev.step();
+        tr.process();
+        if (d.next_deadline() <= clock.now()) {
+            d.on_tick(clock.now());
+        }
+    }
+    ASSERT_TRUE(r1 && r2);
+    EXPECT_TRUE(r1->has_value()) << r1->error().message;
+    EXPECT_TRUE(r2->has_value()) << r2->error().message;
+    EXPECT_EQ(dev.model(1).state, cia402::State::OperationEnabled);
+    EXPECT_EQ(dev.model(2).state, cia402::State::OperationEnabled);
+}
+
+TEST(AxisModes, InterpolatedPositionWritesDataRecordAndEnableBit) {
+    Rig rig(generic_profile());
+    rig.tr.map_output(0x60C1, 1);
+    rig.axis().bind();
+    rig.cycles(2);
+    ASSERT_TRUE(
+        rig.run([&](auto d) { rig.axis().set_mode(cia402::Mode::InterpolatedPosition, d); }));
+    ASSERT_TRUE(rig.run([&](auto d) { rig.axis().enable(d); }));
+    rig.axis().set_ip_enabled(true);
+    rig.axis().set_ip_target(1234);
+    rig.cycles(2);
+    EXPECT_EQ(rig.dev.od().get<std::int32_t>(0x60C1, 1), 1234);
+    EXPECT_EQ(rig.dev.controlword_log(1).back(), 0x001F);
+}
+
+} // namespace
+} // namespace codrive::drives::testing

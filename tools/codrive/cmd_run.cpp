@@ -1,0 +1,109 @@
+// SPDX-License-Identifier: Apache-2.0
+// `codrive run bus.yml`: boot the bus from its file and show a live status table per axis.
+#include "cli_common.hpp"
+#include "command_registry.hpp"
+
+#include <codrive/controller/controller.hpp>
+#include <codrive/drives/profile.hpp>
+#include <codrive/master/master.hpp>
+
+#include <fmt/format.h>
+#include <unistd.h>
+
+namespace codrive::cli {
+namespace {
+
+struct RunArgs {
+    std::string file;
+    double duration_s = 0;
+    int refresh_ms = 500;
+    bool enable = false;
+};
+
+std::string status_table(controller::Controller& c) {
+    std::string out = fmt::format("{:<28} {:<22} {:<5} {:>12} {:>10} {:>7}  {}\n", "axis", "state",
+                                  "mode", "position", "velocity", "torque", "last EMCY");
+    for (const auto& ref : c.axes()) {
+        const drives::Axis& a = *ref.axis;
+        std::string emcy = "-";
+        if (auto* n = c.master(ref.bus).node(ref.node); n != nullptr && n->last_emcy()) {
+            emcy = n->last_emcy()->text;
+        }
+        out += fmt::format("{:<28} {:<22} {:<5} {:>12} {:>10} {:>7}  {}\n", ref.name,
+                           drives::cia402::to_string(a.state()),
+                           a.mode_display() ? std::to_string(*a.mode_display()) : "-",
+                           a.position_actual() ? std::to_string(*a.position_actual()) : "-",
+                           a.velocity_actual() ? std::to_string(*a.velocity_actual()) : "-",
+                           a.torque_actual() ? std::to_string(*a.torque_actual()) : "-", emcy);
+    }
+    return out;
+}
+
+int run_bus(const RunArgs& a) {
+    auto created = controller::Controller::from_file(a.file);
+    if (!created) {
+        fmt::print(stderr, "{}", created.error());
+        return kExitUsage;
+    }
+    auto& c = **created;
+    c.stop_on_signals();
+    c.set_event_callback([](const std::string& text) {
+        if (text.find('\n') == std::string::npos) {
+            fmt::print("{}\n", text);
+        }
+    });
+    if (auto r = c.start(); !r) {
+        fmt::print(stderr, "codrive: {}\n", r.error());
+        return kExitFailure;
+    }
+    for (const auto& r : c.boot_reports()) {
+        fmt::print("{}", r.to_string());
+    }
+    if (a.enable) {
+        for (const auto& ref : c.axes()) {
+            drives::Axis* ax = ref.axis;
+            ax->enable([ax](drives::DriveVoid r) {
+                fmt::print("{}: {}\n", ax->name(), r ? "enabled" : r.error().message);
+            });
+        }
+    }
+    const bool tty = ::isatty(1) != 0;
+    const TimePoint end =
+        a.duration_s > 0
+            ? SteadyClock::now() +
+                  std::chrono::duration_cast<Duration>(std::chrono::duration<double>(a.duration_s))
+            : kNever;
+    while (c.running() && SteadyClock::now() < end) {
+        c.run_for(milliseconds(a.refresh_ms));
+        if (!c.running()) {
+            break;
+        }
+        fmt::print("{}{}{}\n", tty ? "\033[2J\033[H" : "", status_table(c), c.stats().to_string());
+        std::fflush(stdout);
+        if (SteadyClock::now() >= end) {
+            break;
+        }
+    }
+    c.shutdown();
+    fmt::print("{}{}\n", status_table(c), c.stats().to_string());
+    return kExitOk;
+}
+
+void install_run(CLI::App& app, int& exit_code) {
+    auto a = std::make_shared<RunArgs>();
+    auto* cmd = app.add_subcommand("run", "Boot a bus from its file and show live axis status");
+    cmd->add_option("file", a->file, "Bus file (YAML, see docs/bus-file.md)")->required();
+    cmd->add_option("--duration", a->duration_s,
+                    "Stop after this many seconds (default: until "
+                    "Ctrl-C)");
+    cmd->add_option("--refresh", a->refresh_ms, "Table refresh period in ms")
+        ->capture_default_str();
+    cmd->add_flag("--enable", a->enable, "Enable every axis after boot-up");
+    cmd->callback([a, &exit_code] { exit_code = run_bus(*a); });
+}
+
+} // namespace
+} // namespace codrive::cli
+
+using codrive::cli::install_run;
+CODRIVE_REGISTER_COMMAND(install_run);
