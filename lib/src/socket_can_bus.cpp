@@ -11,6 +11,7 @@
 #include <linux/can/error.h>
 #include <linux/can/raw.h>
 #include <net/if.h>
+#include <optional>
 #include <poll.h>
 #include <sys/epoll.h>
 #include <sys/ioctl.h>
@@ -323,6 +324,16 @@ void SocketCanBus::detach() {
     }
 }
 
+TimePoint SocketCanBus::to_monotonic(std::int64_t realtime_ns) {
+    constexpr std::int64_t kResample = 1'000'000'000;
+    if (rt_offset_sampled_at_ == 0 || realtime_ns - rt_offset_sampled_at_ > kResample ||
+        realtime_ns < rt_offset_sampled_at_) {
+        rt_offset_ns_ = realtime_to_mono_offset();
+        rt_offset_sampled_at_ = realtime_ns;
+    }
+    return TimePoint(nanoseconds(realtime_ns + rt_offset_ns_));
+}
+
 TimePoint SocketCanBus::next_deadline() const {
     return tx_count_ > 0 ? retry_at_ : kNever;
 }
@@ -353,11 +364,16 @@ std::size_t SocketCanBus::read_available() {
         if (n <= 0) {
             break;
         }
-        const TimePoint fallback = SteadyClock::now();
-        const std::int64_t offset = realtime_to_mono_offset();
+        std::optional<TimePoint> now_cache;
+        const auto now = [&now_cache] {
+            if (!now_cache) {
+                now_cache = SteadyClock::now();
+            }
+            return *now_cache;
+        };
         for (int i = 0; i < n; ++i) {
             const auto idx = static_cast<std::size_t>(i);
-            TimePoint rx_time = fallback;
+            std::optional<TimePoint> rx_time;
             for (cmsghdr* c = CMSG_FIRSTHDR(&msgs[idx].msg_hdr); c != nullptr;
                  c = CMSG_NXTHDR(&msgs[idx].msg_hdr, c)) {
                 if (c->cmsg_level != SOL_SOCKET) {
@@ -366,7 +382,7 @@ std::size_t SocketCanBus::read_available() {
                 if (c->cmsg_type == SO_TIMESTAMPNS) {
                     timespec ts{};
                     std::memcpy(&ts, CMSG_DATA(c), sizeof(ts));
-                    rx_time = std::min(fallback, TimePoint(nanoseconds(to_ns(ts) + offset)));
+                    rx_time = to_monotonic(to_ns(ts));
                 } else if (c->cmsg_type == SO_RXQ_OVFL) {
                     std::uint32_t drops = 0;
                     std::memcpy(&drops, CMSG_DATA(c), sizeof(drops));
@@ -387,7 +403,7 @@ std::size_t SocketCanBus::read_available() {
             if (nbytes != CAN_MTU && nbytes != CANFD_MTU) {
                 continue;
             }
-            handle_frame(from_kernel(frames[idx], nbytes), rx_time);
+            handle_frame(from_kernel(frames[idx], nbytes), rx_time ? *rx_time : now());
             ++total;
         }
         if (static_cast<std::size_t>(n) < kBatch) {

@@ -641,7 +641,16 @@ std::string BusConfigResult::to_string() const {
 BusConfigResult parse_bus_config(const std::string& yaml, const std::string& file,
                                  const DictionaryResolver& resolver) {
     Loader loader(file, resolver);
-    return loader.run(yaml);
+    try {
+        return loader.run(yaml);
+    } catch (const YAML::Exception& e) {
+        // yaml-cpp throws on some malformed documents (e.g. a truncated file leaves an invalid
+        // node); a bus file mistake must be a finding, never a crash.
+        BusConfigResult r;
+        r.errors.push_back(ConfigFinding{file, e.mark.is_null() ? 0 : e.mark.line + 1,
+                                         fmt::format("not a valid bus file: {}", e.msg)});
+        return r;
+    }
 }
 
 BusConfigResult load_bus_config(const std::string& path, const DictionaryResolver& resolver) {

@@ -269,12 +269,31 @@ bool SdoClient::on_frame(const Frame& frame, TimePoint now) {
     return true;
 }
 
+void SdoClient::server_abort(const FrameInfo& info) {
+    Transfer& t = *active_;
+    // CiA 301 §7.2.4.3.17: an abort carries the multiplexer of the transfer it ends. One for
+    // another object is stale (an earlier transfer's, or a rebooted node answering a frame of
+    // the transfer that its reset ended) and must not end this transfer.
+    if (info.index != t.index || info.subindex != t.subindex) {
+        ++stats_.unexpected_responses;
+        return;
+    }
+    if (info.abort_code == 0) {
+        // Code 0 is no abort code; an error_code with value 0 would read as success.
+        fail(make_error_code(SdoErrc::ProtocolError),
+             "the server sent an abort frame with code 0x00000000, which is not an abort code",
+             AbortOrigin::Server);
+        return;
+    }
+    fail(std::error_code(static_cast<int>(info.abort_code), sdo_abort_category()), {},
+         AbortOrigin::Server);
+}
+
 void SdoClient::handle_response(const Frame& frame, TimePoint now) {
     Transfer& t = *active_;
     const FrameInfo info = parse_frame(frame.payload(), Sender::Server);
     if (info.kind == FrameKind::Abort) {
-        fail(std::error_code(static_cast<int>(info.abort_code), sdo_abort_category()), {},
-             AbortOrigin::Server);
+        server_abort(info);
         return;
     }
     const bool upload_switch = t.state == ClientState::BlockUploadInitiate &&
@@ -517,8 +536,7 @@ void SdoClient::handle_block_upload_segment(const Frame& frame, TimePoint now) {
     Transfer& t = *active_;
     const FrameInfo info = parse_frame(frame.payload(), Sender::Server, true);
     if (info.kind == FrameKind::Abort) {
-        fail(std::error_code(static_cast<int>(info.abort_code), sdo_abort_category()), {},
-             AbortOrigin::Server);
+        server_abort(info);
         return;
     }
     using R = BlockReceiver::SegmentResult;

@@ -88,6 +88,7 @@ private:
     std::vector<OneShot> oneshots_;
     std::uint64_t next_timer_id_ = 1;
     TimePoint armed_ = kNever;
+    TimePoint last_now_{}; ///< the time of the last dispatch
     std::atomic<bool> stop_{false};
     std::mutex post_mutex_;
     std::vector<std::function<void()>> posted_;

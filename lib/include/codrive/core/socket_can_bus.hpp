@@ -76,6 +76,10 @@ private:
     bool write_one(const Frame& f, int& err);
     void handle_frame(const Frame& f, TimePoint rx_time);
     void update_epollout();
+    /// Kernel receive timestamps are CLOCK_REALTIME; protocol time is CLOCK_MONOTONIC. The
+    /// offset between them is sampled at most once a second (of receive timestamps): clock
+    /// reads are system calls on some targets (about 90 us each in a User-Mode-Linux guest).
+    TimePoint to_monotonic(std::int64_t realtime_ns);
 
     int fd_ = -1;
     std::string ifname_;
@@ -92,6 +96,8 @@ private:
     TimePoint retry_at_ = kNever;
     std::uint32_t last_drop_count_ = 0;
     BusState state_ = BusState::ErrorActive;
+    std::int64_t rt_offset_ns_ = 0;
+    std::int64_t rt_offset_sampled_at_ = 0; ///< realtime ns of the last sample; 0 = never
 };
 
 /// Decodes a SocketCAN error frame (CAN_ERR_FLAG set) into bus events (one frame may carry

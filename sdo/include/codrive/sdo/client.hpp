@@ -9,6 +9,7 @@
 #include <codrive/core/event_loop.hpp>
 #include <codrive/core/frame.hpp>
 #include <codrive/sdo/error.hpp>
+#include <codrive/sdo/protocol.hpp>
 #include <codrive/sdo/transfer.hpp>
 
 #include <concepts>
@@ -112,6 +113,7 @@ private:
     void arm(TimePoint now);
     void reschedule();
     void handle_response(const Frame& frame, TimePoint now);
+    void server_abort(const FrameInfo& info);
     void handle_block_upload_segment(const Frame& frame, TimePoint now);
     void on_timeout(TimePoint now);
     bool deliver(std::span<const std::uint8_t> data);

@@ -1,0 +1,86 @@
+#!/usr/bin/env bash
+# SPDX-License-Identifier: Apache-2.0
+# Builds the libFuzzer targets (clang 14, ASan+UBSan) and runs each for a bounded time with its
+# seed corpus from tests/data/fuzz/<target>/, then prints one line per target (executions,
+# exec/s, coverage) and "fuzz: N passed, M failed".
+#
+# Usage: tests/fuzz/run.sh [SECONDS_PER_TARGET] [TARGET...]     (default 20 s, every target)
+# Environment: CODRIVE_FUZZ_BUILD (build dir, default build-fuzz), CXX_FUZZ (clang++-14),
+#              JOBS (build parallelism, default 2), FUZZ_MAX_LEN (default 4096).
+# A crash leaves its input in <build>/fuzz-artifacts/<target>/; copy it to
+# tests/data/fuzz/regressions/<target>/ and add a test that replays it.
+set -euo pipefail
+
+root=$(cd "$(dirname "$0")/../.." && pwd)
+seconds=${1:-20}
+shift || true
+build=${CODRIVE_FUZZ_BUILD:-$root/build-fuzz}
+cxx=${CXX_FUZZ:-clang++-14}
+jobs=${JOBS:-2}
+max_len=${FUZZ_MAX_LEN:-4096}
+
+if ! command -v "$cxx" >/dev/null; then
+    echo "fuzz: $cxx not found (libFuzzer needs clang)" >&2
+    exit 2
+fi
+if [[ ! -f $build/build.ninja ]]; then
+    cmake -S "$root" -B "$build" -G Ninja -DCMAKE_CXX_COMPILER="$cxx" \
+        -DCMAKE_BUILD_TYPE=RelWithDebInfo "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=-O1 -g" \
+        -DCODRIVE_FUZZ=ON -DCODRIVE_BUILD_TESTS=OFF -DCODRIVE_BUILD_TOOLS=OFF \
+        -DCODRIVE_BUILD_BENCH=OFF -DCODRIVE_SANITIZE=address,undefined >/dev/null
+fi
+# Build what builds: one module that does not compile must not hide the other fuzzers' results.
+if ! ninja -C "$build" -j "$jobs" -k 0 fuzz_all >"$build/fuzz-build.log" 2>&1; then
+    echo "fuzz: some targets failed to build (see $build/fuzz-build.log)" >&2
+fi
+
+targets=("$@")
+if [[ ${#targets[@]} -eq 0 ]]; then
+    for src in "$root"/tests/fuzz/fuzz_*.cpp; do
+        targets+=("$(basename "$src" .cpp)")
+    done
+fi
+
+passed=0
+failed=0
+printf '%-26s %12s %9s %7s %8s %7s  %s\n' target executions exec/s cov ft corpus result
+for target in "${targets[@]}"; do
+    exe=$build/tests/fuzz/$target
+    name=${target#fuzz_}
+    if [[ ! -x $exe ]]; then
+        printf '%-26s %12s %9s %7s %8s %7s  %s\n' "$target" - - - - - "FAILED (not built)"
+        failed=$((failed + 1))
+        continue
+    fi
+    # Work on a copy of the seeds so new inputs never land in the source tree.
+    corpus=$build/fuzz-corpus/$name
+    artifacts=$build/fuzz-artifacts/$name
+    mkdir -p "$corpus" "$artifacts"
+    if [[ -d $root/tests/data/fuzz/$name ]]; then
+        cp -n "$root/tests/data/fuzz/$name"/* "$corpus"/ 2>/dev/null || true
+    fi
+    log=$build/fuzz-logs/$target.log
+    mkdir -p "$(dirname "$log")"
+    status=0
+    # Wall-clock guard in case a single input hangs past libFuzzer's own -timeout.
+    timeout --signal=INT $((seconds + 60)) "$exe" "$corpus" -max_total_time="$seconds" \
+        -max_len="$max_len" -timeout=10 -rss_limit_mb=2048 -print_final_stats=1 \
+        -artifact_prefix="$artifacts/" >"$log" 2>&1 || status=$?
+    execs=$(awk '/stat::number_of_executed_units:/ {v=$2} END {print v+0}' "$log")
+    rate=$(awk '/stat::average_exec_per_sec:/ {v=$2} END {print v+0}' "$log")
+    cov=$(grep -o 'cov: [0-9]*' "$log" | tail -1 | awk '{print $2}')
+    ft=$(grep -o 'ft: [0-9]*' "$log" | tail -1 | awk '{print $2}')
+    units=$(find "$corpus" -type f | wc -l)
+    if [[ $status -eq 0 ]]; then
+        result=ok
+        passed=$((passed + 1))
+    else
+        crash=$(grep -o "Test unit written to [^ ]*" "$log" | tail -1 | sed 's/Test unit written to //')
+        result="FAILED (exit $status${crash:+, input $crash}; log $log)"
+        failed=$((failed + 1))
+    fi
+    printf '%-26s %12s %9s %7s %8s %7s  %s\n' "$target" "$execs" "$rate" "${cov:--}" "${ft:--}" \
+        "$units" "$result"
+done
+echo "fuzz: $passed passed, $failed failed"
+[[ $failed -eq 0 ]]

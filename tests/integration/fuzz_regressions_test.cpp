@@ -1,0 +1,110 @@
+// SPDX-License-Identifier: Apache-2.0
+// Regression tests for defects the fuzzers found (reproducers in tests/data/fuzz/regressions/).
+#include "mini_device.hpp"
+
+#include <codrive/core/cob_id.hpp>
+#include <codrive/core/virtual_bus.hpp>
+#include <codrive/master/bus_config.hpp>
+#include <codrive/sdo/client.hpp>
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <fstream>
+#include <functional>
+#include <iterator>
+#include <optional>
+#include <string>
+#include <vector>
+
+using namespace codrive;
+
+// fuzz_sdo_client, regressions/sdo_client/abort_code_zero: a server abort frame whose code
+// field is 0 (a short "80 00 10" frame padded with zeros, or a device that sends code 0) ends
+// the transfer with an SdoError whose `cause` is error_code(0, sdo_abort_category) — a value
+// that converts to false, so `if (error.cause)` reads the failure as success.
+TEST(FuzzRegression, SdoClientAbortWithCodeZeroStillCarriesAnErrorCause) {
+    FakeClock clock;
+    VirtualNetwork net(clock);
+    VirtualBus& client_bus = net.endpoint("client");
+    VirtualBus& server_bus = net.endpoint("server");
+    sdo::ClientConfig config;
+    config.node = 9;
+    sdo::SdoClient client(client_bus, clock, config);
+    client_bus.set_frame_handler([&](const Frame& f, TimePoint t) { client.on_frame(f, t); });
+
+    std::optional<sdo::SdoResult<sdo::Bytes>> result;
+    client.upload(0x1000, 0, [&](sdo::SdoResult<sdo::Bytes> r) { result = std::move(r); });
+    net.deliver();
+    ASSERT_TRUE(server_bus.send(Frame::make(cob::sdo_tx(9), {0x80, 0x00, 0x10})));
+    net.deliver();
+
+    ASSERT_TRUE(result.has_value()) << "the transfer did not end";
+    ASSERT_FALSE(result->has_value()) << "an abort is not a success";
+    const sdo::SdoError& e = result->error();
+    EXPECT_TRUE(static_cast<bool>(e.cause))
+        << "cause is " << e.cause.category().name() << ":" << e.cause.value()
+        << ", which tests as 'no error'; text: " << e.to_string();
+    EXPECT_EQ(e.to_string().rfind("node 9: SDO", 0), 0U) << e.to_string();
+}
+
+// fuzz_bus_config, regressions/bus_config/yaml_invalid_node_exception.yml: a truncated bus file
+// (the example with its axes cut off mid-line) makes yaml-cpp throw YAML::InvalidNode out of
+// parse_bus_config(), which must report findings instead of throwing.
+TEST(FuzzRegression, BusConfigTruncatedFileGivesFindingsNotAnException) {
+    const std::string path =
+        std::string(CODRIVE_SOURCE_DIR) +
+        "/tests/data/fuzz/regressions/bus_config/yaml_invalid_node_exception.yml";
+    std::ifstream file(path, std::ios::binary);
+    ASSERT_TRUE(file) << path;
+    const std::string yaml((std::istreambuf_iterator<char>(file)),
+                           std::istreambuf_iterator<char>());
+    std::optional<master::BusConfigResult> result;
+    EXPECT_NO_THROW(result = master::parse_bus_config(yaml, "bus.yml"));
+    if (result) {
+        EXPECT_EQ(result->config.has_value(), result->errors.empty());
+    }
+}
+
+// Found by the bus-off fault-injection test: while the bus refuses every send (bus-off), a
+// request that fails inside start() completes through finish() → start_next() → start() →
+// fail() → finish(), one stack level per failed transfer. An application that re-submits from
+// its completion callback (a plain retry loop) then recurses without bound and overflows the
+// stack. The nesting depth of the callbacks must stay constant.
+TEST(FaultRegression, SdoBlockUploadDuplicatedAckCausesNoFrameStorm) {
+    FakeClock clock;
+    VirtualNetwork net(clock, microseconds(100));
+    VirtualBus& client_bus = net.endpoint("client");
+    VirtualBus& device_bus = net.endpoint("device");
+    integration::MiniDevice device(device_bus, 2);
+    device.power_on(clock.now());
+    sdo::ClientConfig config;
+    config.node = 2;
+    config.timeout = milliseconds(200);
+    sdo::SdoClient client(client_bus, clock, config);
+    client_bus.set_frame_handler([&](const Frame& f, TimePoint t) { client.on_frame(f, t); });
+    // Every block upload acknowledgement (client → server, A2h) arrives twice.
+    net.set_fault_filter([](const std::string& from, const Frame& f) {
+        FaultAction a;
+        if (from == "client" && f.len == 8 && f.data[0] == 0xA2) {
+            a.duplicates = 1;
+        }
+        return a;
+    });
+    std::optional<sdo::SdoResult<sdo::Bytes>> result;
+    sdo::TransferOptions options;
+    options.mode = sdo::Mode::Block;
+    client.upload(
+        integration::kReference + 7, 0, // 8192 bytes
+        [&](sdo::SdoResult<sdo::Bytes> r) { result = std::move(r); }, options);
+    const std::vector<ITimed*> timed{&client, &device};
+    for (int i = 0; i < 2000 && !result && net.frames_sent() < 200'000; ++i) {
+        net.run_until(clock, clock.now() + milliseconds(1), timed);
+    }
+    // 8192 bytes are 1171 segments plus a few dozen control frames.
+    EXPECT_LT(net.frames_sent(), 3000U) << "frame storm";
+    ASSERT_TRUE(result.has_value()) << "the transfer never ended";
+    if (result->has_value()) {
+        EXPECT_EQ(**result, integration::reference_pattern(8192));
+    }
+}

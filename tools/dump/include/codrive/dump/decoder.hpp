@@ -1,0 +1,107 @@
+// SPDX-License-Identifier: Apache-2.0
+// The CANopen conversation decoder: one text per frame, with state across frames (SDO
+// reassembly, PDO mappings learned from configuration traffic, guarding, identities).
+#pragma once
+
+#include <codrive/dump/object_catalog.hpp>
+#include <codrive/dump/pdo_tracker.hpp>
+#include <codrive/dump/profile.hpp>
+#include <codrive/dump/record.hpp>
+#include <codrive/dump/sdo_tracker.hpp>
+#include <codrive/dump/stats.hpp>
+
+#include <fmt/format.h>
+
+#include <array>
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace codrive::dump {
+
+/// CANopen services, for `--only` and colours.
+enum class Service : std::uint8_t { Nmt, Sync, Time, Emcy, Heartbeat, Sdo, Pdo, Lss, Other, Error };
+inline constexpr std::uint32_t kAllServices = 0x3FF;
+[[nodiscard]] std::string_view to_string(Service s); ///< "nmt", "sync", ..., "hb", "error"
+/// Parses "nmt,emcy,sdo,pdo,sync,hb,time,lss,other,error" into a bit mask (1 << Service).
+/// nullopt names the first unknown word in `bad`.
+[[nodiscard]] std::optional<std::uint32_t> parse_service_list(std::string_view list,
+                                                              std::string& bad);
+
+enum class Severity : std::uint8_t { Info, Notice, Warning, Error };
+[[nodiscard]] std::string_view to_string(Severity s);
+
+/// The decode of one frame.
+struct Decoded {
+    Service service = Service::Other;
+    NodeId node = 0;
+    Severity severity = Severity::Info;
+    fmt::memory_buffer text;
+};
+
+/// An event not carried by the frame being decoded (an SDO request that got no answer).
+struct Note {
+    std::int64_t ts_ns = 0;
+    Service service = Service::Sdo;
+    NodeId node = 0;
+    Severity severity = Severity::Error;
+    std::string event; ///< "timeout", "unfinished"
+    std::string text;
+};
+
+struct DecoderOptions {
+    std::int64_t sdo_timeout_ns =
+        1'000'000'000; ///< an SDO request unanswered this long is reported
+};
+
+class Decoder {
+public:
+    explicit Decoder(DecoderOptions options = {}, Stats* stats = nullptr);
+
+    /// Uses an EDS/DCF for a node: object names and types, default PDO parameters, identity.
+    void set_description(NodeId node, std::shared_ptr<const DeviceDescription> desc);
+    void set_profiles(const ProfileRegistry* registry) { registry_ = registry; }
+    void set_profile(NodeId node, const IDumpProfile* profile);
+
+    /// Decodes a frame; SDO timeouts noticed on the way are appended to `notes` (they happened
+    /// before this frame).
+    void decode(const TraceRecord& record, Decoded& out, std::vector<Note>& notes);
+    /// Reports transfers still open at the end of the input.
+    void finish(std::vector<Note>& notes);
+
+    [[nodiscard]] const ObjectCatalog& catalog() const { return catalog_; }
+
+private:
+    struct NodeState {
+        bool guard_requested = false;
+        std::optional<std::uint32_t> vendor;
+        std::optional<std::uint32_t> product;
+        const IDumpProfile* profile = nullptr;
+        bool profile_pinned = false;
+    };
+    void decode_nmt(const Frame& f, Decoded& out);
+    void decode_sync(const Frame& f, Decoded& out);
+    void decode_time(const Frame& f, Decoded& out);
+    void decode_emcy(const Frame& f, NodeId node, Decoded& out);
+    void decode_error_control(const Frame& f, NodeId node, std::int64_t ts, Decoded& out);
+    void decode_lss(const Frame& f, bool from_master, Decoded& out);
+    void decode_sdo(const Frame& f, NodeId node, bool client, std::int64_t ts, Decoded& out);
+    void learn_identity(NodeId node, std::uint8_t sub, std::uint32_t value);
+    void collect_stalls(std::vector<SdoStall>& stalls, std::vector<Note>& notes,
+                        std::string_view event);
+
+    DecoderOptions options_;
+    Stats* stats_;
+    ObjectCatalog catalog_;
+    SdoTracker sdo_;
+    PdoTracker pdo_;
+    const ProfileRegistry* registry_ = nullptr;
+    std::array<NodeState, kMaxNodeId + 1> nodes_{};
+    std::int64_t next_timeout_check_ = 0;
+    std::vector<SdoStall> stalls_;
+};
+
+} // namespace codrive::dump

@@ -1,0 +1,79 @@
+// SPDX-License-Identifier: Apache-2.0
+// pcap and pcapng files with link type SocketCAN (227): reader and writer.
+#pragma once
+
+#include <codrive/core/error.hpp>
+#include <codrive/dump/input.hpp>
+#include <codrive/dump/record.hpp>
+
+#include <cstdint>
+#include <cstdio>
+#include <string>
+#include <vector>
+
+namespace codrive::dump {
+
+inline constexpr std::uint32_t kLinkTypeSocketCan = 227;
+
+/// True if the first bytes are a pcap or pcapng magic number.
+[[nodiscard]] bool looks_like_pcap(const std::uint8_t* p, std::size_t n);
+
+/// Decodes a SocketCAN pcap record body (the CAN id is big-endian with the EFF/RTR/ERR flags in
+/// the top bits, as Linux's SLL-less capture writes it). False if it is too short.
+[[nodiscard]] bool decode_socketcan_record(const std::uint8_t* p, std::size_t n, Frame& f);
+
+/// Reads classic pcap (either byte order, micro- or nanosecond) and pcapng (SHB/IDB/EPB/SPB, any
+/// if_tsresol). Records of other link types are skipped with a Malformed status; a file that
+/// ends in the middle of a record gives Fatal ("truncated").
+class PcapReader final : public ITraceSource {
+public:
+    explicit PcapReader(BufferedInput& input) : input_(input) {}
+    ReadStatus next(TraceRecord& record) override;
+    [[nodiscard]] std::string_view error() const override { return error_; }
+
+private:
+    struct Interface {
+        std::uint16_t link_type = 0;
+        std::int64_t ts_per_second = 1'000'000;
+        std::string name;
+    };
+    ReadStatus read_header();
+    ReadStatus next_classic(TraceRecord& record);
+    ReadStatus next_ng(TraceRecord& record);
+    ReadStatus truncated(std::string_view what);
+    [[nodiscard]] std::uint32_t u32(const std::uint8_t* p) const;
+    [[nodiscard]] std::uint16_t u16(const std::uint8_t* p) const;
+
+    BufferedInput& input_;
+    bool started_ = false;
+    bool ng_ = false;
+    bool swapped_ = false;
+    bool nanos_ = false;
+    std::uint32_t link_type_ = 0;
+    std::uint64_t records_ = 0;
+    std::uint64_t offset_ = 0;
+    std::vector<Interface> interfaces_;
+    std::string error_;
+};
+
+/// Writes classic pcap (microsecond timestamps, link type 227) that Wireshark and tshark open.
+class PcapWriter {
+public:
+    /// Opens `path` ("-" is stdout) and writes the file header. Errors: the open/write errno.
+    static Result<std::unique_ptr<PcapWriter>> open(const std::string& path);
+    ~PcapWriter();
+    PcapWriter(const PcapWriter&) = delete;
+    PcapWriter& operator=(const PcapWriter&) = delete;
+    /// Buffers one record (16 bytes for classic frames, 72 for CAN FD).
+    void write(const TraceRecord& record);
+    /// Writes buffered records. Errors: the write errno.
+    VoidResult flush();
+
+private:
+    PcapWriter() = default;
+    std::FILE* file_ = nullptr;
+    bool own_ = false;
+    std::vector<std::uint8_t> buf_;
+};
+
+} // namespace codrive::dump

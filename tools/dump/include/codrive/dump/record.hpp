@@ -1,0 +1,38 @@
+// SPDX-License-Identifier: Apache-2.0
+// One captured frame as every reader yields it: frame, wall-clock timestamp, interface name.
+#pragma once
+
+#include <codrive/core/frame.hpp>
+
+#include <cstdint>
+#include <string_view>
+
+namespace codrive::dump {
+
+/// A frame with where and when it was seen. `iface` views the reader's storage and is valid until
+/// the reader's next call.
+struct TraceRecord {
+    Frame frame;
+    std::int64_t ts_ns = 0; ///< wall-clock nanoseconds since the epoch (or since trace start)
+    bool has_ts = false;    ///< false for screen-format lines without a timestamp
+    std::string_view iface;
+};
+
+/// What a reader returns for one step.
+enum class ReadStatus : std::uint8_t {
+    Frame,     ///< `record` holds a frame
+    Malformed, ///< one entry could not be parsed; `error()` names it; reading may continue
+    End,       ///< end of input
+    Fatal,     ///< input cannot be read further (truncated or corrupt container); `error()`
+};
+
+/// A source of records: a log file, a pcap/pcapng file, or live interfaces.
+class ITraceSource {
+public:
+    virtual ~ITraceSource() = default;
+    virtual ReadStatus next(TraceRecord& record) = 0;
+    /// The message for the last Malformed or Fatal status: "line 12: bad data byte 'G1'".
+    [[nodiscard]] virtual std::string_view error() const = 0;
+};
+
+} // namespace codrive::dump

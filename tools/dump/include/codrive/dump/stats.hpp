@@ -1,0 +1,77 @@
+// SPDX-License-Identifier: Apache-2.0
+// Per-node statistics and bus load for `--stats` / `--top`.
+#pragma once
+
+#include <codrive/core/cob_id.hpp>
+#include <codrive/core/frame.hpp>
+
+#include <array>
+#include <cstdint>
+#include <string>
+
+namespace codrive::dump {
+
+/// Bits a frame occupies on the bus in the worst case of bit stuffing, including the 3-bit
+/// interframe space: classic 11-bit 47 + 8n + ⌊(34 + 8n − 1)/4⌋, 29-bit 67 + 8n + ⌊(54 + 8n −
+/// 1)/4⌋ (Davis et al., "Controller Area Network (CAN) schedulability analysis", 2007). CAN FD
+/// frames are counted at the arbitration rate (an upper bound).
+[[nodiscard]] std::uint32_t frame_bits_worst_case(const Frame& f);
+
+/// Counters per node and for the whole bus. Fixed size: no growth with trace length.
+class Stats {
+public:
+    struct Node {
+        bool seen = false;
+        std::uint8_t nmt_state = 0xFF; ///< last heartbeat state byte, 0xFF = none
+        std::uint64_t heartbeats = 0;
+        std::int64_t last_hb_ns = 0;
+        // Welford running mean / variance of the heartbeat interval.
+        std::uint64_t hb_intervals = 0;
+        double hb_mean_ns = 0;
+        double hb_m2 = 0;
+        std::int64_t hb_min_ns = 0;
+        std::int64_t hb_max_ns = 0;
+        std::uint64_t emcy = 0;
+        std::uint16_t last_emcy_code = 0;
+        std::string last_emcy_text;
+        std::uint64_t sdo_done = 0;
+        std::uint64_t sdo_aborts = 0;
+        std::uint64_t sdo_timeouts = 0;
+        double sdo_rtt_sum_ns = 0; // double: out-of-order traces must not overflow a sum
+        std::uint64_t tpdo = 0;
+        std::uint64_t rpdo = 0;
+    };
+
+    explicit Stats(std::uint32_t bitrate = 500000) : bitrate_(bitrate) {}
+
+    void on_frame(const Frame& f, std::int64_t ts_ns);
+    void on_heartbeat(NodeId node, std::uint8_t state, std::int64_t ts_ns);
+    void on_emcy(NodeId node, std::uint16_t code, std::string text);
+    void on_sdo_done(NodeId node, std::int64_t duration_ns);
+    void on_sdo_abort(NodeId node);
+    void on_sdo_timeout(NodeId node);
+    void on_pdo(NodeId node, bool tpdo);
+
+    /// The table: one row per node seen, then totals and bus load (mean over the trace, peak over
+    /// one-second windows). `now_ns` ends the last window (the last frame for files).
+    [[nodiscard]] std::string table() const;
+    [[nodiscard]] const Node& node(NodeId n) const { return nodes_[n]; }
+    [[nodiscard]] std::uint64_t frames() const { return frames_; }
+    /// Mean bus load in percent over the trace so far.
+    [[nodiscard]] double bus_load() const;
+    [[nodiscard]] double peak_load() const { return peak_load_; }
+
+private:
+    std::uint32_t bitrate_;
+    std::array<Node, kMaxNodeId + 1> nodes_{};
+    std::uint64_t frames_ = 0;
+    std::uint64_t error_frames_ = 0;
+    std::uint64_t bits_ = 0;
+    std::int64_t first_ns_ = 0;
+    std::int64_t last_ns_ = 0;
+    std::int64_t window_start_ns_ = 0;
+    std::uint64_t window_bits_ = 0;
+    double peak_load_ = 0;
+};
+
+} // namespace codrive::dump

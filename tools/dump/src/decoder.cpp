@@ -1,0 +1,406 @@
+// SPDX-License-Identifier: Apache-2.0
+// Frame-by-frame CANopen decoding with conversation state.
+#include <codrive/dump/decoder.hpp>
+
+#include <codrive/core/endian.hpp>
+#include <codrive/core/socket_can_bus.hpp>
+#include <codrive/dump/text_append.hpp>
+#include <codrive/emcy/error_codes.hpp>
+#include <codrive/emcy/message.hpp>
+#include <codrive/nmt/command.hpp>
+#include <codrive/nmt/state.hpp>
+#include <codrive/sync/time.hpp>
+
+#include <iterator>
+
+namespace codrive::dump {
+namespace {
+
+constexpr std::string_view kServiceNames[] = {"nmt", "sync", "time", "emcy",  "hb",
+                                              "sdo", "pdo",  "lss",  "other", "error"};
+
+void append(fmt::memory_buffer& out, std::string_view s) {
+    out.append(s.data(), s.data() + s.size());
+}
+
+} // namespace
+
+std::string_view to_string(Service s) {
+    return kServiceNames[static_cast<std::size_t>(s)];
+}
+
+std::string_view to_string(Severity s) {
+    static constexpr std::string_view kNames[] = {"info", "notice", "warning", "error"};
+    return kNames[static_cast<std::size_t>(s)];
+}
+
+std::optional<std::uint32_t> parse_service_list(std::string_view list, std::string& bad) {
+    std::uint32_t mask = 0;
+    while (!list.empty()) {
+        const auto comma = list.find(',');
+        const auto word = list.substr(0, comma);
+        list = comma == std::string_view::npos ? std::string_view{} : list.substr(comma + 1);
+        if (word.empty()) {
+            continue;
+        }
+        bool found = false;
+        for (std::size_t i = 0; i < std::size(kServiceNames); ++i) {
+            if (word == kServiceNames[i] || (word == "heartbeat" && i == 4)) {
+                mask |= 1U << i;
+                found = true;
+            }
+        }
+        if (!found) {
+            bad = std::string(word);
+            return std::nullopt;
+        }
+    }
+    return mask;
+}
+
+Decoder::Decoder(DecoderOptions options, Stats* stats)
+    : options_(options), stats_(stats), sdo_(catalog_, options.sdo_timeout_ns), pdo_(catalog_) {}
+
+void Decoder::set_description(NodeId node, std::shared_ptr<const DeviceDescription> desc) {
+    if (!valid_node_id(node) || !desc) {
+        return;
+    }
+    pdo_.learn_from_description(node, *desc);
+    if (desc->device_info.vendor_number != 0) {
+        learn_identity(node, 1, desc->device_info.vendor_number);
+        learn_identity(node, 2, desc->device_info.product_number);
+    }
+    catalog_.set_description(node, std::move(desc));
+}
+
+void Decoder::set_profile(NodeId node, const IDumpProfile* profile) {
+    if (valid_node_id(node)) {
+        nodes_[node].profile = profile;
+        nodes_[node].profile_pinned = true;
+    }
+}
+
+void Decoder::learn_identity(NodeId node, std::uint8_t sub, std::uint32_t value) {
+    NodeState& n = nodes_[node];
+    (sub == 1 ? n.vendor : n.product) = value;
+    if (!n.profile_pinned && registry_ != nullptr && n.vendor && n.product) {
+        n.profile = registry_->match(*n.vendor, *n.product);
+    }
+}
+
+void Decoder::collect_stalls(std::vector<SdoStall>& stalls, std::vector<Note>& notes,
+                             std::string_view event) {
+    for (auto& s : stalls) {
+        Note n;
+        n.ts_ns = s.ts_ns;
+        n.service = Service::Sdo;
+        n.node = s.node;
+        n.severity = Severity::Error;
+        n.event = event;
+        n.text = std::move(s.text);
+        if (stats_ != nullptr) {
+            stats_->on_sdo_timeout(s.node);
+        }
+        notes.push_back(std::move(n));
+    }
+    stalls.clear();
+}
+
+void Decoder::finish(std::vector<Note>& notes) {
+    sdo_.finish(stalls_);
+    collect_stalls(stalls_, notes, "unfinished");
+}
+
+void Decoder::decode(const TraceRecord& r, Decoded& out, std::vector<Note>& notes) {
+    const Frame& f = r.frame;
+    out.text.clear();
+    out.node = 0;
+    out.severity = Severity::Info;
+    out.service = Service::Other;
+    if (stats_ != nullptr) {
+        stats_->on_frame(f, r.ts_ns);
+    }
+    if (r.has_ts && r.ts_ns >= next_timeout_check_) {
+        sdo_.check_timeouts(r.ts_ns, stalls_);
+        collect_stalls(stalls_, notes, "timeout");
+        next_timeout_check_ = r.ts_ns + 10'000'000; // scan at most every 10 ms of trace time
+    }
+    if (f.error()) {
+        out.service = Service::Error;
+        out.severity = Severity::Warning;
+        append(out.text, "error frame:");
+        bool first = true;
+        for (const auto& e : decode_error_frame(f)) {
+            append(out.text, first ? " " : "; ");
+            first = false;
+            append(out.text, to_string(e));
+        }
+        return;
+    }
+    if (f.extended() || f.fd()) {
+        return; // CANopen (CiA 301) uses classic 11-bit frames; nothing to decode
+    }
+    const auto info = classify_cob_id(f.id);
+    switch (info.type) {
+    case CobType::Nmt:
+        decode_nmt(f, out);
+        return;
+    case CobType::Sync:
+        decode_sync(f, out);
+        return;
+    case CobType::Time:
+        decode_time(f, out);
+        return;
+    case CobType::Emcy:
+        decode_emcy(f, info.node, out);
+        return;
+    case CobType::Heartbeat:
+        decode_error_control(f, info.node, r.ts_ns, out);
+        return;
+    case CobType::LssMaster:
+    case CobType::LssSlave:
+        decode_lss(f, info.type == CobType::LssMaster, out);
+        return;
+    case CobType::SdoRx:
+    case CobType::SdoTx:
+        decode_sdo(f, info.node, info.type == CobType::SdoRx, r.ts_ns, out);
+        return;
+    default:
+        break;
+    }
+    if (f.rtr()) {
+        return;
+    }
+    const NodeId node = pdo_.decode(f.id, f.payload(), out.text);
+    if (node != 0) {
+        out.service = Service::Pdo;
+        out.node = node;
+        if (stats_ != nullptr) {
+            stats_->on_pdo(node, info.is_tpdo());
+        }
+    }
+}
+
+void Decoder::decode_nmt(const Frame& f, Decoded& out) {
+    out.service = Service::Nmt;
+    auto it = std::back_inserter(out.text);
+    const auto cmd = nmt::parse_command_frame(f);
+    if (!cmd) {
+        out.severity = Severity::Warning;
+        if (f.len >= 2) {
+            fmt::format_to(it, "NMT invalid command 0x{:02X} for node {}", f.data[0], f.data[1]);
+        } else {
+            fmt::format_to(it, "NMT frame too short ({} bytes)", f.len);
+        }
+        return;
+    }
+    out.node = cmd->node;
+    out.severity = Severity::Notice;
+    fmt::format_to(it, "NMT {} ", nmt::to_string(cmd->command));
+    if (cmd->node == nmt::kAllNodes) {
+        append(out.text, "all nodes");
+    } else {
+        fmt::format_to(it, "node {}", cmd->node);
+    }
+}
+
+void Decoder::decode_sync(const Frame& f, Decoded& out) {
+    out.service = Service::Sync;
+    if (f.len == 0) {
+        append(out.text, "SYNC");
+    } else if (f.len == 1) {
+        append(out.text, "SYNC counter ");
+        text::put_uint(out.text, f.data[0]);
+    } else {
+        out.severity = Severity::Warning;
+        fmt::format_to(std::back_inserter(out.text), "SYNC with {} bytes (0 or 1 expected)", f.len);
+    }
+}
+
+void Decoder::decode_time(const Frame& f, Decoded& out) {
+    out.service = Service::Time;
+    const auto t = sync::decode_time_of_day(f.payload());
+    if (!t) {
+        out.severity = Severity::Warning;
+        fmt::format_to(std::back_inserter(out.text), "TIME malformed ({} bytes)", f.len);
+        return;
+    }
+    fmt::format_to(std::back_inserter(out.text), "TIME {}", sync::to_string(*t));
+}
+
+void Decoder::decode_emcy(const Frame& f, NodeId node, Decoded& out) {
+    out.service = Service::Emcy;
+    out.node = node;
+    const auto m = emcy::parse_emcy(f);
+    if (!m) {
+        out.severity = Severity::Warning;
+        fmt::format_to(std::back_inserter(out.text), "node {}: EMCY malformed ({} bytes)", node,
+                       f.len);
+        return;
+    }
+    const auto* prof = nodes_[node].profile;
+    const auto* vendor = prof != nullptr ? prof->emcy_text() : nullptr;
+    const auto text = emcy::describe(*m, vendor);
+    append(out.text, text);
+    out.severity = m->is_reset() ? Severity::Notice : Severity::Error;
+    if (stats_ != nullptr) {
+        stats_->on_emcy(node, m->error_code, emcy::error_code_text(m->error_code));
+    }
+}
+
+void Decoder::decode_error_control(const Frame& f, NodeId node, std::int64_t ts, Decoded& out) {
+    out.service = Service::Heartbeat;
+    out.node = node;
+    auto it = std::back_inserter(out.text);
+    NodeState& n = nodes_[node];
+    if (f.rtr()) {
+        n.guard_requested = true;
+        fmt::format_to(it, "node {} guarding request", node);
+        return;
+    }
+    if (f.len < 1) {
+        out.severity = Severity::Warning;
+        fmt::format_to(it, "node {} error control frame without data", node);
+        return;
+    }
+    const std::uint8_t b = f.data[0];
+    const auto state = nmt::state_from_byte(b);
+    const std::string_view name = state ? nmt::to_string(*state) : std::string_view("invalid");
+    if (n.guard_requested) {
+        n.guard_requested = false;
+        fmt::format_to(it, "node {} guarding reply {} (toggle {})", node, name, b >> 7);
+    } else if (b == 0) {
+        out.severity = Severity::Notice;
+        fmt::format_to(it, "node {} boot-up", node);
+    } else if (!state || (b & 0x80) != 0) {
+        out.severity = Severity::Warning;
+        fmt::format_to(it, "node {} heartbeat invalid state 0x{:02X}", node, b);
+        return;
+    } else {
+        append(out.text, "node ");
+        text::put_uint(out.text, node);
+        append(out.text, " heartbeat ");
+        append(out.text, name);
+    }
+    if (state && stats_ != nullptr) {
+        stats_->on_heartbeat(node, static_cast<std::uint8_t>(b & 0x7F), ts);
+    }
+}
+
+void Decoder::decode_lss(const Frame& f, bool from_master, Decoded& out) {
+    // CiA 305 §6 command specifiers.
+    out.service = Service::Lss;
+    auto it = std::back_inserter(out.text);
+    if (f.len < 1) {
+        fmt::format_to(it, "LSS {} frame without data", from_master ? "master" : "slave");
+        out.severity = Severity::Warning;
+        return;
+    }
+    const std::uint8_t cs = f.data[0];
+    const std::uint32_t u32 = f.len >= 5 ? get_le<std::uint32_t>(f.data.data() + 1) : 0;
+    static constexpr std::string_view kIdent[] = {"vendor-ID", "product code", "revision number",
+                                                  "serial number"};
+    if (from_master) {
+        append(out.text, "LSS ");
+        if (cs == 0x04) {
+            fmt::format_to(it, "switch state global: {}",
+                           f.data[1] == 1 ? "configuration" : "waiting");
+        } else if (cs >= 0x40 && cs <= 0x43) {
+            fmt::format_to(it, "switch state selective {} 0x{:08X}", kIdent[cs - 0x40], u32);
+        } else if (cs == 0x11) {
+            fmt::format_to(it, "configure node-ID {}", f.data[1]);
+        } else if (cs == 0x13) {
+            fmt::format_to(it, "configure bit timing table {} index {}", f.data[1], f.data[2]);
+        } else if (cs == 0x15) {
+            fmt::format_to(it, "activate bit timing (switch delay {} ms)",
+                           get_le<std::uint16_t>(f.data.data() + 1));
+        } else if (cs == 0x17) {
+            append(out.text, "store configuration");
+        } else if (cs >= 0x46 && cs <= 0x4B) {
+            static constexpr std::string_view kRange[] = {
+                "vendor-ID",           "product code",
+                "revision number low", "revision number high",
+                "serial number low",   "serial number high"};
+            fmt::format_to(it, "identify remote slave {} 0x{:08X}", kRange[cs - 0x46], u32);
+        } else if (cs == 0x4C) {
+            append(out.text, "identify non-configured remote slave");
+        } else if (cs == 0x51) {
+            fmt::format_to(it, "fastscan id 0x{:08X} bit {} sub {} next {}", u32, f.data[5],
+                           f.data[6], f.data[7]);
+        } else if (cs >= 0x5A && cs <= 0x5D) {
+            fmt::format_to(it, "inquire {}", kIdent[cs - 0x5A]);
+        } else if (cs == 0x5E) {
+            append(out.text, "inquire node-ID");
+        } else {
+            fmt::format_to(it, "unknown master command 0x{:02X}", cs);
+            out.severity = Severity::Warning;
+        }
+        return;
+    }
+    append(out.text, "LSS slave: ");
+    static constexpr std::string_view kResult[] = {"ok", "not supported / out of range",
+                                                   "storage access error"};
+    const auto result = [&](std::uint8_t code) {
+        return code < 3 ? kResult[code] : std::string_view("manufacturer error");
+    };
+    if (cs == 0x11 || cs == 0x13 || cs == 0x17) {
+        static constexpr std::string_view kWhat[] = {"configure node-ID", "configure bit timing",
+                                                     "store configuration"};
+        const std::size_t w = cs == 0x11 ? 0 : cs == 0x13 ? 1 : 2;
+        fmt::format_to(it, "{}: {}", kWhat[w], result(f.data[1]));
+        if (f.data[1] != 0) {
+            out.severity = Severity::Warning;
+        }
+    } else if (cs == 0x44) {
+        append(out.text, "switch state selective confirmed");
+    } else if (cs == 0x4F) {
+        append(out.text, "identify slave");
+    } else if (cs == 0x50) {
+        append(out.text, "identify non-configured slave");
+    } else if (cs >= 0x5A && cs <= 0x5D) {
+        fmt::format_to(it, "{} 0x{:08X}", kIdent[cs - 0x5A], u32);
+    } else if (cs == 0x5E) {
+        fmt::format_to(it, "node-ID {}", f.data[1]);
+    } else {
+        fmt::format_to(it, "unknown response 0x{:02X}", cs);
+        out.severity = Severity::Warning;
+    }
+}
+
+void Decoder::decode_sdo(const Frame& f, NodeId node, bool client, std::int64_t ts, Decoded& out) {
+    out.service = Service::Sdo;
+    out.node = node;
+    if (f.rtr()) {
+        fmt::format_to(std::back_inserter(out.text), "node {} SDO remote frame (not allowed)",
+                       node);
+        out.severity = Severity::Warning;
+        return;
+    }
+    const auto o = sdo_.on_frame(node, client ? sdo::Sender::Client : sdo::Sender::Server,
+                                 f.payload(), ts, out.text);
+    switch (o.kind) {
+    case SdoOutcome::Kind::None:
+        return;
+    case SdoOutcome::Kind::Completed:
+        out.severity = Severity::Notice;
+        if (stats_ != nullptr) {
+            stats_->on_sdo_done(node, o.duration_ns);
+        }
+        (void)pdo_.learn(node, o.index, o.subindex, o.data);
+        if (o.index == 0x1018 && (o.subindex == 1 || o.subindex == 2) && o.data.size() >= 4) {
+            learn_identity(node, o.subindex, get_le<std::uint32_t>(o.data.data()));
+        }
+        return;
+    case SdoOutcome::Kind::Aborted:
+        out.severity = Severity::Error;
+        if (stats_ != nullptr) {
+            stats_->on_sdo_abort(node);
+        }
+        return;
+    case SdoOutcome::Kind::ProtocolError:
+        out.severity = Severity::Warning;
+        return;
+    }
+}
+
+} // namespace codrive::dump

@@ -1,0 +1,123 @@
+// SPDX-License-Identifier: Apache-2.0
+// The codrive-dump pipeline.
+#include <codrive/dump/dumper.hpp>
+
+#include <codrive/dump/log_parser.hpp>
+
+namespace codrive::dump {
+namespace {
+constexpr std::size_t kFlushAt = 256 * 1024;
+}
+
+Dumper::Dumper(DumpOptions options, Sink out, Sink diag)
+    : options_(std::move(options)), out_(std::move(out)), diag_(std::move(diag)),
+      stats_(options_.bitrate), decoder_(options_.decoder, &stats_), lines_(options_.line) {}
+
+Dumper::~Dumper() {
+    flush();
+}
+
+bool Dumper::wanted(Service s, NodeId node) const {
+    if ((options_.only & (1U << static_cast<unsigned>(s))) == 0) {
+        return false;
+    }
+    if (options_.nodes.none()) {
+        return true;
+    }
+    // NMT commands to all nodes (node 0) concern every node.
+    return (node == 0 && s == Service::Nmt) || (node <= kMaxNodeId && options_.nodes.test(node));
+}
+
+void Dumper::emit_notes() {
+    for (const auto& n : notes_) {
+        if (options_.print && wanted(n.service, n.node)) {
+            lines_.note(buf_, n);
+        }
+    }
+    notes_.clear();
+}
+
+void Dumper::on_record(const TraceRecord& r) {
+    decoder_.decode(r, decoded_, notes_);
+    if (!notes_.empty()) {
+        emit_notes();
+    }
+    if (pcap_) {
+        pcap_->write(r);
+    }
+    if (options_.print && wanted(decoded_.service, decoded_.node)) {
+        lines_.frame(buf_, r, decoded_);
+        if (buf_.size() >= kFlushAt) {
+            flush();
+        }
+    }
+}
+
+void Dumper::report(std::string_view message) {
+    flush();
+    if (diag_) {
+        diag_(message);
+    }
+}
+
+void Dumper::finish() {
+    if (finished_) {
+        return;
+    }
+    finished_ = true;
+    decoder_.finish(notes_);
+    emit_notes();
+    if (options_.stats) {
+        const auto t = stats_.table();
+        if (options_.print) {
+            buf_.push_back('\n');
+        }
+        buf_.append(t.data(), t.data() + t.size());
+    }
+    flush();
+    if (pcap_) {
+        if (auto r = pcap_->flush(); !r) {
+            report("cannot write the pcap file: " + r.error().message());
+        }
+    }
+}
+
+void Dumper::flush() {
+    if (buf_.size() != 0 && out_) {
+        out_(std::string_view(buf_.data(), buf_.size()));
+    }
+    buf_.clear();
+}
+
+InputSummary dump_input(BufferedInput& input, std::string_view name, Dumper& dumper) {
+    InputSummary sum;
+    input.ensure(4);
+    std::unique_ptr<ITraceSource> source;
+    std::unique_ptr<LogReader> log;
+    if (looks_like_pcap(input.data(), input.available())) {
+        source = std::make_unique<PcapReader>(input);
+    } else {
+        source = std::make_unique<LogReader>(input);
+    }
+    TraceRecord rec;
+    for (;;) {
+        switch (source->next(rec)) {
+        case ReadStatus::Frame:
+            ++sum.frames;
+            dumper.on_record(rec);
+            continue;
+        case ReadStatus::Malformed:
+            ++sum.malformed;
+            dumper.report(fmt::format("{}: {}", name, source->error()));
+            continue;
+        case ReadStatus::Fatal:
+            sum.fatal = true;
+            dumper.report(fmt::format("{}: {}", name, source->error()));
+            return sum;
+        case ReadStatus::End:
+            return sum;
+        }
+    }
+}
+
+} // namespace codrive::dump

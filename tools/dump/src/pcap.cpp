@@ -1,0 +1,384 @@
+// SPDX-License-Identifier: Apache-2.0
+// pcap / pcapng SocketCAN reader and pcap writer.
+#include <codrive/dump/pcap.hpp>
+
+#include <codrive/core/endian.hpp>
+
+#include <fmt/format.h>
+
+#include <cerrno>
+#include <cstring>
+
+namespace codrive::dump {
+namespace {
+
+constexpr std::uint32_t kPcapMagicUs = 0xA1B2C3D4;
+constexpr std::uint32_t kPcapMagicNs = 0xA1B23C4D;
+constexpr std::uint32_t kNgShb = 0x0A0D0D0A;
+constexpr std::uint32_t kNgIdb = 0x00000001;
+constexpr std::uint32_t kNgSpb = 0x00000003;
+constexpr std::uint32_t kNgEpb = 0x00000006;
+constexpr std::uint32_t kNgByteOrder = 0x1A2B3C4D;
+constexpr std::size_t kMaxBlock = 1U << 18; // larger blocks cannot hold CAN and mean corruption
+
+constexpr std::uint32_t kCanEff = 0x80000000U;
+constexpr std::uint32_t kCanRtr = 0x40000000U;
+constexpr std::uint32_t kCanErr = 0x20000000U;
+constexpr std::uint8_t kCanFdFdf = 0x04; // canfd_frame.flags CANFD_FDF
+constexpr std::uint8_t kCanFdBrs = 0x01;
+constexpr std::size_t kCanMtu = 16;
+constexpr std::size_t kCanFdMtu = 72;
+
+std::uint32_t bswap32(std::uint32_t v) {
+    return __builtin_bswap32(v);
+}
+
+} // namespace
+
+bool looks_like_pcap(const std::uint8_t* p, std::size_t n) {
+    if (n < 4) {
+        return false;
+    }
+    const auto m = get_le<std::uint32_t>(p);
+    return m == kPcapMagicUs || m == kPcapMagicNs || bswap32(m) == kPcapMagicUs ||
+           bswap32(m) == kPcapMagicNs || m == kNgShb;
+}
+
+bool decode_socketcan_record(const std::uint8_t* p, std::size_t n, Frame& f) {
+    if (n < 8) {
+        return false;
+    }
+    const std::uint32_t raw = (static_cast<std::uint32_t>(p[0]) << 24) |
+                              (static_cast<std::uint32_t>(p[1]) << 16) |
+                              (static_cast<std::uint32_t>(p[2]) << 8) | p[3];
+    f.flags = 0;
+    if ((raw & kCanErr) != 0) {
+        f.flags = Frame::kError;
+        f.id = raw & Frame::kExtMask;
+    } else if ((raw & kCanEff) != 0) {
+        f.flags = Frame::kExtended;
+        f.id = raw & Frame::kExtMask;
+    } else {
+        f.id = raw & Frame::kStdMask;
+    }
+    if ((raw & kCanRtr) != 0) {
+        f.flags = static_cast<std::uint8_t>(f.flags | Frame::kRtr);
+    }
+    const bool fd = n == kCanFdMtu || (p[5] & kCanFdFdf) != 0 || p[4] > 8;
+    std::size_t len = p[4];
+    if (fd) {
+        f.flags = static_cast<std::uint8_t>(f.flags | Frame::kFd);
+        if ((p[5] & kCanFdBrs) != 0) {
+            f.flags = static_cast<std::uint8_t>(f.flags | Frame::kBrs);
+        }
+        len = std::min<std::size_t>(len, Frame::kMaxFdLen);
+    } else {
+        len = std::min<std::size_t>(len, Frame::kMaxClassicLen);
+    }
+    if (f.rtr()) {
+        f.len = static_cast<std::uint8_t>(len);
+        return true;
+    }
+    len = std::min(len, n - 8); // a short snaplen keeps only what was captured
+    std::memcpy(f.data.data(), p + 8, len);
+    f.len = static_cast<std::uint8_t>(len);
+    return true;
+}
+
+std::uint32_t PcapReader::u32(const std::uint8_t* p) const {
+    const auto v = get_le<std::uint32_t>(p);
+    return swapped_ ? bswap32(v) : v;
+}
+std::uint16_t PcapReader::u16(const std::uint8_t* p) const {
+    const auto v = get_le<std::uint16_t>(p);
+    return swapped_ ? static_cast<std::uint16_t>((v >> 8) | (v << 8)) : v;
+}
+
+ReadStatus PcapReader::truncated(std::string_view what) {
+    error_ = fmt::format("pcap truncated after {} records (byte offset {}): {}", records_, offset_,
+                         what);
+    return ReadStatus::Fatal;
+}
+
+ReadStatus PcapReader::read_header() {
+    started_ = true;
+    if (input_.ensure(4) < 4) {
+        return truncated("no file header");
+    }
+    const auto magic = get_le<std::uint32_t>(input_.data());
+    if (magic == kNgShb) {
+        ng_ = true;
+        return ReadStatus::Frame; // the SHB is read as a block
+    }
+    if (input_.ensure(24) < 24) {
+        return truncated("incomplete file header");
+    }
+    if (magic == kPcapMagicUs || magic == kPcapMagicNs) {
+        swapped_ = false;
+    } else if (bswap32(magic) == kPcapMagicUs || bswap32(magic) == kPcapMagicNs) {
+        swapped_ = true;
+    } else {
+        error_ = "not a pcap file (unknown magic number)";
+        return ReadStatus::Fatal;
+    }
+    nanos_ = (swapped_ ? bswap32(magic) : magic) == kPcapMagicNs;
+    link_type_ = u32(input_.data() + 20) & 0xFFFF;
+    if (link_type_ != kLinkTypeSocketCan) {
+        error_ =
+            fmt::format("pcap link type {} is not SocketCAN ({})", link_type_, kLinkTypeSocketCan);
+        return ReadStatus::Fatal;
+    }
+    input_.consume(24);
+    offset_ = 24;
+    return ReadStatus::Frame;
+}
+
+ReadStatus PcapReader::next(TraceRecord& record) {
+    if (!started_) {
+        if (auto s = read_header(); s != ReadStatus::Frame) {
+            return s;
+        }
+    }
+    return ng_ ? next_ng(record) : next_classic(record);
+}
+
+ReadStatus PcapReader::next_classic(TraceRecord& record) {
+    const auto have = input_.ensure(16);
+    if (have == 0) {
+        return ReadStatus::End;
+    }
+    if (have < 16) {
+        return truncated("incomplete record header");
+    }
+    const auto* h = input_.data();
+    const std::uint32_t sec = u32(h);
+    const std::uint32_t frac = u32(h + 4);
+    const std::uint32_t incl = u32(h + 8);
+    if (incl > kMaxBlock) {
+        error_ =
+            fmt::format("pcap record {} claims {} bytes: the file is corrupt", records_ + 1, incl);
+        return ReadStatus::Fatal;
+    }
+    if (input_.ensure(16 + incl) < 16 + incl) {
+        return truncated("incomplete record");
+    }
+    const auto* body = input_.data() + 16;
+    record.ts_ns = static_cast<std::int64_t>(sec) * 1'000'000'000LL +
+                   static_cast<std::int64_t>(frac) * (nanos_ ? 1 : 1000);
+    record.has_ts = true;
+    record.iface = "pcap";
+    const bool ok = decode_socketcan_record(body, incl, record.frame);
+    input_.consume(16 + incl);
+    offset_ += 16 + incl;
+    ++records_;
+    if (!ok) {
+        error_ =
+            fmt::format("pcap record {}: {} bytes is too short for a CAN frame", records_, incl);
+        return ReadStatus::Malformed;
+    }
+    return ReadStatus::Frame;
+}
+
+ReadStatus PcapReader::next_ng(TraceRecord& record) {
+    for (;;) {
+        const auto have = input_.ensure(12);
+        if (have == 0) {
+            return ReadStatus::End;
+        }
+        if (have < 12) {
+            return truncated("incomplete block header");
+        }
+        const auto* b = input_.data();
+        const auto raw_type = get_le<std::uint32_t>(b);
+        if (raw_type == kNgShb) {
+            const auto bom = get_le<std::uint32_t>(b + 8);
+            if (bom == kNgByteOrder) {
+                swapped_ = false;
+            } else if (bswap32(bom) == kNgByteOrder) {
+                swapped_ = true;
+            } else {
+                error_ = "pcapng section header with a bad byte-order magic";
+                return ReadStatus::Fatal;
+            }
+            interfaces_.clear();
+        }
+        const std::uint32_t type = u32(b);
+        const std::uint32_t len = u32(b + 4);
+        if (len < 12 || len > kMaxBlock || len % 4 != 0) {
+            error_ = fmt::format("pcapng block at byte offset {} has bad length {}", offset_, len);
+            return ReadStatus::Fatal;
+        }
+        if (input_.ensure(len) < len) {
+            return truncated("incomplete block");
+        }
+        b = input_.data();
+        const std::uint32_t body_len = len - 12;
+        const auto* body = b + 8;
+        ReadStatus status = ReadStatus::End; // End here means "no record from this block"
+        if (type == kNgIdb && body_len >= 8) {
+            Interface itf;
+            itf.link_type = u16(body);
+            // Options: code(2) len(2) value padded to 4.
+            std::size_t o = 8;
+            while (o + 4 <= body_len) {
+                const std::uint16_t code = u16(body + o);
+                const std::uint16_t olen = u16(body + o + 2);
+                if (code == 0 || o + 4 + olen > body_len) {
+                    break;
+                }
+                const auto* v = body + o + 4;
+                if (code == 9 && olen >= 1) { // if_tsresol
+                    const std::uint8_t r = v[0];
+                    std::int64_t per = 1;
+                    const unsigned exp = r & 0x7F;
+                    if ((r & 0x80) != 0) {
+                        per = exp < 62 ? (std::int64_t{1} << exp) : 0;
+                    } else {
+                        for (unsigned i = 0; i < exp && i < 18; ++i) {
+                            per *= 10;
+                        }
+                    }
+                    if (per > 0) {
+                        itf.ts_per_second = per;
+                    }
+                } else if (code == 2 && olen > 0) { // if_name
+                    itf.name.assign(reinterpret_cast<const char*>(v),
+                                    strnlen(reinterpret_cast<const char*>(v), olen));
+                }
+                o += 4 + ((olen + 3U) & ~3U);
+            }
+            if (itf.name.empty()) {
+                itf.name = fmt::format("if{}", interfaces_.size());
+            }
+            if (interfaces_.size() < 256) {
+                interfaces_.push_back(std::move(itf));
+            }
+        } else if ((type == kNgEpb && body_len >= 20) || (type == kNgSpb && body_len >= 4)) {
+            const bool epb = type == kNgEpb;
+            const std::uint32_t if_id = epb ? u32(body) : 0;
+            const std::uint32_t cap = epb ? u32(body + 12) : std::min(u32(body), body_len - 4);
+            const std::size_t data_off = epb ? 20 : 4;
+            ++records_;
+            if (if_id >= interfaces_.size() || cap > body_len - data_off) {
+                error_ = fmt::format("pcapng packet {} refers to unknown interface {} or is "
+                                     "longer than its block",
+                                     records_, if_id);
+                status = ReadStatus::Malformed;
+            } else if (interfaces_[if_id].link_type != kLinkTypeSocketCan) {
+                error_ = fmt::format("pcapng packet {}: link type {} is not SocketCAN, skipped",
+                                     records_, interfaces_[if_id].link_type);
+                status = ReadStatus::Malformed;
+            } else {
+                const auto& itf = interfaces_[if_id];
+                record.iface = itf.name;
+                if (epb) {
+                    const std::uint64_t ts =
+                        (static_cast<std::uint64_t>(u32(body + 4)) << 32) | u32(body + 8);
+                    const auto per = static_cast<std::uint64_t>(itf.ts_per_second);
+                    const std::uint64_t sec = ts / per;
+                    const std::uint64_t rem = ts % per;
+                    record.ts_ns = static_cast<std::int64_t>(
+                        sec * 1'000'000'000ULL +
+                        static_cast<std::uint64_t>(static_cast<double>(rem) * 1e9 /
+                                                   static_cast<double>(per)));
+                    record.has_ts = true;
+                } else {
+                    record.has_ts = false;
+                }
+                if (decode_socketcan_record(body + data_off, cap, record.frame)) {
+                    status = ReadStatus::Frame;
+                } else {
+                    error_ = fmt::format("pcapng packet {}: {} bytes is too short for a CAN frame",
+                                         records_, cap);
+                    status = ReadStatus::Malformed;
+                }
+            }
+        }
+        input_.consume(len);
+        offset_ += len;
+        if (status != ReadStatus::End) {
+            return status;
+        }
+    }
+}
+
+Result<std::unique_ptr<PcapWriter>> PcapWriter::open(const std::string& path) {
+    std::unique_ptr<PcapWriter> w(new PcapWriter());
+    if (path == "-") {
+        w->file_ = stdout;
+    } else {
+        w->file_ = std::fopen(path.c_str(), "wb");
+        if (w->file_ == nullptr) {
+            return fail_errno(errno);
+        }
+        w->own_ = true;
+    }
+    std::uint8_t h[24] = {};
+    put_le<std::uint32_t>(h, kPcapMagicUs);
+    put_le<std::uint16_t>(h + 4, 2);
+    put_le<std::uint16_t>(h + 6, 4);
+    put_le<std::uint32_t>(h + 16, kCanFdMtu);
+    put_le<std::uint32_t>(h + 20, kLinkTypeSocketCan);
+    w->buf_.assign(h, h + sizeof h);
+    return w;
+}
+
+PcapWriter::~PcapWriter() {
+    (void)flush();
+    if (own_) {
+        std::fclose(file_);
+    }
+}
+
+void PcapWriter::write(const TraceRecord& r) {
+    const Frame& f = r.frame;
+    const std::size_t body = f.fd() ? kCanFdMtu : kCanMtu;
+    const auto old = buf_.size();
+    buf_.resize(old + 16 + body);
+    auto* p = buf_.data() + old;
+    std::memset(p, 0, 16 + body);
+    const std::int64_t ts = r.ts_ns < 0 ? 0 : r.ts_ns;
+    put_le<std::uint32_t>(p, static_cast<std::uint32_t>(ts / 1'000'000'000LL));
+    put_le<std::uint32_t>(p + 4, static_cast<std::uint32_t>((ts % 1'000'000'000LL) / 1000));
+    put_le<std::uint32_t>(p + 8, static_cast<std::uint32_t>(body));
+    put_le<std::uint32_t>(p + 12, static_cast<std::uint32_t>(body));
+    auto* c = p + 16;
+    std::uint32_t id = f.id;
+    if (f.error()) {
+        id |= kCanErr;
+    } else if (f.extended()) {
+        id |= kCanEff;
+    }
+    if (f.rtr()) {
+        id |= kCanRtr;
+    }
+    c[0] = static_cast<std::uint8_t>(id >> 24);
+    c[1] = static_cast<std::uint8_t>(id >> 16);
+    c[2] = static_cast<std::uint8_t>(id >> 8);
+    c[3] = static_cast<std::uint8_t>(id);
+    c[4] = f.len;
+    if (f.fd()) {
+        c[5] =
+            static_cast<std::uint8_t>(kCanFdFdf | ((f.flags & Frame::kBrs) != 0 ? kCanFdBrs : 0));
+    }
+    if (!f.rtr()) {
+        std::memcpy(c + 8, f.data.data(), std::min<std::size_t>(f.len, body - 8));
+    }
+    if (buf_.size() >= (1U << 16)) {
+        (void)flush();
+    }
+}
+
+VoidResult PcapWriter::flush() {
+    if (!buf_.empty() && file_ != nullptr) {
+        if (std::fwrite(buf_.data(), 1, buf_.size(), file_) != buf_.size()) {
+            buf_.clear();
+            return fail_errno(errno);
+        }
+        buf_.clear();
+        std::fflush(file_);
+    }
+    return {};
+}
+
+} // namespace codrive::dump

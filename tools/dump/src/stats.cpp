@@ -1,0 +1,175 @@
+// SPDX-License-Identifier: Apache-2.0
+// Per-node statistics and bus load.
+#include <codrive/dump/stats.hpp>
+
+#include <codrive/nmt/state.hpp>
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <iterator>
+
+namespace codrive::dump {
+
+std::uint32_t frame_bits_worst_case(const Frame& f) {
+    const std::uint32_t data_bits = f.rtr() ? 0U : 8U * f.len;
+    if (f.extended()) {
+        return 67U + data_bits + (54U + data_bits - 1U) / 4U;
+    }
+    return 47U + data_bits + (34U + data_bits - 1U) / 4U;
+}
+
+void Stats::on_frame(const Frame& f, std::int64_t ts) {
+    if (frames_ == 0) {
+        first_ns_ = ts;
+        window_start_ns_ = ts;
+    }
+    ++frames_;
+    if (f.error()) {
+        ++error_frames_;
+        return;
+    }
+    const auto bits = frame_bits_worst_case(f);
+    bits_ += bits;
+    last_ns_ = std::max(last_ns_, ts);
+    constexpr std::int64_t kWindow = 1'000'000'000;
+    if (ts - window_start_ns_ >= kWindow) {
+        const double load = 100.0 * static_cast<double>(window_bits_) / bitrate_;
+        peak_load_ = std::max(peak_load_, load);
+        window_start_ns_ += ((ts - window_start_ns_) / kWindow) * kWindow;
+        window_bits_ = 0;
+    }
+    window_bits_ += bits;
+}
+
+void Stats::on_heartbeat(NodeId node, std::uint8_t state, std::int64_t ts) {
+    Node& n = nodes_[node];
+    n.seen = true;
+    n.nmt_state = state;
+    if (state == 0) {
+        n.last_hb_ns = 0; // a boot-up restarts the period measurement
+        ++n.heartbeats;
+        return;
+    }
+    if (n.last_hb_ns != 0 && ts > n.last_hb_ns) {
+        const auto d = ts - n.last_hb_ns;
+        ++n.hb_intervals;
+        const double x = static_cast<double>(d);
+        const double delta = x - n.hb_mean_ns;
+        n.hb_mean_ns += delta / static_cast<double>(n.hb_intervals);
+        n.hb_m2 += delta * (x - n.hb_mean_ns);
+        n.hb_min_ns = n.hb_intervals == 1 ? d : std::min(n.hb_min_ns, d);
+        n.hb_max_ns = n.hb_intervals == 1 ? d : std::max(n.hb_max_ns, d);
+    }
+    n.last_hb_ns = ts;
+    ++n.heartbeats;
+}
+
+void Stats::on_emcy(NodeId node, std::uint16_t code, std::string text) {
+    Node& n = nodes_[node];
+    n.seen = true;
+    ++n.emcy;
+    if (code == 0) {
+        // "Error reset": keep the last error, noting that it has been cleared.
+        if (!n.last_emcy_text.empty() && n.last_emcy_code != 0 &&
+            !n.last_emcy_text.ends_with(" (reset)")) {
+            n.last_emcy_text += " (reset)";
+        }
+        return;
+    }
+    n.last_emcy_code = code;
+    n.last_emcy_text = std::move(text);
+}
+
+void Stats::on_sdo_done(NodeId node, std::int64_t d) {
+    nodes_[node].seen = true;
+    ++nodes_[node].sdo_done;
+    nodes_[node].sdo_rtt_sum_ns += static_cast<double>(std::max<std::int64_t>(d, 0));
+}
+void Stats::on_sdo_abort(NodeId node) {
+    nodes_[node].seen = true;
+    ++nodes_[node].sdo_aborts;
+}
+void Stats::on_sdo_timeout(NodeId node) {
+    nodes_[node].seen = true;
+    ++nodes_[node].sdo_timeouts;
+}
+void Stats::on_pdo(NodeId node, bool tpdo) {
+    nodes_[node].seen = true;
+    ++(tpdo ? nodes_[node].tpdo : nodes_[node].rpdo);
+}
+
+double Stats::bus_load() const {
+    const auto span = last_ns_ - first_ns_;
+    if (span <= 0 || bitrate_ == 0) {
+        return 0;
+    }
+    return 100.0 * static_cast<double>(bits_) /
+           (static_cast<double>(bitrate_) * 1e-9 * static_cast<double>(span));
+}
+
+std::string Stats::table() const {
+    fmt::memory_buffer b;
+    auto it = std::back_inserter(b);
+    const double secs = static_cast<double>(last_ns_ - first_ns_) / 1e9;
+    fmt::format_to(it,
+                   "{:>4}  {:<15}  {:>9}  {:>8}  {:>5}  {:>5}  {:>6}  {:>8}  {:>8}  {:>8}  {}\n",
+                   "node", "NMT state", "HB period", "HB jit.", "EMCY", "SDO", "ab/to", "SDO mean",
+                   "TPDO/s", "RPDO/s", "last EMCY");
+    for (std::size_t i = 1; i < nodes_.size(); ++i) {
+        const Node& n = nodes_[i];
+        if (!n.seen) {
+            continue;
+        }
+        std::string_view state = "-";
+        if (n.nmt_state != 0xFF) {
+            const auto s = nmt::state_from_byte(n.nmt_state);
+            state = s ? nmt::to_string(*s) : std::string_view("invalid");
+        }
+        const std::string period =
+            n.hb_intervals > 0 ? fmt::format("{:.1f} ms", n.hb_mean_ns / 1e6) : "-";
+        const std::string jitter =
+            n.hb_intervals > 1
+                ? fmt::format("{:.2f} ms",
+                              std::sqrt(n.hb_m2 / static_cast<double>(n.hb_intervals - 1)) / 1e6)
+                : "-";
+        const std::string rtt =
+            n.sdo_done > 0
+                ? fmt::format("{:.1f} ms", n.sdo_rtt_sum_ns / static_cast<double>(n.sdo_done) / 1e6)
+                : "-";
+        const auto rate = [&](std::uint64_t c) {
+            return secs > 0 ? fmt::format("{:.1f}", static_cast<double>(c) / secs)
+                            : fmt::format("{}", c);
+        };
+        const std::string last =
+            n.last_emcy_code != 0 ? fmt::format("0x{:04X} {}", n.last_emcy_code, n.last_emcy_text)
+                                  : std::string();
+        fmt::format_to(
+            it, "{:>4}  {:<15}  {:>9}  {:>8}  {:>5}  {:>5}  {:>6}  {:>8}  {:>8}  {:>8}  {}\n", i,
+            state, period, jitter, n.emcy, n.sdo_done, n.sdo_aborts + n.sdo_timeouts, rtt,
+            rate(n.tpdo), rate(n.rpdo), last);
+        while (b.size() > 1 && b[b.size() - 2] == ' ') { // no trailing blanks without a last EMCY
+            b[b.size() - 2] = '\n';
+            b.resize(b.size() - 1);
+        }
+    }
+    // The window still open counts if it is long enough to say something.
+    double peak = peak_load_;
+    const auto open_ns = last_ns_ - window_start_ns_;
+    if (open_ns >= 100'000'000 && bitrate_ != 0) {
+        peak = std::max(peak,
+                        100.0 * static_cast<double>(window_bits_) /
+                            (static_cast<double>(bitrate_) * 1e-9 * static_cast<double>(open_ns)));
+    }
+    if (secs < 1.0) {
+        peak = std::max(peak, bus_load());
+    }
+    fmt::format_to(it,
+                   "{} frames ({} error frames) in {:.3f} s; bus load at {} kbit/s: {:.1f} % mean, "
+                   "{:.1f} % peak (1 s windows, worst-case bit stuffing)\n",
+                   frames_, error_frames_, secs, bitrate_ / 1000, bus_load(), peak);
+    return {b.data(), b.size()};
+}
+
+} // namespace codrive::dump
