@@ -8,55 +8,11 @@
 #include <cstdlib>
 #include <new>
 
-// The replacement operators below pair malloc/free on purpose; with inlining GCC cannot see
-// that and warns at every delete.
-#pragma GCC diagnostic ignored "-Wmismatched-new-delete"
+#include <codrive/testing/counting_new.hpp>
 
-namespace {
-std::atomic<std::uint64_t> g_allocations{0};
-thread_local bool g_counting = false;
-} // namespace
-
-void* operator new(std::size_t size) {
-    if (g_counting) {
-        g_allocations.fetch_add(1, std::memory_order_relaxed);
-    }
-    if (void* p = std::malloc(size == 0 ? 1 : size)) {
-        return p;
-    }
-    throw std::bad_alloc();
-}
-void operator delete(void* p) noexcept {
-    std::free(p);
-}
-void operator delete(void* p, std::size_t) noexcept {
-    std::free(p);
-}
-// Every other replaceable form too, so no allocation pairs with the runtime's own operators.
-void* operator new(std::size_t size, const std::nothrow_t&) noexcept {
-    if (g_counting) {
-        g_allocations.fetch_add(1, std::memory_order_relaxed);
-    }
-    return std::malloc(size == 0 ? 1 : size);
-}
-void* operator new[](std::size_t size) {
-    return operator new(size);
-}
-void* operator new[](std::size_t size, const std::nothrow_t& tag) noexcept {
-    return operator new(size, tag);
-}
-void operator delete(void* p, const std::nothrow_t&) noexcept {
-    std::free(p);
-}
-void operator delete[](void* p) noexcept {
-    std::free(p);
-}
-void operator delete[](void* p, std::size_t) noexcept {
-    std::free(p);
-}
-void operator delete[](void* p, const std::nothrow_t&) noexcept {
-    std::free(p);
-}
+// One program-wide counting operator new (included once per program).
+using codrive::testing::g_allocations;
+using codrive::testing::g_counting;
 
 using namespace codrive;
 using namespace codrive::pdo;

@@ -10,27 +10,11 @@
 #include <memory>
 #include <new>
 
-namespace {
-std::atomic<bool> g_counting{false};
-std::atomic<std::uint64_t> g_allocations{0};
-} // namespace
+#include <codrive/testing/counting_new.hpp>
 
-// Counting replacements of the global allocation functions for this test binary.
-void* operator new(std::size_t n) {
-    if (g_counting.load(std::memory_order_relaxed)) {
-        g_allocations.fetch_add(1, std::memory_order_relaxed);
-    }
-    if (void* p = std::malloc(n == 0 ? 1 : n)) {
-        return p;
-    }
-    throw std::bad_alloc();
-}
-void operator delete(void* p) noexcept {
-    std::free(p);
-}
-void operator delete(void* p, std::size_t) noexcept {
-    std::free(p);
-}
+// One program-wide counting operator new (included once per program).
+using codrive::testing::g_allocations;
+using codrive::testing::g_counting;
 
 namespace codrive::sync {
 namespace {
