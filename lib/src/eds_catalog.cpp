@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 // EDS/DCF section catalog and object lists ([MandatoryObjects], [OptionalObjects], ...).
 #include "eds_internal.hpp"
+#include "hex_digit.hpp"
 
 #include <fmt/format.h>
 
@@ -17,11 +18,10 @@ std::optional<std::uint32_t> hex_number(std::string_view s, std::size_t max_digi
     }
     std::uint32_t v = 0;
     for (char c : s) {
-        if (std::isxdigit(static_cast<unsigned char>(c)) == 0) {
+        const int d = codrive::detail::hex_digit(c);
+        if (d < 0) {
             return std::nullopt;
         }
-        const int d =
-            std::isdigit(static_cast<unsigned char>(c)) != 0 ? c - '0' : (c | 0x20) - 'a' + 10;
         v = v * 16 + static_cast<std::uint32_t>(d);
     }
     return v;

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 // Number and value text of EDS/DCF files: $NODEID expressions, octal, quoted strings, reals.
 #include "eds_internal.hpp"
+#include "hex_digit.hpp"
 
 #include <fmt/format.h>
 
@@ -11,19 +12,6 @@ namespace codrive::eds {
 namespace {
 
 constexpr std::string_view kNodeId = "$NODEID";
-
-int digit_value(char c) {
-    if (c >= '0' && c <= '9') {
-        return c - '0';
-    }
-    if (c >= 'a' && c <= 'f') {
-        return c - 'a' + 10;
-    }
-    if (c >= 'A' && c <= 'F') {
-        return c - 'A' + 10;
-    }
-    return -1;
-}
 
 bool is_space(char c) {
     return std::isspace(static_cast<unsigned char>(c)) != 0;
@@ -76,7 +64,8 @@ std::optional<std::uint64_t> read_literal(std::string_view s, std::size_t& i, In
         was_hex = true;
     }
     const std::size_t digits_start = i;
-    while (i < s.size() && digit_value(s[i]) >= 0 && (base == 16 || digit_value(s[i]) < 10)) {
+    while (i < s.size() && codrive::detail::hex_digit(s[i]) >= 0 &&
+           (base == 16 || codrive::detail::hex_digit(s[i]) < 10)) {
         ++i;
     }
     const std::string_view digits = s.substr(digits_start, i - digits_start);
@@ -108,7 +97,7 @@ std::optional<std::uint64_t> read_literal(std::string_view s, std::size_t& i, In
     }
     std::uint64_t v = 0;
     for (char c : digits) {
-        const auto d = static_cast<std::uint64_t>(digit_value(c));
+        const auto d = static_cast<std::uint64_t>(codrive::detail::hex_digit(c));
         if (v > (std::numeric_limits<std::uint64_t>::max() - d) / base) {
             out.error = "is too large for 64 bits";
             return std::nullopt;
@@ -140,8 +129,10 @@ std::string unescape_quoted(std::string_view s) {
             out += '\t';
             break;
         case 'x':
-            if (i + 2 < s.size() && digit_value(s[i + 1]) >= 0 && digit_value(s[i + 2]) >= 0) {
-                out += static_cast<char>(digit_value(s[i + 1]) * 16 + digit_value(s[i + 2]));
+            if (i + 2 < s.size() && codrive::detail::hex_digit(s[i + 1]) >= 0 &&
+                codrive::detail::hex_digit(s[i + 2]) >= 0) {
+                out += static_cast<char>(codrive::detail::hex_digit(s[i + 1]) * 16 +
+                                         codrive::detail::hex_digit(s[i + 2]));
                 i += 2;
             } else {
                 out += "\\x";
@@ -207,14 +198,14 @@ ValueText real_value(DataType type, std::string_view text) {
     if (text.size() == 2 + 2 * n && text[0] == '0' && (text[1] == 'x' || text[1] == 'X')) {
         bool all_hex = true;
         for (char c : text.substr(2)) {
-            all_hex = all_hex && digit_value(c) >= 0;
+            all_hex = all_hex && codrive::detail::hex_digit(c) >= 0;
         }
         if (all_hex) {
             // Exactly 2*size hex digits: the IEEE 754 bit pattern (lely's DCFs write pi as
             // 0x40490FDB). Shorter hex text is a number, as strtod reads it.
             std::uint64_t raw = 0;
             for (char c : text.substr(2)) {
-                raw = raw * 16 + static_cast<std::uint64_t>(digit_value(c));
+                raw = raw * 16 + static_cast<std::uint64_t>(codrive::detail::hex_digit(c));
             }
             Value v = Value::zero(type);
             put_le_n(v.mutable_bytes().data(), raw, n);

@@ -2,6 +2,8 @@
 // Frame construction, validation and candump-style text.
 #include <codrive/core/frame.hpp>
 
+#include "hex_digit.hpp"
+
 #include <algorithm>
 #include <array>
 #include <cstring>
@@ -91,21 +93,6 @@ std::string to_string(const Frame& f) {
     return out;
 }
 
-namespace {
-int hex_value(char c) {
-    if (c >= '0' && c <= '9') {
-        return c - '0';
-    }
-    if (c >= 'a' && c <= 'f') {
-        return c - 'a' + 10;
-    }
-    if (c >= 'A' && c <= 'F') {
-        return c - 'A' + 10;
-    }
-    return -1;
-}
-} // namespace
-
 bool parse_frame(std::string_view text, Frame& out) {
     const std::size_t hash = text.find('#');
     if (hash == std::string_view::npos || hash == 0 || (hash != 3 && hash != 8)) {
@@ -114,7 +101,7 @@ bool parse_frame(std::string_view text, Frame& out) {
     Frame f;
     std::uint32_t id = 0;
     for (std::size_t i = 0; i < hash; ++i) {
-        const int d = hex_value(text[i]);
+        const int d = detail::hex_digit(text[i]);
         if (d < 0) {
             return false;
         }
@@ -128,11 +115,11 @@ bool parse_frame(std::string_view text, Frame& out) {
     std::size_t max_len = Frame::kMaxClassicLen;
     if (!rest.empty() && rest[0] == '#') {
         // CAN FD: "##<flags nibble><data>"
-        if (rest.size() < 2 || hex_value(rest[1]) < 0) {
+        if (rest.size() < 2 || detail::hex_digit(rest[1]) < 0) {
             return false;
         }
         f.flags |= Frame::kFd;
-        if ((hex_value(rest[1]) & 0x1) != 0) {
+        if ((detail::hex_digit(rest[1]) & 0x1) != 0) {
             f.flags |= Frame::kBrs;
         }
         rest.remove_prefix(2);
@@ -159,8 +146,8 @@ bool parse_frame(std::string_view text, Frame& out) {
         if (i + 1 >= rest.size()) {
             return false;
         }
-        const int hi = hex_value(rest[i]);
-        const int lo = hex_value(rest[i + 1]);
+        const int hi = detail::hex_digit(rest[i]);
+        const int lo = detail::hex_digit(rest[i + 1]);
         if (hi < 0 || lo < 0 || len >= max_len) {
             return false;
         }

@@ -2,6 +2,8 @@
 // Value construction, range checks and conversion to and from text.
 #include <codrive/core/value.hpp>
 
+#include "hex_digit.hpp"
+
 #include <cctype>
 #include <cerrno>
 #include <cmath>
@@ -21,19 +23,6 @@ std::string_view trim(std::string_view s) {
         s.remove_suffix(1);
     }
     return s;
-}
-
-int hex_digit(char c) {
-    if (c >= '0' && c <= '9') {
-        return c - '0';
-    }
-    if (c >= 'a' && c <= 'f') {
-        return c - 'a' + 10;
-    }
-    if (c >= 'A' && c <= 'F') {
-        return c - 'A' + 10;
-    }
-    return -1;
 }
 
 // Range of an integer type of n bytes.
@@ -69,7 +58,7 @@ std::optional<std::uint64_t> parse_uint(std::string_view text) {
     }
     std::uint64_t v = 0;
     for (char c : text) {
-        const int d = hex_digit(c);
+        const int d = detail::hex_digit(c);
         if (d < 0 || d >= base) {
             return std::nullopt;
         }
@@ -128,7 +117,7 @@ Result<std::vector<std::uint8_t>> parse_hex_bytes(std::string_view text) {
             }
             continue;
         }
-        const int d = hex_digit(c);
+        const int d = detail::hex_digit(c);
         if (d < 0) {
             return fail(CoreErrc::ParseError);
         }
