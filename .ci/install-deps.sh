@@ -10,6 +10,9 @@ packages=(
     can-utils iproute2 kmod user-mode-linux tshark
     clang-14 clang-format-14 libclang-rt-14-dev valgrind python3
 )
+# Fuzz stage: clang-14 compiles with -fsanitize=fuzzer; libFuzzer itself
+# (libclang_rt.fuzzer-x86_64.a) and the ASan/UBSan runtimes for clang come from
+# libclang-rt-14-dev (dpkg -S libclang_rt.fuzzer-x86_64.a on Debian 12). Leak check: valgrind.
 
 missing=()
 for p in "${packages[@]}"; do

@@ -1,9 +1,15 @@
 // SPDX-License-Identifier: Apache-2.0
 // SDO on vcan: codrive client/server round trips and block throughput next to a raw-socket floor.
 //
-// Usage: bench_sdo_vcan [IFACE] [SECONDS]   (default vcan0, 3 s per figure)
-// Client and server live in one process on two sockets, each with its own thread, so the floor
-// (a plain request/response loop over two raw sockets, same threads) pays the same scheduling.
+// Usage: bench_sdo_vcan [IFACE] [SECONDS] [FIGURE]   (default vcan0, 3 s per figure, all)
+// FIGURE is all, floor, raw-sm, full, full-epoll or block: one figure alone, e.g. under
+// `strace -f -c`. full-epoll is the full stack with the event loop's direct-read fast path off
+// (what a loop watching a second fd gets).
+// Every server runs in a forked child process on its own socket and node-ID, the clients in this
+// process, so the floor (a plain request/response loop over raw sockets) pays the same process
+// switches. The round-trip figures are measured in interleaved 0.25 s slices (floor, state
+// machines, full stack, floor, ...) so a load change on a shared machine hits all of them alike;
+// each ratio is the median of the per-slice ratios to the floor slice next to it.
 #include <codrive/core/event_loop.hpp>
 #include <codrive/core/object_dictionary.hpp>
 #include <codrive/core/socket_can_bus.hpp>
@@ -15,21 +21,84 @@
 #include <linux/can/raw.h>
 #include <net/if.h>
 #include <sys/socket.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
-#include <atomic>
+#include <algorithm>
+#include <csignal>
 #include <cstdlib>
 #include <cstring>
 #include <optional>
 #include <string>
 #include <thread>
+#include <vector>
 
 using namespace codrive;
 using Clock = std::chrono::steady_clock;
 
 namespace {
 
-constexpr NodeId kNode = 100;
+// One node-ID per server so that all servers can run at once.
+constexpr NodeId kFullNode = 100;  ///< codrive server on EventLoop + SocketCanBus
+constexpr NodeId kFloorNode = 101; ///< raw echo server
+constexpr NodeId kSmNode = 102;    ///< codrive SdoServer driven by blocking read()
+constexpr NodeId kEpollNode = 103; ///< codrive server, EventLoop direct-read fast path off
+constexpr double kSlice = 0.25;    ///< seconds per interleaved slice
+constexpr int kClockEvery = 64;    ///< round trips between clock reads in every client loop
+
+double seconds_since(Clock::time_point t0) {
+    return std::chrono::duration<double>(Clock::now() - t0).count();
+}
+
+double median(std::vector<double> v) {
+    if (v.empty()) {
+        return 0;
+    }
+    std::sort(v.begin(), v.end());
+    const std::size_t m = v.size() / 2;
+    return v.size() % 2 == 1 ? v[m] : (v[m - 1] + v[m]) / 2;
+}
+
+// ---- server processes ------------------------------------------------------------------------
+
+/// A forked server process: `serve` runs in the child until it is killed; the constructor returns
+/// once the child reported ready (serve calls the ready callback) or died.
+class ServerProcess {
+public:
+    explicit ServerProcess(const std::function<void(const std::function<void()>& ready)>& serve) {
+        int fds[2] = {-1, -1};
+        if (::pipe(fds) != 0) {
+            return;
+        }
+        pid_ = ::fork();
+        if (pid_ == 0) {
+            ::close(fds[0]);
+            const int w = fds[1];
+            serve([w] {
+                const char one = 1;
+                [[maybe_unused]] auto n = ::write(w, &one, 1);
+            });
+            ::_exit(1); // serve only returns on failure
+        }
+        ::close(fds[1]);
+        char c = 0;
+        ready_ = pid_ > 0 && ::read(fds[0], &c, 1) == 1;
+        ::close(fds[0]);
+    }
+    ~ServerProcess() {
+        if (pid_ > 0) {
+            ::kill(pid_, SIGKILL);
+            ::waitpid(pid_, nullptr, 0);
+        }
+    }
+    ServerProcess(const ServerProcess&) = delete;
+    ServerProcess& operator=(const ServerProcess&) = delete;
+    [[nodiscard]] bool ready() const { return ready_; }
+
+private:
+    pid_t pid_ = -1;
+    bool ready_ = false;
+};
 
 // ---- raw floor -----------------------------------------------------------------------------
 
@@ -72,60 +141,56 @@ bool raw_read(int fd) {
     return ::read(fd, &f, sizeof f) == static_cast<ssize_t>(sizeof f);
 }
 
-/// Request/response pairs per second with a minimal echo server (the expedited floor), and
-/// one-way frames per second in bursts of 127 acknowledged by one frame (the block floor).
-struct Floor {
-    double round_trips_per_s = 0;
-    double block_frames_per_s = 0;
-};
-
-Floor measure_floor(const std::string& ifname, double seconds) {
-    Floor out;
-    const int client = raw_socket(ifname, cob::sdo_tx(kNode));
-    const int server = raw_socket(ifname, cob::sdo_rx(kNode));
-    if (client < 0 || server < 0) {
-        return out;
+/// Serves raw frames on `node`'s SDO identifiers: answers every request (ack_every 1, the
+/// expedited floor) or every 127th (the block floor).
+void raw_server(const std::string& ifname, NodeId node, unsigned ack_every,
+                const std::function<void()>& ready) {
+    const int server = raw_socket(ifname, cob::sdo_rx(node));
+    if (server < 0) {
+        return;
     }
-    std::atomic<bool> stop{false};
-    std::atomic<int> mode{0}; // 0: echo every frame, 1: ack every 127th
-    std::thread srv([&] {
-        unsigned n = 0;
-        while (!stop) {
-            if (!raw_read(server)) {
-                break;
-            }
-            if (mode == 0 || ++n % 127 == 0) {
-                raw_write(server, cob::sdo_tx(kNode), 0x60);
-            }
+    ready();
+    unsigned n = 0;
+    while (raw_read(server)) {
+        if (++n % ack_every == 0) {
+            raw_write(server, cob::sdo_tx(node), 0x60);
         }
-    });
-    auto t0 = Clock::now();
-    std::uint64_t rt = 0;
-    while (std::chrono::duration<double>(Clock::now() - t0).count() < seconds) {
-        raw_write(client, cob::sdo_rx(kNode), 0x40);
-        raw_read(client);
-        ++rt;
     }
-    out.round_trips_per_s =
-        static_cast<double>(rt) / std::chrono::duration<double>(Clock::now() - t0).count();
-    mode = 1;
-    t0 = Clock::now();
+}
+
+/// Round trips per second of write() + blocking read() against raw_server().
+double raw_round_trips(int client, double seconds) {
+    const auto t0 = Clock::now();
+    std::uint64_t rt = 0;
+    while (seconds_since(t0) < seconds) {
+        for (int i = 0; i < kClockEvery; ++i) {
+            raw_write(client, cob::sdo_rx(kFloorNode), 0x40);
+            raw_read(client);
+        }
+        rt += kClockEvery;
+    }
+    return static_cast<double>(rt) / seconds_since(t0);
+}
+
+/// One-way frames per second in bursts of 127, each acknowledged by one frame.
+double raw_block_frames(const std::string& ifname, double seconds) {
+    const ServerProcess srv([&](const auto& ready) { raw_server(ifname, kFloorNode, 127, ready); });
+    const int client = raw_socket(ifname, cob::sdo_tx(kFloorNode));
+    if (client < 0 || !srv.ready()) {
+        return 0;
+    }
+    const auto t0 = Clock::now();
     std::uint64_t frames = 0;
-    while (std::chrono::duration<double>(Clock::now() - t0).count() < seconds) {
+    while (seconds_since(t0) < seconds) {
         for (int i = 0; i < 127; ++i) {
-            raw_write(client, cob::sdo_rx(kNode), static_cast<std::uint8_t>(i + 1));
+            raw_write(client, cob::sdo_rx(kFloorNode), static_cast<std::uint8_t>(i + 1));
         }
         raw_read(client);
         frames += 127;
     }
-    out.block_frames_per_s =
-        static_cast<double>(frames) / std::chrono::duration<double>(Clock::now() - t0).count();
-    stop = true;
-    raw_write(client, cob::sdo_rx(kNode), 0); // wake the server thread
-    srv.join();
+    const double rate = static_cast<double>(frames) / seconds_since(t0);
     ::close(client);
-    ::close(server);
-    return out;
+    return rate;
 }
 
 // ---- codrive state machines over raw sockets --------------------------------------------------
@@ -184,109 +249,100 @@ private:
     std::string name_ = "raw";
 };
 
-double state_machine_round_trips(const std::string& ifname, double seconds) {
-    const int cfd = raw_socket(ifname, cob::sdo_tx(kNode));
-    const int sfd = raw_socket(ifname, cob::sdo_rx(kNode));
-    if (cfd < 0 || sfd < 0) {
-        return 0;
+ObjectDictionary bench_dictionary() {
+    ObjectDictionary od;
+    od.add_var(0x1018, "Vendor-ID", DataType::Unsigned32, Access::Ro,
+               Value(DataType::Unsigned32, {1, 2, 3, 4}));
+    od.add_var(0x2001, "Domain", DataType::Domain, Access::Rw, Value(DataType::Domain, {}));
+    return od;
+}
+
+void raw_sm_server(const std::string& ifname, const std::function<void()>& ready) {
+    const int sfd = raw_socket(ifname, cob::sdo_rx(kSmNode));
+    if (sfd < 0) {
+        return;
     }
-    std::atomic<bool> stop{false};
-    std::thread srv([&] {
-        ObjectDictionary od;
-        od.add_var(0x1018, "Vendor-ID", DataType::Unsigned32, Access::Ro,
-                   Value(DataType::Unsigned32, {1, 2, 3, 4}));
-        RawBus bus(sfd);
-        CachedClock clock;
-        sdo::ServerConfig config;
-        config.node = kNode;
-        sdo::SdoServer server(od, bus, config);
-        Frame f;
-        while (!stop && bus.receive(f)) {
-            clock.tick();
-            (void)server.on_frame(f, clock.now());
-        }
-    });
-    RawBus bus(cfd);
+    ObjectDictionary od = bench_dictionary();
+    RawBus bus(sfd);
     CachedClock clock;
-    clock.tick();
-    sdo::ClientConfig config;
-    config.node = kNode;
-    sdo::SdoClient client(bus, clock, config);
+    sdo::ServerConfig config;
+    config.node = kSmNode;
+    sdo::SdoServer server(od, bus, config);
+    ready();
+    Frame f;
+    while (bus.receive(f)) {
+        clock.tick();
+        (void)server.on_frame(f, clock.now());
+    }
+}
+
+struct RawSmClient {
+    explicit RawSmClient(int fd) : bus(fd), client(bus, clock, make_config()) { clock.tick(); }
+    static sdo::ClientConfig make_config() {
+        sdo::ClientConfig config;
+        config.node = kSmNode;
+        return config;
+    }
+    RawBus bus;
+    CachedClock clock;
+    sdo::SdoClient client;
+};
+
+/// Expedited uploads per second, SdoClient fed by blocking read(); 0 on a failed transfer.
+double raw_sm_round_trips(RawSmClient& c, double seconds) {
     std::uint64_t done = 0;
     bool ok = true;
     const auto t0 = Clock::now();
-    while (ok && std::chrono::duration<double>(Clock::now() - t0).count() < seconds) {
-        // 256 requests between clock reads, like the loops above.
-        for (int i = 0; i < 256 && ok; ++i) {
+    while (ok && seconds_since(t0) < seconds) {
+        for (int i = 0; i < kClockEvery && ok; ++i) {
             bool finished = false;
-            client.upload(0x1018, 0, [&](sdo::SdoResult<sdo::Bytes> r) {
+            c.client.upload(0x1018, 0, [&](sdo::SdoResult<sdo::Bytes> r) {
                 ok = r.has_value();
                 finished = true;
             });
             Frame f;
-            while (!finished && bus.receive(f)) {
-                clock.tick();
-                (void)client.on_frame(f, clock.now());
+            while (!finished && c.bus.receive(f)) {
+                c.clock.tick();
+                (void)c.client.on_frame(f, c.clock.now());
             }
             ++done;
         }
     }
-    const double rate =
-        static_cast<double>(done) / std::chrono::duration<double>(Clock::now() - t0).count();
-    stop = true;
-    raw_write(cfd, cob::sdo_rx(kNode), 0x80); // an abort: wakes the server, changes nothing
-    srv.join();
-    ::close(cfd);
-    ::close(sfd);
-    return ok ? rate : 0;
+    return ok ? static_cast<double>(done) / seconds_since(t0) : 0;
 }
 
 // ---- codrive ---------------------------------------------------------------------------------
 
-struct ServerThread {
-    explicit ServerThread(const std::string& ifname) {
-        od.add_var(0x1018, "Vendor-ID", DataType::Unsigned32, Access::Ro,
-                   Value(DataType::Unsigned32, {1, 2, 3, 4}));
-        od.add_var(0x2001, "Domain", DataType::Domain, Access::Rw, Value(DataType::Domain, {}));
-        thread = std::thread([this, ifname] {
-            auto made = EventLoop::create();
-            SocketCanOptions so;
-            so.filters = {CanFilter{cob::sdo_rx(kNode), 0x7FF, false, false}};
-            so.error_frames = false;
-            auto bus = SocketCanBus::open(ifname, so);
-            if (!made || !bus || !(*bus)->attach(**made)) {
-                failed = true;
-                ready = true;
-                return;
-            }
-            sdo::ServerConfig config;
-            config.node = kNode;
-            sdo::SdoServer server(od, **bus, config);
-            (*bus)->set_frame_handler(
-                [&server](const Frame& f, TimePoint t) { (void)server.on_frame(f, t); });
-            (*made)->add_timed(&server);
-            loop = made->get();
-            ready = true;
-            (void)(*made)->run();
-            (*made)->remove_timed(&server);
-            (*bus)->detach();
-        });
-        while (!ready) {
-            std::this_thread::yield();
-        }
+/// SocketCanBus options for one side of `node`'s SDO channel. `direct` false turns the loop's
+/// direct-read fast path off, as a second watched fd (a signalfd, another bus) would.
+SocketCanOptions bus_options(std::uint32_t rx_id, bool direct) {
+    SocketCanOptions so;
+    so.filters = {CanFilter{rx_id, 0x7FF, false, false}};
+    so.error_frames = false;
+    if (!direct) {
+        so.direct_read_limit = Duration::zero();
     }
-    ~ServerThread() {
-        if (EventLoop* l = loop.load(); l != nullptr) {
-            l->stop();
-        }
-        thread.join();
+    return so;
+}
+
+/// The codrive SDO server on EventLoop + SocketCanBus (an application's own loop).
+void codrive_server(const std::string& ifname, NodeId node, bool direct,
+                    const std::function<void()>& ready) {
+    ObjectDictionary od = bench_dictionary();
+    auto loop = EventLoop::create();
+    auto bus = SocketCanBus::open(ifname, bus_options(cob::sdo_rx(node), direct));
+    if (!loop || !bus || !(*bus)->attach(**loop)) {
+        return;
     }
-    ObjectDictionary od;
-    std::thread thread;
-    std::atomic<bool> ready{false};
-    std::atomic<bool> failed{false};
-    std::atomic<EventLoop*> loop{nullptr};
-};
+    sdo::ServerConfig config;
+    config.node = node;
+    sdo::SdoServer server(od, **bus, config);
+    (*bus)->set_frame_handler(
+        [&server](const Frame& f, TimePoint t) { (void)server.on_frame(f, t); });
+    (*loop)->add_timed(&server);
+    ready();
+    (void)(*loop)->run();
+}
 
 struct ClientSide {
     std::unique_ptr<EventLoop> loop;
@@ -294,13 +350,10 @@ struct ClientSide {
     std::unique_ptr<sdo::SdoClient> client;
 };
 
-std::optional<ClientSide> open_client(const std::string& ifname) {
+std::optional<ClientSide> open_client(const std::string& ifname, NodeId node, bool direct) {
     ClientSide c;
     auto loop = EventLoop::create();
-    SocketCanOptions so;
-    so.filters = {CanFilter{cob::sdo_tx(kNode), 0x7FF, false, false}};
-    so.error_frames = false;
-    auto bus = SocketCanBus::open(ifname, so);
+    auto bus = SocketCanBus::open(ifname, bus_options(cob::sdo_tx(node), direct));
     if (!loop || !bus) {
         return std::nullopt;
     }
@@ -310,7 +363,7 @@ std::optional<ClientSide> open_client(const std::string& ifname) {
         return std::nullopt;
     }
     sdo::ClientConfig config;
-    config.node = kNode;
+    config.node = node;
     c.client = std::make_unique<sdo::SdoClient>(*c.bus, RealClock::instance(), config);
     sdo::SdoClient* client = c.client.get();
     c.bus->set_frame_handler(
@@ -319,12 +372,11 @@ std::optional<ClientSide> open_client(const std::string& ifname) {
     return c;
 }
 
+/// Expedited uploads per second through SdoClient + EventLoop + SocketCanBus; 0 on failure.
 double expedited_round_trips(ClientSide& c, double seconds) {
     std::uint64_t done = 0;
     bool failed = false;
     const auto t0 = Clock::now();
-    const auto end =
-        t0 + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(seconds));
     std::function<void(sdo::SdoResult<sdo::Bytes>)> next;
     bool finished = false;
     next = [&](sdo::SdoResult<sdo::Bytes> r) {
@@ -332,8 +384,8 @@ double expedited_round_trips(ClientSide& c, double seconds) {
             fmt::print(stderr, "{}\n", r.error().to_string());
             failed = true;
         }
-        ++done;
-        if (failed || Clock::now() >= end) {
+        // The clock is read as often as in the floor's loop: the figure is the stack's.
+        if (failed || (++done % kClockEvery == 0 && seconds_since(t0) >= seconds)) {
             finished = true;
             return;
         }
@@ -341,9 +393,7 @@ double expedited_round_trips(ClientSide& c, double seconds) {
     };
     c.client->upload(0x1018, 0, next);
     c.loop->run_until([&] { return finished; }, std::chrono::seconds(600));
-    return failed ? 0
-                  : static_cast<double>(done) /
-                        std::chrono::duration<double>(Clock::now() - t0).count();
+    return failed ? 0 : static_cast<double>(done) / seconds_since(t0);
 }
 
 /// KiB/s of one block transfer of `size` bytes (download then upload of 0x2001).
@@ -384,50 +434,120 @@ std::pair<double, double> block_kib_s(ClientSide& c, std::size_t size) {
 int main(int argc, char** argv) {
     const std::string ifname = argc > 1 ? argv[1] : "vcan0";
     const double seconds = argc > 2 ? std::atof(argv[2]) : 3.0;
+    const std::string only = argc > 3 ? argv[3] : "all";
+    if (only != "all" && only != "floor" && only != "raw-sm" && only != "full" &&
+        only != "full-epoll" && only != "block") {
+        fmt::print(stderr, "bench_sdo_vcan: FIGURE must be all, floor, raw-sm, full, full-epoll "
+                           "or block\n");
+        return 2;
+    }
     if (!socketcan_available()) {
         fmt::print(stderr, "bench_sdo_vcan: no SocketCAN here; run through "
                            "vcan-scripts/run-in-vcan.sh\n");
         return 2;
     }
-    const Floor floor = measure_floor(ifname, seconds);
-    if (floor.round_trips_per_s == 0) {
-        fmt::print(stderr, "bench_sdo_vcan: cannot open raw sockets on {}\n", ifname);
-        return 2;
-    }
-    const double sm_rt = state_machine_round_trips(ifname, seconds);
-    ServerThread server(ifname);
-    if (server.failed) {
-        fmt::print(stderr, "bench_sdo_vcan: server could not open {}\n", ifname);
-        return 2;
-    }
-    auto client = open_client(ifname);
-    if (!client) {
-        fmt::print(stderr, "bench_sdo_vcan: client could not open {}\n", ifname);
-        return 2;
-    }
-    const double rt = expedited_round_trips(*client, seconds);
-    constexpr std::size_t kBlockBytes = 1024 * 1024;
-    const auto [down, up] = block_kib_s(*client, kBlockBytes);
-    // A block transfer of N bytes moves ceil(N / 7) segment frames one way.
-    const auto frames_per_s = [](double kib_s) { return kib_s * 1024.0 / 7.0; };
+    const auto want = [&only](const char* figure) { return only == "all" || only == figure; };
+    fmt::print("SDO on {} ({} s per figure, servers in child processes)\n", ifname, seconds);
 
-    fmt::print("SDO on {} ({} s per figure, client and server in one process, two threads)\n",
-               ifname, seconds);
-    fmt::print("  floor: raw request/response        {:>10.0f} round trips/s\n",
-               floor.round_trips_per_s);
-    fmt::print("  codrive SDO state machines, raw I/O {:>9.0f} round trips/s   ratio {:.2f} "
-               "(target >= 0.90)\n",
-               sm_rt, sm_rt / floor.round_trips_per_s);
-    fmt::print("  codrive full stack (EventLoop)     {:>10.0f} round trips/s   ratio {:.2f}\n", rt,
-               rt / floor.round_trips_per_s);
-    fmt::print("  floor: raw 127-frame bursts + ack  {:>10.0f} frames/s ({:.0f} KiB/s of "
-               "7-byte payload)\n",
-               floor.block_frames_per_s, floor.block_frames_per_s * 7.0 / 1024.0);
-    fmt::print("  codrive block download (1 MiB)    {:>10.0f} KiB/s  {:>8.0f} frames/s   "
-               "efficiency {:.2f}\n",
-               down, frames_per_s(down), frames_per_s(down) / floor.block_frames_per_s);
-    fmt::print("  codrive block upload (1 MiB)       {:>10.0f} KiB/s  {:>8.0f} frames/s   "
-               "efficiency {:.2f}\n",
-               up, frames_per_s(up), frames_per_s(up) / floor.block_frames_per_s);
+    // All servers at once (each on its own node-ID), so the round-trip figures can interleave.
+    std::vector<std::unique_ptr<ServerProcess>> servers;
+    if (want("floor")) {
+        servers.push_back(std::make_unique<ServerProcess>(
+            [&](const auto& ready) { raw_server(ifname, kFloorNode, 1, ready); }));
+    }
+    if (want("raw-sm")) {
+        servers.push_back(std::make_unique<ServerProcess>(
+            [&](const auto& ready) { raw_sm_server(ifname, ready); }));
+    }
+    if (want("full") || want("block")) {
+        servers.push_back(std::make_unique<ServerProcess>(
+            [&](const auto& ready) { codrive_server(ifname, kFullNode, true, ready); }));
+    }
+    if (want("full-epoll")) {
+        servers.push_back(std::make_unique<ServerProcess>(
+            [&](const auto& ready) { codrive_server(ifname, kEpollNode, false, ready); }));
+    }
+    for (const auto& s : servers) {
+        if (!s->ready()) {
+            fmt::print(stderr, "bench_sdo_vcan: a server could not open {}\n", ifname);
+            return 2;
+        }
+    }
+    const int floor_fd = raw_socket(ifname, cob::sdo_tx(kFloorNode));
+    const int sm_fd = raw_socket(ifname, cob::sdo_tx(kSmNode));
+    auto client = open_client(ifname, kFullNode, true);
+    auto epoll_client = open_client(ifname, kEpollNode, false);
+    if (floor_fd < 0 || sm_fd < 0 || !client || !epoll_client) {
+        fmt::print(stderr, "bench_sdo_vcan: cannot open client sockets on {}\n", ifname);
+        return 2;
+    }
+    RawSmClient sm(sm_fd);
+
+    std::vector<double> floor_rates;
+    std::vector<double> sm_rates;
+    std::vector<double> full_rates;
+    std::vector<double> epoll_rates;
+    const int slices = std::max(1, static_cast<int>(seconds / kSlice + 0.5));
+    for (int i = 0; i < slices; ++i) {
+        if (want("floor")) {
+            floor_rates.push_back(raw_round_trips(floor_fd, kSlice));
+        }
+        if (want("raw-sm")) {
+            sm_rates.push_back(raw_sm_round_trips(sm, kSlice));
+        }
+        if (want("full")) {
+            full_rates.push_back(expedited_round_trips(*client, kSlice));
+        }
+        if (want("full-epoll")) {
+            epoll_rates.push_back(expedited_round_trips(*epoll_client, kSlice));
+        }
+    }
+    // Each slice against the floor slice measured just before it.
+    const auto ratio = [&floor_rates](const std::vector<double>& rates) {
+        std::vector<double> r;
+        for (std::size_t i = 0; i < rates.size() && i < floor_rates.size(); ++i) {
+            r.push_back(floor_rates[i] > 0 ? rates[i] / floor_rates[i] : 0);
+        }
+        return median(r);
+    };
+    if (want("floor")) {
+        fmt::print("  floor: raw request/response        {:>10.0f} round trips/s (median of {} "
+                   "slices)\n",
+                   median(floor_rates), floor_rates.size());
+    }
+    if (want("raw-sm")) {
+        fmt::print("  codrive SDO state machines, raw I/O {:>9.0f} round trips/s   ratio {:.2f}\n",
+                   median(sm_rates), ratio(sm_rates));
+    }
+    if (want("full")) {
+        fmt::print("  codrive full stack (EventLoop)     {:>10.0f} round trips/s   ratio {:.2f} "
+                   "(target >= 0.90)\n",
+                   median(full_rates), ratio(full_rates));
+    }
+    if (want("full-epoll")) {
+        fmt::print("  codrive full stack, epoll path     {:>10.0f} round trips/s   ratio {:.2f}\n",
+                   median(epoll_rates), ratio(epoll_rates));
+    }
+    if (want("block")) {
+        const double block_floor = raw_block_frames(ifname, seconds);
+        constexpr std::size_t kBlockBytes = 1024 * 1024;
+        const auto [down, up] = block_kib_s(*client, kBlockBytes);
+        // A block transfer of N bytes moves ceil(N / 7) segment frames one way.
+        const auto frames_per_s = [](double kib_s) { return kib_s * 1024.0 / 7.0; };
+        const auto efficiency = [&](double kib_s) {
+            return block_floor > 0 ? frames_per_s(kib_s) / block_floor : 0.0;
+        };
+        fmt::print("  floor: raw 127-frame bursts + ack  {:>10.0f} frames/s ({:.0f} KiB/s of "
+                   "7-byte payload)\n",
+                   block_floor, block_floor * 7.0 / 1024.0);
+        fmt::print("  codrive block download (1 MiB)    {:>10.0f} KiB/s  {:>8.0f} frames/s   "
+                   "efficiency {:.2f}\n",
+                   down, frames_per_s(down), efficiency(down));
+        fmt::print("  codrive block upload (1 MiB)       {:>10.0f} KiB/s  {:>8.0f} frames/s   "
+                   "efficiency {:.2f}\n",
+                   up, frames_per_s(up), efficiency(up));
+    }
+    ::close(floor_fd);
+    ::close(sm_fd);
     return 0;
 }

@@ -2,9 +2,12 @@
 # SPDX-License-Identifier: Apache-2.0
 # Builds and runs every codrive test: unit and virtual-bus tests under ASan+UBSan on the host,
 # vcan tests (real sockets, real processes) under UBSan in vcan (natively or in a UML guest),
-# EtherCAT tests on veth. Prints how many tests of each suite ran; fails if a suite that exists
-# ran none.
+# EtherCAT tests on veth, the libFuzzer targets (clang 14, bounded time, built and run while the
+# one-CPU vcan guest runs) and a valgrind leak check of a vcan subset in the guest. Prints how
+# many tests of each suite ran; fails if a suite that exists ran none.
 #   CODRIVE_SKIP_VCAN=1   skip the vcan suite explicitly (it is reported as skipped)
+#   CODRIVE_SKIP_FUZZ=1   skip the fuzz stage explicitly (reported as skipped)
+#   CODRIVE_FUZZ_SECONDS  seconds per fuzz target (default 15)
 #   CODRIVE_JOBS=N        parallel build jobs (default: nproc)
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -60,6 +63,21 @@ done
 echo "== build: UBSan (vcan and EtherCAT tests; ASan cannot run in a UML guest)"
 configure_build "$root/build-ubsan" "undefined"
 
+# Fuzz stage in the background: the UML guest of the vcan stage uses one CPU, the clang build and
+# the fuzzers use the others. Its log is printed after the vcan stage.
+fuzz_log=$root/build-fuzz.ci.log
+fuzz_pid=
+if [[ ${CODRIVE_SKIP_FUZZ:-0} == 1 ]]; then
+    fuzz_skipped=1
+else
+    fuzz_skipped=0
+    echo "== fuzz stage started in the background (log: $fuzz_log)"
+    fuzz_jobs=$((jobs > 1 ? jobs - 1 : 1))
+    CODRIVE_FUZZ_BUILD=$root/build-fuzz JOBS=$fuzz_jobs \
+        bash tests/fuzz/run.sh "${CODRIVE_FUZZ_SECONDS:-15}" >"$fuzz_log" 2>&1 &
+    fuzz_pid=$!
+fi
+
 if [[ ${CODRIVE_SKIP_VCAN:-0} == 1 ]]; then
     echo "== vcan tests: SKIPPED (CODRIVE_SKIP_VCAN=1)"
     vcan_skipped=1
@@ -74,6 +92,34 @@ else
     [[ $rc -eq 0 ]] || status=1
     count_gtest vcan "$log"
     rm -f "$log"
+
+    echo "== leak check: valgrind memcheck on a vcan subset and the tools it starts (guest)"
+    log=$(mktemp)
+    set +e
+    bash vcan-scripts/run-in-vcan.sh --timeout 900 bash tests/vcan/leak_check.sh \
+        "$root/build-ubsan" 2>&1 | tee "$log"
+    rc=${PIPESTATUS[0]}
+    set -e
+    [[ $rc -eq 0 ]] || status=1
+    passed[leak]=$(awk '/^leak-check: [0-9]+ processes clean/ {print $2}' "$log")
+    failed[leak]=$(awk '/^leak-check: [0-9]+ processes clean/ {print $5}' "$log")
+    [[ -n ${passed[leak]} ]] || failed[leak]=1
+    rm -f "$log"
+fi
+
+if [[ -n $fuzz_pid ]]; then
+    echo "== fuzz (libFuzzer, clang 14, ASan+UBSan; ${CODRIVE_FUZZ_SECONDS:-15} s per target)"
+    set +e
+    wait "$fuzz_pid"
+    rc=$?
+    set -e
+    cat "$fuzz_log"
+    [[ $rc -eq 0 ]] || status=1
+    passed[fuzz]=$(awk '/^fuzz: [0-9]+ passed/ {print $2}' "$fuzz_log")
+    failed[fuzz]=$(awk '/^fuzz: [0-9]+ passed/ {print $4}' "$fuzz_log")
+    if [[ -z ${passed[fuzz]} ]]; then
+        failed[fuzz]=1 # the stage did not get as far as running the targets
+    fi
 fi
 
 if [[ -x $root/build-ubsan/tests/ethercat_tests ]]; then
@@ -105,13 +151,15 @@ rm -f "$log"
 
 echo
 echo "== summary"
-for suite in unit vcan ethercat install; do
+for suite in unit vcan leak fuzz ethercat install; do
     p=${passed[$suite]:-0}
     f=${failed[$suite]:-0}
     total_passed=$((total_passed + p))
     total_failed=$((total_failed + f))
     note=""
-    if [[ $suite == vcan && $vcan_skipped == 1 ]]; then
+    if [[ ($suite == vcan || $suite == leak) && $vcan_skipped == 1 ]]; then
+        note=" (skipped on request)"
+    elif [[ $suite == fuzz && $fuzz_skipped == 1 ]]; then
         note=" (skipped on request)"
     elif [[ $suite == ethercat && $ethercat_expected == 0 ]]; then
         note=" (no EtherCAT suite built yet)"

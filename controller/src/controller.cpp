@@ -3,6 +3,10 @@
 // and CiA 402 axes per bus, and shuts everything down safely.
 #include <codrive/controller/controller.hpp>
 
+#include "ecat_segment.hpp"
+#include "handoff_transport.hpp"
+#include "spsc_ring.hpp"
+
 #include <codrive/core/socket_can_bus.hpp>
 #include <codrive/drives/canopen_transport.hpp>
 #include <codrive/drives/profile.hpp>
@@ -12,9 +16,13 @@
 #include <codrive/sync/producer.hpp>
 
 #include <algorithm>
+#include <cerrno>
 #include <csignal>
+#include <ctime>
 #include <fmt/format.h>
+#include <fstream>
 #include <map>
+#include <sstream>
 
 namespace codrive::controller {
 
@@ -25,8 +33,11 @@ struct Controller::Node {
     std::vector<pdo::PdoConfig> pdos;
     std::unique_ptr<pdo::PdoConfigurator> configurator;
     std::unique_ptr<drives::CanopenTransport> transport;
+    /// Dedicated-cyclic mode: the axes' transport (object accesses handed to the acyclic side).
+    std::unique_ptr<HandoffTransport> handoff;
     std::vector<std::unique_ptr<drives::Axis>> axes;
     bool image_bound = false;
+    std::atomic<std::uint16_t> emcy_code{0}; ///< dedicated mode: last EMCY, for the axes
 };
 
 struct Controller::Bus {
@@ -38,6 +49,29 @@ struct Controller::Bus {
     std::unique_ptr<sync::SyncProducer> sync;
     std::map<NodeId, std::unique_ptr<Node>> nodes;
     std::uint64_t bus_errors = 0;
+    /// Dedicated-cyclic mode: the cyclic thread's own socket (SYNC and RPDOs out, TPDOs in,
+    /// filtered by the kernel) and the PDO events it hands to the acyclic thread.
+    std::unique_ptr<SocketCanBus> cyclic_socket;
+    SpscRing<pdo::PdoEvent, 64> pdo_events;
+};
+
+/// Dedicated-cyclic mode, acyclic side: starts the object accesses the cyclic thread queued
+/// and reports its PDO events, once per millisecond.
+class Controller::Pump final : public ITimed {
+public:
+    explicit Pump(Controller& c) : c_(c) {}
+    [[nodiscard]] TimePoint next_deadline() const override { return next_; }
+    void on_tick(TimePoint now) override {
+        if (now < next_) {
+            return;
+        }
+        next_ = now + milliseconds(1);
+        c_.pump_acyclic();
+    }
+
+private:
+    Controller& c_;
+    TimePoint next_{};
 };
 
 namespace {
@@ -71,19 +105,25 @@ pdo::PdoConfig to_pdo(const master::PdoConfig& c) {
 std::string ControllerStats::to_string() const {
     return fmt::format("cycles {}, overruns {}, SYNC error p50 {:.0f} us p99 {:.0f} us max {:.0f} "
                        "us, TPDOs received {} missing {}, RPDOs sent {}, SDO ok {} failed {}, bus "
-                       "errors {}",
+                       "errors {}, EtherCAT frame errors {}",
                        cycles, overruns, to_ms(period_error_p50) * 1000,
                        to_ms(period_error_p99) * 1000, to_ms(period_error_max) * 1000,
                        tpdos_received, tpdos_missing, rpdos_sent, sdo_completed, sdo_failed,
-                       bus_errors);
+                       bus_errors, ecat_frame_errors);
 }
 
-Controller::Controller(std::vector<master::BusConfig> buses, ControllerOptions options)
+Controller::Controller(std::vector<master::BusConfig> buses,
+                       std::vector<EcatSegmentConfig> segments, ControllerOptions options)
     : options_(std::move(options)) {
     for (auto& c : buses) {
         auto b = std::make_unique<Bus>();
         b->config = std::move(c);
         buses_.push_back(std::move(b));
+    }
+    for (auto& s : segments) {
+        segments_.push_back(
+            std::make_unique<EcatSegment>(std::move(s), buses_.size() + segments_.size(),
+                                          [this](const std::string& text) { emit(text); }));
     }
 }
 
@@ -110,6 +150,9 @@ Controller::~Controller() {
             loop_->remove_timed(b->sync.get());
         }
     }
+    for (auto& seg : segments_) {
+        loop_->remove_timed(seg.get());
+    }
 }
 
 tl::expected<std::unique_ptr<Controller>, std::string>
@@ -127,21 +170,49 @@ Controller::from_file(const std::string& path, ControllerOptions options) {
             drives::build_device_dictionary(*od, *p, p->max_axes);
             return od;
         });
-    auto r = master::load_bus_config(path, resolver);
-    if (!r.config) {
-        return tl::unexpected(r.to_string());
+    std::ifstream in(path);
+    if (!in) {
+        return tl::unexpected(fmt::format("{}: cannot read the bus file", path));
+    }
+    std::stringstream text;
+    text << in.rdbuf();
+    const BusFileSections sections = split_bus_file(text.str(), path);
+    std::string errors;
+    for (const auto& e : sections.errors) {
+        errors += e + "\n";
     }
     std::vector<master::BusConfig> v;
-    v.push_back(std::move(*r.config));
-    return create(std::move(v), std::move(options));
+    if (sections.has_can) {
+        auto r = master::parse_bus_config(sections.can_text, path, resolver);
+        if (!r.config) {
+            errors += r.to_string();
+        } else {
+            v.push_back(std::move(*r.config));
+        }
+    }
+    if (!errors.empty()) {
+        return tl::unexpected(errors);
+    }
+    std::vector<EcatSegmentConfig> segments;
+    if (sections.ethercat) {
+        segments.push_back(*sections.ethercat);
+    }
+    return create(std::move(v), std::move(segments), std::move(options));
 }
 
 tl::expected<std::unique_ptr<Controller>, std::string>
 Controller::create(std::vector<master::BusConfig> buses, ControllerOptions options) {
-    if (buses.empty()) {
+    return create(std::move(buses), {}, std::move(options));
+}
+
+tl::expected<std::unique_ptr<Controller>, std::string>
+Controller::create(std::vector<master::BusConfig> buses, std::vector<EcatSegmentConfig> segments,
+                   ControllerOptions options) {
+    if (buses.empty() && segments.empty()) {
         return tl::unexpected(std::string("no bus configured"));
     }
-    std::unique_ptr<Controller> c(new Controller(std::move(buses), std::move(options)));
+    std::unique_ptr<Controller> c(
+        new Controller(std::move(buses), std::move(segments), std::move(options)));
     auto loop = EventLoop::create();
     if (!loop) {
         return tl::unexpected(
@@ -236,6 +307,11 @@ void Controller::setup_node(Bus& b, const master::NodeEntry& entry) {
     }
     b.master->add_node(std::move(nc));
     n->transport = std::make_unique<drives::CanopenTransport>(b.master->sdo().client(entry.id));
+    drives::DriveTransport* axis_transport = n->transport.get();
+    if (dedicated()) {
+        n->handoff = std::make_unique<HandoffTransport>(*n->transport);
+        axis_transport = n->handoff.get();
+    }
     const unsigned axis_count = entry.axes.empty() ? (n->profile != nullptr ? 1U : 0U)
                                                    : static_cast<unsigned>(entry.axes.size());
     for (unsigned i = 0; i < axis_count; ++i) {
@@ -244,8 +320,10 @@ void Controller::setup_node(Bus& b, const master::NodeEntry& entry) {
         ac.profile = n->profile;
         ac.name = fmt::format("node {} axis {}{}", entry.id, ac.axis,
                               entry.name.empty() ? std::string() : " (" + entry.name + ")");
-        auto axis = std::make_unique<drives::Axis>(*n->transport, ac);
-        loop_->add_timed(axis.get());
+        auto axis = std::make_unique<drives::Axis>(*axis_transport, ac);
+        if (!dedicated()) {
+            loop_->add_timed(axis.get()); // dedicated: the cyclic thread ticks it
+        }
         n->axes.push_back(std::move(axis));
     }
     b.nodes[entry.id] = std::move(n);
@@ -267,23 +345,84 @@ void Controller::after_boot(Bus& b, Node& n) {
     n.image_bound = true;
 }
 
+namespace {
+
+/// The kernel filters for the cyclic socket: the TPDOs of every node (CiA 301 §7.3.5 predefined
+/// COB-IDs when the file gives none). Empty (= receive everything) if one cannot be told.
+std::vector<CanFilter> tpdo_filters(const std::vector<std::pair<NodeId, pdo::PdoConfig>>& pdos) {
+    std::vector<CanFilter> out;
+    for (const auto& [node, p] : pdos) {
+        if (p.dir != PdoDir::Tpdo || !p.enabled) {
+            continue;
+        }
+        std::uint32_t id = p.comm.can_id & 0x7FFU;
+        if (id == 0) {
+            if (p.number > 4) {
+                return {};
+            }
+            id = 0x80U + 0x100U * p.number + node;
+        }
+        out.push_back(CanFilter{id, 0x7FF, false, false});
+    }
+    if (out.empty()) {
+        out.push_back(CanFilter{0, 0x7FF, false, false}); // NMT only: the cyclic side ignores it
+    }
+    return out;
+}
+
+} // namespace
+
 tl::expected<void, std::string> Controller::start() {
-    for (const auto& w : apply_realtime(options_.realtime)) {
-        emit("warning: " + w);
+    if (!dedicated()) {
+        for (const auto& w : apply_realtime(options_.realtime)) {
+            emit("warning: " + w);
+        }
+    } else {
+        for (auto* given : options_.buses) {
+            if (given != nullptr) {
+                return tl::unexpected(std::string(
+                    "Threading::DedicatedCyclic needs SocketCAN interfaces (the cyclic thread "
+                    "opens its own socket); ControllerOptions::buses work in Threading::Single"));
+            }
+        }
     }
     for (std::size_t i = 0; i < buses_.size(); ++i) {
         Bus& b = *buses_[i];
         if (auto r = open_bus(b, i); !r) {
             return r;
         }
+        ICanBus* cyclic_bus = b.bus;
+        if (dedicated()) {
+            SocketCanOptions so;
+            so.error_frames = false; // the acyclic socket reports bus errors
+            so.timestamps = false;   // no clock reads per frame on the cyclic path
+            so.filters = {CanFilter{0, 0x7FF, false, false}}; // until the TPDOs are known
+            auto cs = SocketCanBus::open(b.config.iface, so);
+            if (!cs) {
+                return tl::unexpected(fmt::format("cannot open {} for the cyclic thread: {}",
+                                                  b.config.iface, cs.error().message()));
+            }
+            b.cyclic_socket = std::move(*cs);
+            cyclic_bus = b.cyclic_socket.get();
+        }
         master::MasterConfig mc;
         mc.node_id = b.config.master_id;
         mc.heartbeat_period = b.config.master_heartbeat;
         b.master = std::make_unique<master::Master>(*b.bus, RealClock::instance(), mc);
-        b.pdo = std::make_unique<pdo::PdoMaster>(*b.bus);
-        b.sync = std::make_unique<sync::SyncProducer>(*b.bus);
+        b.pdo = std::make_unique<pdo::PdoMaster>(*cyclic_bus);
+        b.sync = std::make_unique<sync::SyncProducer>(*cyclic_bus);
         Bus* bp = &b;
-        b.master->add_listener([bp](const Frame& f, TimePoint t) { bp->pdo->on_frame(f, t); });
+        if (dedicated()) {
+            b.cyclic_socket->set_frame_handler(
+                [bp](const Frame& f, TimePoint t) { bp->pdo->on_frame(f, t); });
+            b.pdo->set_event_handler([bp](const pdo::PdoEvent& e) {
+                pdo::PdoEvent copy = e;
+                (void)bp->pdo_events.push(copy); // dropped when 64 are waiting: counted in stats
+            });
+        } else {
+            b.master->add_listener([bp](const Frame& f, TimePoint t) { bp->pdo->on_frame(f, t); });
+            b.pdo->set_event_handler([this](const pdo::PdoEvent& e) { emit(pdo::to_string(e)); });
+        }
         b.master->set_event_handler([this, bp](const master::MasterEvent& e) {
             if (e.kind == master::MasterEventKind::BusEvent) {
                 ++bp->bus_errors;
@@ -291,23 +430,50 @@ tl::expected<void, std::string> Controller::start() {
             if (e.kind == master::MasterEventKind::Emcy) {
                 if (auto it = bp->nodes.find(e.node); it != bp->nodes.end()) {
                     if (auto* rn = bp->master->node(e.node); rn != nullptr && rn->last_emcy()) {
-                        for (auto& a : it->second->axes) {
-                            a->note_error_code(rn->last_emcy()->message.error_code);
+                        const std::uint16_t code = rn->last_emcy()->message.error_code;
+                        if (dedicated()) {
+                            it->second->emcy_code.store(code); // the cyclic thread applies it
+                        } else {
+                            for (auto& a : it->second->axes) {
+                                a->note_error_code(code);
+                            }
                         }
                     }
                 }
             }
-            if (e.kind == master::MasterEventKind::Recovered) {
-                // A rebooted node had its PDO maps rewritten by the boot steps; keep the image.
-            }
             emit(e.text);
         });
-        b.pdo->set_event_handler([this](const pdo::PdoEvent& e) { emit(pdo::to_string(e)); });
         loop_->add_timed(b.master.get());
-        loop_->add_timed(b.pdo.get());
+        if (!dedicated()) {
+            loop_->add_timed(b.pdo.get());
+        }
+        std::vector<std::pair<NodeId, pdo::PdoConfig>> all_pdos;
         for (const auto& entry : b.config.nodes) {
             setup_node(b, entry);
+            for (const auto& p : b.nodes[entry.id]->pdos) {
+                all_pdos.emplace_back(entry.id, p);
+            }
         }
+        if (dedicated()) {
+            if (auto r = b.cyclic_socket->set_filters(tpdo_filters(all_pdos)); !r) {
+                return tl::unexpected(
+                    fmt::format("cannot set the cyclic socket's filters on {}: {}", b.config.iface,
+                                r.error().message()));
+            }
+        }
+    }
+    // EtherCAT segments come up synchronously (the EtherCAT master's acyclic API waits for each
+    // frame); they cycle from the loop from then on, also while the CAN nodes boot.
+    for (auto& seg : segments_) {
+        if (auto r = seg->bring_up(nullptr, dedicated()); !r) {
+            return r;
+        }
+        seg->start_cycles(loop_->now() + milliseconds(1), [this](const CycleInfo& info) {
+            if (cycle_cb_) {
+                cycle_cb_(info);
+            }
+        });
+        loop_->add_timed(seg.get());
     }
     // Boot every bus's nodes in parallel.
     std::size_t pending = buses_.size();
@@ -355,13 +521,134 @@ tl::expected<void, std::string> Controller::start() {
                                               r.error().message()));
         }
         bp->sync->set_hook([this, bp](const sync::SyncInfo& s) {
-            on_sync(*bp, CycleInfo{s.cycle, s.ideal, s.actual});
+            on_sync(*bp, CycleInfo{s.cycle, s.ideal, s.actual, 0});
         });
         bp->sync->start(loop_->now() + milliseconds(1));
-        loop_->add_timed(bp->sync.get());
+        if (!dedicated()) {
+            loop_->add_timed(bp->sync.get());
+        }
     }
     started_ = true;
+    if (dedicated()) {
+        return start_cyclic_thread();
+    }
     return {};
+}
+
+tl::expected<void, std::string> Controller::start_cyclic_thread() {
+    // The segments cycled from the loop while the CAN nodes booted; the cyclic thread owns
+    // their cycles from now on.
+    for (auto& seg : segments_) {
+        loop_->remove_timed(seg.get());
+    }
+    pump_ = std::make_unique<Pump>(*this);
+    loop_->add_timed(pump_.get());
+    cyclic_thread_ = std::thread([this] { cyclic_main(); });
+    // The thread reports its real-time warnings before its first cycle.
+    while (!cyclic_ready_.load(std::memory_order_acquire)) {
+        std::this_thread::yield();
+    }
+    for (const auto& w : cyclic_warnings_) {
+        emit("warning: " + w);
+    }
+    return {};
+}
+
+void Controller::for_each_axis(const std::function<void(drives::Axis&)>& fn) {
+    for (auto& b : buses_) {
+        for (auto& [id, n] : b->nodes) {
+            for (auto& a : n->axes) {
+                fn(*a);
+            }
+        }
+    }
+    for (auto& seg : segments_) {
+        seg->for_each_axis(fn);
+    }
+}
+
+void Controller::pump_acyclic() {
+    for (auto& b : buses_) {
+        for (auto& [id, n] : b->nodes) {
+            if (n->handoff) {
+                n->handoff->pump_requests();
+            }
+        }
+        pdo::PdoEvent e;
+        while (b->pdo_events.pop(e)) {
+            emit(pdo::to_string(e));
+        }
+    }
+    const TimePoint now = loop_->now();
+    for (auto& seg : segments_) {
+        seg->acyclic_step(now);
+    }
+}
+
+void Controller::cyclic_main() {
+    cyclic_warnings_ = apply_realtime(options_.realtime);
+    cyclic_ready_.store(true, std::memory_order_release);
+    std::size_t stopping = 0; // axes still stopping
+    bool safe_stop_started = false;
+    TimePoint safe_stop_deadline = kNever;
+    while (!cyclic_exit_.load(std::memory_order_acquire)) {
+        // Sleep until the earliest SYNC (at most 20 ms, to notice a stop request).
+        TimePoint wake = SteadyClock::now() + milliseconds(20);
+        for (auto& b : buses_) {
+            wake = std::min(wake, b->sync->next_deadline());
+        }
+        for (auto& seg : segments_) {
+            wake = std::min(wake, seg->next_cycle());
+        }
+        const auto ns = wake.time_since_epoch().count();
+        timespec ts{static_cast<time_t>(ns / 1000000000), static_cast<long>(ns % 1000000000)};
+        while (::clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &ts, nullptr) == EINTR) {
+        }
+        const TimePoint now = SteadyClock::now();
+        for (auto& b : buses_) {
+            (void)b->cyclic_socket->read_available(); // this cycle's TPDOs into the image
+            for (auto& [id, n] : b->nodes) {
+                if (n->handoff) {
+                    n->handoff->deliver_completions();
+                }
+                if (const std::uint16_t code = n->emcy_code.exchange(0); code != 0) {
+                    for (auto& a : n->axes) {
+                        a->note_error_code(code);
+                    }
+                }
+            }
+            if (b->sync->next_deadline() <= now) {
+                b->sync->on_tick(now); // SYNC out, then on_sync(): callback, axes, RPDOs
+            }
+            if (b->pdo->next_deadline() <= now) {
+                b->pdo->on_tick(now);
+            }
+            for (auto& [id, n] : b->nodes) {
+                for (auto& a : n->axes) {
+                    if (a->next_deadline() <= now) {
+                        a->on_tick(now); // operation timeouts (SDO polling without PDOs)
+                    }
+                }
+            }
+            (void)b->cyclic_socket->flush();
+        }
+        for (auto& seg : segments_) {
+            seg->cyclic_step(now);
+        }
+        if (safe_stop_requested_.load(std::memory_order_acquire) && !safe_stop_started) {
+            safe_stop_started = true;
+            safe_stop_deadline = now + options_.shutdown_timeout;
+            cyclic_begin_safe_stop(stopping);
+        }
+        if (safe_stop_started && (stopping == 0 || now >= safe_stop_deadline)) {
+            for (auto& b : buses_) {
+                b->sync->stop();
+            }
+            axes_safe_.store(true, std::memory_order_release);
+            safe_stop_started = false;
+            safe_stop_deadline = kNever;
+        }
+    }
 }
 
 void Controller::on_sync(Bus& b, const CycleInfo& info) {
@@ -381,46 +668,66 @@ void Controller::on_sync(Bus& b, const CycleInfo& info) {
     b.pdo->on_sync(info.cycle, info.actual);
 }
 
+void Controller::cyclic_begin_safe_stop(std::size_t& pending) {
+    // CiA 402 §6.3: quick stop brings a moving axis down on the quick-stop ramp; disable voltage
+    // then opens the power stage. Axes not enabled only need disable voltage.
+    for_each_axis([this, &pending](drives::Axis& a) {
+        drives::Axis* ax = &a;
+        const auto s = ax->state();
+        if (s == drives::cia402::State::OperationEnabled) {
+            ++pending;
+            ax->cancel();
+            ax->quick_stop(
+                [this, ax, &pending](drives::DriveVoid r) {
+                    if (!r && !dedicated()) {
+                        emit(fmt::format("{}: quick stop during shutdown failed: {}", ax->name(),
+                                         r.error().message));
+                    }
+                    ax->disable([&pending](drives::DriveVoid) { --pending; });
+                },
+                options_.shutdown_timeout / 2);
+        } else if (s == drives::cia402::State::SwitchedOn ||
+                   s == drives::cia402::State::ReadyToSwitchOn ||
+                   s == drives::cia402::State::QuickStopActive) {
+            ++pending;
+            ax->cancel();
+            ax->disable([&pending](drives::DriveVoid) { --pending; },
+                        options_.shutdown_timeout / 2);
+        }
+    });
+}
+
 void Controller::shutdown() {
     if (!started_ || stopped_) {
         return;
     }
     stopped_ = true;
-    std::size_t pending = 0;
-    for (auto& b : buses_) {
-        for (auto& [id, n] : b->nodes) {
-            for (auto& a : n->axes) {
-                drives::Axis* ax = a.get();
-                const auto s = ax->state();
-                if (s == drives::cia402::State::OperationEnabled) {
-                    ++pending;
-                    ax->cancel();
-                    ax->quick_stop(
-                        [this, ax, &pending](drives::DriveVoid r) {
-                            if (!r) {
-                                emit(fmt::format("{}: quick stop during shutdown failed: {}",
-                                                 ax->name(), r.error().message));
-                            }
-                            ax->disable([&pending](drives::DriveVoid) { --pending; });
-                        },
-                        options_.shutdown_timeout / 2);
-                } else if (s == drives::cia402::State::SwitchedOn ||
-                           s == drives::cia402::State::ReadyToSwitchOn ||
-                           s == drives::cia402::State::QuickStopActive) {
-                    ++pending;
-                    ax->cancel();
-                    ax->disable([&pending](drives::DriveVoid) { --pending; },
-                                options_.shutdown_timeout / 2);
-                }
-            }
+    if (dedicated()) {
+        // The axes belong to the cyclic thread: it stops them while this thread keeps serving
+        // their SDO accesses, then it stops SYNC and exits.
+        safe_stop_requested_.store(true, std::memory_order_release);
+        (void)loop_->run_until([&] { return axes_safe_.load(std::memory_order_acquire); },
+                               options_.shutdown_timeout + milliseconds(100));
+        cyclic_exit_.store(true, std::memory_order_release);
+        if (cyclic_thread_.joinable()) {
+            cyclic_thread_.join();
         }
+        loop_->remove_timed(pump_.get());
+        pump_acyclic(); // the last PDO events
+    } else {
+        std::size_t pending = 0;
+        cyclic_begin_safe_stop(pending);
+        loop_->run_until([&] { return pending == 0; }, options_.shutdown_timeout);
     }
-    loop_->run_until([&] { return pending == 0; }, options_.shutdown_timeout);
     for (auto& b : buses_) {
         (void)b->master->nmt().enter_pre_operational(0);
         if (b->sync) {
             b->sync->stop();
         }
+    }
+    for (auto& seg : segments_) {
+        seg->stop(); // ESM back to PRE-OP: outputs no longer applied
+        loop_->remove_timed(seg.get());
     }
     // Let the NMT frames and any queued frames leave.
     (void)loop_->run_until(loop_->now() + milliseconds(20));
@@ -463,7 +770,8 @@ void Controller::post(std::function<void()> fn) {
 
 drives::Axis* Controller::axis(NodeId node, unsigned number, std::size_t bus) {
     if (bus >= buses_.size()) {
-        return nullptr;
+        const std::size_t seg = bus - buses_.size();
+        return seg < segments_.size() ? segments_[seg]->axis(node, number) : nullptr;
     }
     auto it = buses_[bus]->nodes.find(node);
     if (it == buses_[bus]->nodes.end()) {
@@ -485,6 +793,9 @@ std::vector<AxisRef> Controller::axes() const {
                 out.push_back(AxisRef{i, id, a->number(), a.get(), a->name()});
             }
         }
+    }
+    for (const auto& seg : segments_) {
+        seg->collect_axes(out);
     }
     return out;
 }
@@ -520,6 +831,15 @@ ControllerStats Controller::stats() const {
             }
         }
         s.bus_errors += b->bus_errors + (b->bus != nullptr ? b->bus->stats().error_frames : 0);
+    }
+    for (const auto& seg : segments_) {
+        s.cycles += seg->cycles();
+        s.overruns += seg->overruns();
+        const auto& pe = seg->period_error();
+        s.period_error_p50 = std::max(s.period_error_p50, pe.p50());
+        s.period_error_p99 = std::max(s.period_error_p99, pe.p99());
+        s.period_error_max = std::max(s.period_error_max, pe.max());
+        s.ecat_frame_errors += seg->frame_errors();
     }
     return s;
 }

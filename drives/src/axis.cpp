@@ -35,11 +35,13 @@ Axis::Axis(DriveTransport& transport, AxisConfig config)
 Axis::~Axis() = default;
 
 void Axis::bind() {
+    status_received_.reset();
     in_statusword_ = transport_.input(index(obj::kStatusword), 0);
     in_mode_display_ = transport_.input(index(obj::kModesOfOperationDisplay), 0);
     in_position_ = transport_.input(index(obj::kPositionActual), 0);
     in_velocity_ = transport_.input(index(obj::kVelocityActual), 0);
     in_torque_ = transport_.input(index(obj::kTorqueActual), 0);
+    in_following_error_ = transport_.input(index(obj::kFollowingErrorActual), 0);
     out_controlword_ = transport_.output(index(obj::kControlword), 0);
     out_mode_ = transport_.output(index(obj::kModesOfOperation), 0);
     out_target_position_ = transport_.output(index(obj::kTargetPosition), 0);
@@ -72,7 +74,13 @@ bool Axis::cyclic_status() const {
 void Axis::on_cycle(TimePoint now) {
     now_ = now;
     if (auto v = transport_.get<std::uint16_t>(in_statusword_)) {
-        update_status(*v);
+        // A late TPDO leaves last cycle's statusword in the image: it is not a new sample, and
+        // counting it would let an operation accept a statusword from before its command.
+        const auto received = transport_.input_count(in_statusword_);
+        if (!received || !status_received_ || *received != *status_received_) {
+            status_received_ = received;
+            update_status(*v);
+        }
     }
     if (auto m = transport_.get<std::int8_t>(in_mode_display_)) {
         mode_display_ = *m;

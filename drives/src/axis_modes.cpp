@@ -59,6 +59,17 @@ void Axis::set_mode(std::int8_t mode, Done done, Duration timeout) {
     op.timeout = timeout;
     mode_command_ = mode;
     mode_written_ = false;
+    if (mode == static_cast<std::int8_t>(Mode::CyclicSyncPosition) ||
+        mode == static_cast<std::int8_t>(Mode::InterpolatedPosition)) {
+        // In CSP the drive takes 607Ah as its set-point from the cycle the mode changes (CiA 402
+        // §6.8): a cyclic 607Ah still holding an earlier PP target would make the axis jump.
+        if (const auto p = position_actual()) {
+            target_position_ = *p;
+            if (out_target_position_.valid()) {
+                transport_.set(out_target_position_, *p);
+            }
+        }
+    }
     next_poll_ = now_; // poll 6061h at once
     start(std::move(op));
 }
@@ -325,6 +336,10 @@ std::optional<std::int32_t> Axis::position_actual() const {
 
 std::optional<std::int32_t> Axis::velocity_actual() const {
     return transport_.get<std::int32_t>(in_velocity_);
+}
+
+std::optional<std::int32_t> Axis::following_error_actual() const {
+    return transport_.get<std::int32_t>(in_following_error_);
 }
 
 std::optional<std::int16_t> Axis::torque_actual() const {

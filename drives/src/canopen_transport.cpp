@@ -148,4 +148,15 @@ std::optional<std::uint64_t> CanopenTransport::get_raw(CyclicHandle h) const {
     return image_->get<std::uint64_t>(slots_[i]);
 }
 
+std::optional<std::uint64_t> CanopenTransport::input_count(CyclicHandle h) const {
+    if (image_ == nullptr || !h.valid() || static_cast<std::size_t>(h.slot) >= slots_.size()) {
+        return std::nullopt;
+    }
+    const auto i = static_cast<std::size_t>(h.slot);
+    if (dirs_[i] != PdoDir::Tpdo) {
+        return std::nullopt;
+    }
+    return image_->count(slots_[i]);
+}
+
 } // namespace codrive::drives

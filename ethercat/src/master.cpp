@@ -29,10 +29,11 @@ Master::Master(IEcatLink& link, IClock& clock, MasterConfig config)
     : link_(link), clock_(clock), config_(config) {}
 
 std::string Master::slave_label(std::size_t slave) const {
+    const std::size_t number = slave + config_.slave_label_base;
     if (slave < slaves_.size()) {
-        return fmt::format("slave {} ({})", slave, slaves_[slave].display_name());
+        return fmt::format("slave {} ({})", number, slaves_[slave].display_name());
     }
-    return fmt::format("slave {}", slave);
+    return fmt::format("slave {}", number);
 }
 
 VoidResult Master::set_error(std::error_code ec, std::string sentence) {
@@ -58,7 +59,9 @@ std::uint64_t Master::master_time_ns() const {
 
 VoidResult Master::exchange(std::span<Datagram> datagrams) {
     const int attempts = std::max(1, config_.frame_retries);
+    last_exchange_lost_ = 0;
     for (int attempt = 0; attempt < attempts; ++attempt) {
+        last_exchange_lost_ = attempt;
         const std::uint8_t idx = next_index();
         for (auto& d : datagrams) {
             d.index = idx;
@@ -91,6 +94,7 @@ VoidResult Master::exchange(std::span<Datagram> datagrams) {
             return {};
         }
     }
+    last_exchange_lost_ = attempts;
     return set_error(make_error_code(EcatErrc::NoResponse),
                      fmt::format("no EtherCAT frame came back on {} ({} {} datagram(s), {} "
                                  "attempts of {:.1f} ms): is the segment connected?",
@@ -190,7 +194,7 @@ VoidResult Master::scan() {
                 return set_error(make_error_code(EcatErrc::WorkingCounter),
                                  fmt::format("slave {}: setting the station address returned "
                                              "working counter {}, expected 1",
-                                             off + i, chunk[i].wkc));
+                                             off + i + config_.slave_label_base, chunk[i].wkc));
             }
         }
     }

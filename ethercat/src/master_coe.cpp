@@ -3,6 +3,7 @@
 // (ETG.1000.6 §5.6.2).
 #include <codrive/ethercat/error.hpp>
 #include <codrive/ethercat/master.hpp>
+#include <codrive/ethercat/registers.hpp>
 
 #include <codrive/core/sdo_abort.hpp>
 
@@ -75,6 +76,61 @@ VoidResult Master::mailbox_write(std::size_t slave, MailboxMessage message) {
     }
 }
 
+Result<std::optional<MailboxMessage>> Master::mailbox_read_once(std::size_t slave, bool& lost) {
+    const SiiInfo& sii = slaves_[slave].sii;
+    // Reading the whole SM1 buffer empties it; WKC 0 means nothing was there.
+    std::array<Datagram, 1> d{Datagram::physical(Command::Fprd, slaves_[slave].station_address,
+                                                 sii.tx_mailbox_offset, sii.tx_mailbox_size)};
+    if (auto e = exchange(d); !e) {
+        return fail(e.error());
+    }
+    lost = last_exchange_lost_ > 0;
+    if (d[0].wkc != 1) {
+        return std::optional<MailboxMessage>{};
+    }
+    auto m = MailboxMessage::decode(d[0].data);
+    if (!m) {
+        last_error_ = fmt::format("{}: malformed mailbox header", slave_label(slave));
+        return fail(m.error());
+    }
+    return std::optional<MailboxMessage>(std::move(*m));
+}
+
+VoidResult Master::mailbox_repeat(std::size_t slave) {
+    if (auto c = check_slave(slave); !c) {
+        return c;
+    }
+    const auto activate_reg = static_cast<std::uint16_t>(reg::sm(1) + SyncManager::kActivateOffset);
+    const auto pdi_reg = static_cast<std::uint16_t>(reg::sm(1) + SyncManager::kPdiControlOffset);
+    auto activate = read_register<std::uint8_t>(slave, activate_reg);
+    if (!activate) {
+        return fail(activate.error());
+    }
+    const auto want = static_cast<std::uint8_t>(*activate ^ SyncManager::kActivateRepeatRequest);
+    if (auto w = write_register<std::uint8_t>(slave, activate_reg, want); !w) {
+        return w;
+    }
+    ++mailbox_repeats_;
+    const bool toggle = (want & SyncManager::kActivateRepeatRequest) != 0;
+    const TimePoint deadline = clock_.now() + config_.mailbox_timeout;
+    while (true) {
+        auto pdi = read_register<std::uint8_t>(slave, pdi_reg);
+        if (!pdi) {
+            return fail(pdi.error());
+        }
+        if (((*pdi & SyncManager::kPdiRepeatAck) != 0) == toggle) {
+            return {};
+        }
+        if (clock_.now() >= deadline) {
+            return set_error(make_error_code(EcatErrc::MailboxTimeout),
+                             fmt::format("{}: mailbox repeat request not acknowledged within "
+                                         "{:.0f} ms",
+                                         slave_label(slave), to_ms(config_.mailbox_timeout)));
+        }
+        link_.idle(config_.mailbox_poll);
+    }
+}
+
 Result<MailboxMessage> Master::mailbox_read(std::size_t slave, Duration timeout) {
     if (auto c = check_slave(slave); !c) {
         return fail(c.error());
@@ -85,27 +141,42 @@ Result<MailboxMessage> Master::mailbox_read(std::size_t slave, Duration timeout)
         return fail(EcatErrc::MailboxNotSupported);
     }
     const TimePoint deadline = clock_.now() + timeout;
+    bool repeated = false;
+    int repeats_left = std::max(1, config_.frame_retries);
     while (true) {
-        // Reading the whole SM1 buffer empties it; WKC 0 means nothing was there.
-        std::array<Datagram, 1> d{Datagram::physical(Command::Fprd, slaves_[slave].station_address,
-                                                     sii.tx_mailbox_offset, sii.tx_mailbox_size)};
-        if (auto e = exchange(d); !e) {
-            return fail(e.error());
+        bool lost = false;
+        auto read = mailbox_read_once(slave, lost);
+        if (!read) {
+            return fail(read.error());
         }
-        if (d[0].wkc == 1) {
-            auto m = MailboxMessage::decode(d[0].data);
-            if (!m) {
-                last_error_ = fmt::format("{}: malformed mailbox header", slave_label(slave));
-                return fail(m.error());
+        if (read->has_value()) {
+            MailboxMessage& m = **read;
+            auto& last = slaves_[slave].mailbox_rx_counter;
+            // After a repeat the slave may hand over the message we already have (the lost
+            // frame never reached it): same counter, so it is dropped (ETG.1000.6 §5.6.1).
+            const bool duplicate = repeated && m.header.counter != 0 && m.header.counter == last;
+            last = m.header.counter;
+            repeated = false;
+            if (duplicate) {
+                continue;
             }
-            if (m->header.type == MailboxType::Error) {
+            if (m.header.type == MailboxType::Error) {
                 const std::uint16_t code =
-                    m->payload.size() >= 4 ? get_le<std::uint16_t>(m->payload.data() + 2) : 0;
+                    m.payload.size() >= 4 ? get_le<std::uint16_t>(m.payload.data() + 2) : 0;
                 last_error_ = fmt::format("{}: mailbox error 0x{:04X} ({})", slave_label(slave),
                                           code, mailbox_error_text(code));
                 return fail(EcatErrc::MailboxError);
             }
-            return m;
+            return std::move(m);
+        }
+        if (lost && repeats_left-- > 0) {
+            // A read whose frame did not come back may have emptied SM1 on its way: ask the
+            // slave for that message again instead of losing it (ETG.1000.4 §6.7.2).
+            if (auto r = mailbox_repeat(slave); !r) {
+                return fail(r.error());
+            }
+            repeated = true;
+            continue;
         }
         if (clock_.now() >= deadline) {
             last_error_ = fmt::format("{}: no mailbox answer within {:.0f} ms", slave_label(slave),
@@ -116,8 +187,9 @@ Result<MailboxMessage> Master::mailbox_read(std::size_t slave, Duration timeout)
     }
 }
 
-std::string Master::describe_emergency(std::size_t slave, const emcy::EmcyMessage& m) const {
-    std::string text = emcy::describe(m);
+std::string Master::describe_emergency(std::size_t slave, const emcy::EmcyMessage& m,
+                                       const emcy::IEmcyTextProvider* vendor) const {
+    std::string text = emcy::describe(m, vendor);
     // emcy::describe starts with "node N: "; EtherCAT names the slave instead.
     if (const auto colon = text.find(": "); colon != std::string::npos) {
         text = text.substr(colon + 2);

@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: Apache-2.0
-// epoll + timerfd reactor: one timerfd armed (absolute, CLOCK_MONOTONIC) at the earliest deadline.
+// epoll + timerfd reactor: one timerfd armed (absolute, CLOCK_MONOTONIC) at the earliest deadline;
+// the clock is read only when a deadline may be due, and a lone socket is waited on directly.
 #include <codrive/core/event_loop.hpp>
 
 #include <algorithm>
@@ -57,7 +58,7 @@ EventLoop::~EventLoop() {
 }
 
 VoidResult EventLoop::add_fd(int fd, std::uint32_t events, IoHandler handler) {
-    auto entry = std::make_unique<FdEntry>(FdEntry{fd, std::move(handler)});
+    auto entry = std::make_unique<FdEntry>(FdEntry{fd, events, std::move(handler), {}, {}});
     epoll_event ev{};
     ev.events = events;
     ev.data.fd = fd;
@@ -75,7 +76,23 @@ VoidResult EventLoop::modify_fd(int fd, std::uint32_t events) {
     if (epoll_ctl(epoll_fd_, EPOLL_CTL_MOD, fd, &ev) < 0) {
         return fail_errno(errno);
     }
+    for (auto& e : fds_) {
+        if (e->fd == fd) {
+            e->events = events;
+        }
+    }
     return {};
+}
+
+VoidResult EventLoop::set_direct_reader(int fd, DirectReader reader, Duration block_limit) {
+    for (auto& e : fds_) {
+        if (e->fd == fd) {
+            e->reader = std::move(reader);
+            e->block_limit = block_limit;
+            return {};
+        }
+    }
+    return fail_errno(EINVAL);
 }
 
 void EventLoop::remove_fd(int fd) {
@@ -85,6 +102,7 @@ void EventLoop::remove_fd(int fd) {
         if (e && e->fd == fd) {
             e->fd = -1;
             e->handler = nullptr;
+            e->reader = nullptr;
         }
     }
 }
@@ -115,6 +133,8 @@ void EventLoop::cancel_timer(std::uint64_t id) {
 }
 
 void EventLoop::post(std::function<void()> fn) {
+    // From now on the loop waits in epoll_wait(), where the wake-up eventfd is seen at once.
+    posted_ever_ = true;
     {
         std::lock_guard lock(post_mutex_);
         posted_.push_back(std::move(fn));
@@ -129,8 +149,13 @@ void EventLoop::stop() {
     [[maybe_unused]] auto n = ::write(wake_fd_, &one, sizeof(one));
 }
 
-void EventLoop::arm_timer() {
-    TimePoint earliest = kNever;
+void EventLoop::note_time(TimePoint t) {
+    last_now_ = std::max(last_now_, t);
+    now_fresh_ = true;
+}
+
+TimePoint EventLoop::earliest_deadline() const {
+    TimePoint earliest = run_deadline_;
     for (ITimed* t : timed_) {
         if (t != nullptr) {
             earliest = std::min(earliest, t->next_deadline());
@@ -139,6 +164,11 @@ void EventLoop::arm_timer() {
     for (const auto& o : oneshots_) {
         earliest = std::min(earliest, o.when);
     }
+    return earliest;
+}
+
+void EventLoop::arm_timer() {
+    const TimePoint earliest = earliest_deadline();
     // Re-arm only when the earliest deadline moved earlier. A timer armed earlier than needed
     // just wakes the loop once for nothing, which is cheaper than a timerfd_settime() per
     // frame (every SDO request moves its timeout later).
@@ -177,11 +207,62 @@ void EventLoop::dispatch_timers(TimePoint now) {
 }
 
 VoidResult EventLoop::poll_once(Duration max_wait) {
+    if (direct_read_possible(max_wait)) {
+        poll_direct();
+        return {};
+    }
+    return poll_epoll(max_wait);
+}
+
+bool EventLoop::direct_read_possible(Duration max_wait) {
+    if (fds_.size() != 1 || !fds_[0]->reader || fds_[0]->events != EPOLLIN || posted_ever_ ||
+        stop_) {
+        return false;
+    }
+    const Duration limit = fds_[0]->block_limit;
+    if (max_wait >= Duration::zero() && max_wait < limit) {
+        return false;
+    }
+    const TimePoint earliest = earliest_deadline();
+    if (earliest == kNever) {
+        return true;
+    }
+    // The time must be current to the last wake-up: a stale time would let a deadline slip by
+    // up to a block limit. One clock read when entering the fast path; receive times keep it
+    // current afterwards.
+    if (!now_fresh_) {
+        last_now_ = now();
+        now_fresh_ = true;
+    }
+    return earliest > last_now_ + 2 * limit;
+}
+
+void EventLoop::poll_direct() {
+    // Keep the entry (and so the reader) alive even if a frame handler removes the fd.
+    FdEntry* e = fds_[0].get();
+    auto reader = e->reader;
+    const DirectRead r = reader();
+    if (r.count > 0 && r.newest) {
+        note_time(*r.newest);
+    } else {
+        // Timed out (no frame for a block limit), interrupted or failed: a real clock read.
+        note_time(now());
+    }
+    std::erase_if(fds_, [](const std::unique_ptr<FdEntry>& x) { return x->fd < 0; });
+    // Only deadlines at or before a known time are dispatched; one a little later makes the
+    // next wait an epoll_wait() on the timerfd (the fast path needs 2 block limits of room).
+    if (earliest_deadline() <= last_now_) {
+        dispatch_timers(last_now_);
+    }
+}
+
+VoidResult EventLoop::poll_epoll(Duration max_wait) {
     arm_timer();
     std::array<epoll_event, 32> events{};
     const auto ms = std::chrono::duration_cast<milliseconds>(max_wait).count();
     const int timeout_ms =
         max_wait < Duration::zero() ? -1 : static_cast<int>(std::max<long>(0, ms));
+    now_fresh_ = false;
     const int n = epoll_wait(epoll_fd_, events.data(), static_cast<int>(events.size()), timeout_ms);
     if (n < 0) {
         if (errno == EINTR) {
@@ -189,14 +270,17 @@ VoidResult EventLoop::poll_once(Duration max_wait) {
         }
         return fail_errno(errno);
     }
-    bool timer_fired = false;
+    // The clock is read only when a deadline may be due: the wait timed out, the timer fired, or
+    // a handler moved a deadline earlier than the armed one. Otherwise every deadline is at or
+    // after the armed timer, which has not fired, so none is due.
+    bool need_clock = n == 0;
     for (int i = 0; i < n; ++i) {
         const int fd = events[static_cast<std::size_t>(i)].data.fd;
         if (fd == timer_fd_) {
             std::uint64_t expirations = 0;
             [[maybe_unused]] auto r = ::read(timer_fd_, &expirations, sizeof(expirations));
             armed_ = kNever; // a fired absolute timer is no longer armed
-            timer_fired = true;
+            need_clock = true;
             continue;
         }
         if (fd == wake_fd_) {
@@ -222,11 +306,14 @@ VoidResult EventLoop::poll_once(Duration max_wait) {
         }
     }
     std::erase_if(fds_, [](const std::unique_ptr<FdEntry>& e) { return e->fd < 0; });
-    (void)timer_fired;
-    // Deadlines are checked after every wake-up, not only on timer expiry, so a service whose
-    // deadline moved earlier while handling a frame is served without another round trip.
-    last_now_ = now();
-    dispatch_timers(last_now_);
+    // Deadlines are checked after every wake-up that may have made one due, not only on timer
+    // expiry, so a service whose deadline moved earlier while handling a frame is served without
+    // another round trip.
+    if (need_clock || earliest_deadline() < armed_) {
+        last_now_ = now();
+        now_fresh_ = true;
+        dispatch_timers(last_now_);
+    }
     return {};
 }
 
@@ -240,10 +327,34 @@ VoidResult EventLoop::run() {
     return {};
 }
 
+namespace {
+
+/// Makes a run_until() deadline one of the loop's deadlines for its duration (the timerfd then
+/// ends the wait, so the loop needs no clock read per wake-up to notice it), restoring the outer
+/// one for nested calls.
+class RunDeadline {
+public:
+    RunDeadline(TimePoint& slot, TimePoint deadline) : slot_(slot), saved_(slot) {
+        slot_ = std::min(saved_, deadline);
+    }
+    ~RunDeadline() { slot_ = saved_; }
+    RunDeadline(const RunDeadline&) = delete;
+    RunDeadline& operator=(const RunDeadline&) = delete;
+
+private:
+    TimePoint& slot_;
+    TimePoint saved_;
+};
+
+} // namespace
+
 VoidResult EventLoop::run_until(TimePoint deadline) {
     stop_ = false;
+    const RunDeadline scope(run_deadline_, deadline);
+    last_now_ = now();
+    now_fresh_ = true;
     while (!stop_) {
-        const TimePoint t = now();
+        const TimePoint t = last_now_;
         if (t >= deadline) {
             break;
         }
@@ -257,10 +368,12 @@ VoidResult EventLoop::run_until(TimePoint deadline) {
 
 bool EventLoop::run_until(const std::function<bool()>& pred, Duration timeout) {
     last_now_ = now();
+    now_fresh_ = true;
     const TimePoint deadline = last_now_ + timeout;
+    const RunDeadline scope(run_deadline_, deadline);
     stop_ = false;
-    // The time comes from the clock read each poll_once() makes anyway: one clock read per
-    // iteration (a system call on some targets).
+    // The time comes from the loop's own clock reads and receive times: a clock read only when
+    // a deadline (this one included) may be due, not one per wake-up.
     while (!pred()) {
         const TimePoint t = last_now_;
         if (t >= deadline || stop_) {

@@ -82,7 +82,9 @@ Result<std::unique_ptr<SocketCanBus>> SocketCanBus::open(const std::string& ifna
     bus->opts_ = std::move(options);
     bus->tx_ring_.resize(std::max<std::size_t>(1, bus->opts_.tx_queue_capacity));
 
-    bus->fd_ = ::socket(PF_CAN, SOCK_RAW | SOCK_NONBLOCK | SOCK_CLOEXEC, CAN_RAW);
+    // A blocking socket: every send and receive passes MSG_DONTWAIT except the direct-read
+    // fast path's receive, which blocks up to SO_RCVTIMEO.
+    bus->fd_ = ::socket(PF_CAN, SOCK_RAW | SOCK_CLOEXEC, CAN_RAW);
     if (bus->fd_ < 0) {
         if (errno == EAFNOSUPPORT || errno == EPROTONOSUPPORT) {
             return fail(CoreErrc::NoSocketCan);
@@ -113,6 +115,15 @@ Result<std::unique_ptr<SocketCanBus>> SocketCanBus::open(const std::string& ifna
         if (setsockopt(fd, SOL_SOCKET, SO_RCVBUFFORCE, &size, sizeof(size)) < 0) {
             setsockopt(fd, SOL_SOCKET, SO_RCVBUF, &size, sizeof(size));
         }
+    }
+    if (bus->opts_.direct_read_limit > Duration::zero()) {
+        const auto us =
+            std::chrono::duration_cast<std::chrono::microseconds>(bus->opts_.direct_read_limit)
+                .count();
+        timeval tv{};
+        tv.tv_sec = static_cast<time_t>(us / 1'000'000);
+        tv.tv_usec = static_cast<suseconds_t>(us % 1'000'000);
+        setsockopt(fd, SOL_SOCKET, SO_RCVTIMEO, &tv, sizeof(tv));
     }
     if (bus->opts_.sndbuf_bytes > 0) {
         const int size = bus->opts_.sndbuf_bytes;
@@ -200,7 +211,7 @@ bool SocketCanBus::write_one(const Frame& f, int& err) {
         }
     }
     std::memcpy(kf.data, f.data.data(), f.len);
-    const ssize_t n = ::write(fd_, &kf, size);
+    const ssize_t n = ::send(fd_, &kf, size, MSG_DONTWAIT);
     if (n == static_cast<ssize_t>(size)) {
         ++stats_.tx_frames;
         return true;
@@ -304,12 +315,20 @@ VoidResult SocketCanBus::attach(EventLoop& loop) {
             flush();
         }
         if ((events & (EPOLLIN | EPOLLERR)) != 0U) {
-            read_available();
+            const EventLoop::DirectRead got = read_batches(MSG_DONTWAIT);
+            // The kernel timestamp is the time: the loop then needs no clock read of its own.
+            if (got.newest && loop_ != nullptr) {
+                loop_->note_time(*got.newest);
+            }
         }
     });
     if (!r) {
         loop_ = nullptr;
         return r;
+    }
+    if (opts_.direct_read_limit > Duration::zero()) {
+        (void)loop.set_direct_reader(
+            fd_, [this] { return read_blocking(); }, opts_.direct_read_limit);
     }
     loop.add_timed(this);
     update_epollout();
@@ -343,13 +362,23 @@ void SocketCanBus::on_tick(TimePoint /*now*/) {
 }
 
 std::size_t SocketCanBus::read_available() {
+    return read_batches(MSG_DONTWAIT).count;
+}
+
+EventLoop::DirectRead SocketCanBus::read_blocking() {
+    // MSG_WAITFORONE: block (up to SO_RCVTIMEO) for the first frame only, then take what waits.
+    return read_batches(MSG_WAITFORONE);
+}
+
+EventLoop::DirectRead SocketCanBus::read_batches(int first_flags) {
+    EventLoop::DirectRead out;
+    int flags = first_flags;
     std::array<canfd_frame, kBatch> frames{};
     std::array<iovec, kBatch> iov{};
     std::array<mmsghdr, kBatch> msgs{};
     constexpr std::size_t kCtrlSize =
         CMSG_SPACE(sizeof(timespec)) + CMSG_SPACE(sizeof(std::uint32_t));
     alignas(cmsghdr) std::array<std::array<char, kCtrlSize>, kBatch> ctrl{};
-    std::size_t total = 0;
     for (;;) {
         for (std::size_t i = 0; i < kBatch; ++i) {
             iov[i].iov_base = &frames[i];
@@ -360,7 +389,8 @@ std::size_t SocketCanBus::read_available() {
             msgs[i].msg_hdr.msg_control = ctrl[i].data();
             msgs[i].msg_hdr.msg_controllen = kCtrlSize;
         }
-        const int n = ::recvmmsg(fd_, msgs.data(), kBatch, MSG_DONTWAIT, nullptr);
+        const int n = ::recvmmsg(fd_, msgs.data(), kBatch, flags, nullptr);
+        flags = MSG_DONTWAIT;
         if (n <= 0) {
             break;
         }
@@ -403,14 +433,19 @@ std::size_t SocketCanBus::read_available() {
             if (nbytes != CAN_MTU && nbytes != CANFD_MTU) {
                 continue;
             }
-            handle_frame(from_kernel(frames[idx], nbytes), rx_time ? *rx_time : now());
-            ++total;
+            const TimePoint t = rx_time ? *rx_time : now();
+            if (rx_time) {
+                out.newest = std::max(out.newest.value_or(t), t);
+            }
+            handle_frame(from_kernel(frames[idx], nbytes), t);
+            ++out.count;
         }
+        // A short batch means the socket is empty: no EAGAIN read to find that out.
         if (static_cast<std::size_t>(n) < kBatch) {
             break;
         }
     }
-    return total;
+    return out;
 }
 
 void SocketCanBus::handle_frame(const Frame& f, TimePoint rx_time) {

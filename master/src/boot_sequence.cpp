@@ -55,7 +55,88 @@ void BootSequence::run(Done done, bool start_node, bool recovery) {
     report_.started = clock_.now();
     running_ = true;
     step_started_ = clock_.now();
+    start_deadline_ = kNever;
+    start_sends_ = 0;
+    restarts_ = 0;
+    reboot_seen_ = false;
+    reported_.reset();
     probe(0);
+}
+
+void BootSequence::restart(std::string why) {
+    ++restarts_;
+    reboot_seen_ = false;
+    start_deadline_ = kNever;
+    start_sends_ = 0;
+    reported_.reset();
+    step_ok("restart", std::move(why));
+    probe(0);
+}
+
+void BootSequence::on_node_state(nmt::NmtState state, TimePoint now) {
+    if (!running_) {
+        return;
+    }
+    if (state == nmt::NmtState::BootUp) {
+        // With an SDO request in flight, it fails with "node rebooted" right after this call and
+        // the failing step restarts the sequence (step_failed()). While waiting for operational
+        // nothing is in flight: on_tick() restarts.
+        reboot_seen_ = true;
+        if (start_deadline_ != kNever) {
+            start_deadline_ = now;
+        }
+        return;
+    }
+    reported_ = state;
+    if (start_deadline_ != kNever && state == nmt::NmtState::Operational) {
+        start_deadline_ = kNever;
+        step_ok("NMT start",
+                start_sends_ == 1
+                    ? std::string("operational (confirmed by heartbeat)")
+                    : fmt::format("operational (confirmed by heartbeat after {} NMT start "
+                                  "commands)",
+                                  start_sends_));
+        complete();
+    }
+}
+
+void BootSequence::on_tick(TimePoint now) {
+    if (!running_ || start_deadline_ == kNever || now < start_deadline_) {
+        return;
+    }
+    if (reboot_seen_) {
+        start_deadline_ = kNever;
+        step_failed("NMT start", fmt::format("node {}: rebooted while boot-up waited for "
+                                             "operational, {} times",
+                                             config_.id, restarts_ + 1));
+        return;
+    }
+    if (start_sends_ <= config_.start_retries) {
+        // The start command (or the heartbeat reporting the new state) was lost: repeat it.
+        // NMT start to an operational node changes nothing (CiA 301 Figure 48).
+        (void)send_start(now);
+        return;
+    }
+    start_deadline_ = kNever;
+    step_failed(
+        "NMT start",
+        fmt::format("node {}: did not reach operational after {} NMT start commands "
+                    "({} ms apart): {}",
+                    config_.id, start_sends_, config_.consumer_time().count(),
+                    reported_ ? fmt::format("its heartbeat reports {}", nmt::to_string(*reported_))
+                              : std::string("no heartbeat received")));
+}
+
+bool BootSequence::send_start(TimePoint now) {
+    ++start_sends_;
+    if (auto r = nmt_.start(config_.id); !r) {
+        start_deadline_ = kNever;
+        step_failed("NMT start", fmt::format("node {}: cannot send NMT start: {}", config_.id,
+                                             r.error().message()));
+        return false;
+    }
+    start_deadline_ = now + config_.consumer_time();
+    return true;
 }
 
 void BootSequence::step_ok(std::string name, std::string detail) {
@@ -66,6 +147,13 @@ void BootSequence::step_ok(std::string name, std::string detail) {
 }
 
 void BootSequence::step_failed(std::string name, std::string detail) {
+    if (reboot_seen_ && restarts_ < config_.reboot_restarts) {
+        // CiA 301 §7.3.2.1: the node reset and lost what boot-up had configured so far.
+        restart(fmt::format("node {} rebooted (boot-up message) during step \"{}\"; boot-up "
+                            "restarted",
+                            config_.id, name));
+        return;
+    }
     const TimePoint now = clock_.now();
     report_.steps.push_back(
         BootStep{std::move(name), false, std::move(detail), now - step_started_});
@@ -253,13 +341,21 @@ void BootSequence::error_control() {
 
 void BootSequence::finish() {
     if (start_node_) {
-        if (auto r = nmt_.start(config_.id); !r) {
-            step_failed("NMT start", fmt::format("node {}: cannot send NMT start: {}", config_.id,
-                                                 r.error().message()));
+        if (!send_start(clock_.now())) {
             return;
         }
-        step_ok("NMT start", "operational");
+        if (config_.heartbeat_producer.count() > 0) {
+            return; // on_node_state() completes when a heartbeat reports operational
+        }
+        start_deadline_ = kNever;
+        // Without a heartbeat nothing reports the state during boot-up; node guarding, when
+        // configured, reports it once the master guards the node.
+        step_ok("NMT start", "sent (not confirmed: no heartbeat configured)");
     }
+    complete();
+}
+
+void BootSequence::complete() {
     report_.ok = true;
     report_.duration = clock_.now() - report_.started;
     running_ = false;

@@ -248,6 +248,14 @@ void Master::on_frame(const Frame& frame, TimePoint now) {
         sdo_.on_frame(frame, now);
         return;
     case CobType::Heartbeat:
+        if (RemoteNode* n = node(info.node);
+            n != nullptr && n->booting() && frame.len >= 1 && !frame.rtr()) {
+            // Before the SDO client sees a boot-up message: the boot sequence must know the node
+            // rebooted when the request in flight fails because of it.
+            if (auto s = nmt::state_from_byte(frame.data[0]); s) {
+                n->boot_->on_node_state(*s, now);
+            }
+        }
         // Boot-up also ends SDO transfers to that node; heartbeats feed the state table.
         sdo_.on_frame(frame, now);
         nmt_.on_frame(frame, now);
@@ -291,6 +299,9 @@ TimePoint Master::next_deadline() const {
     for (const auto& n : nodes_) {
         if (n) {
             t = std::min(t, n->first_heartbeat_due_);
+            if (n->booting()) {
+                t = std::min(t, n->boot_->next_deadline());
+            }
         }
     }
     return t;
@@ -298,6 +309,11 @@ TimePoint Master::next_deadline() const {
 
 void Master::on_tick(TimePoint now) {
     retired_.clear();
+    for (auto& n : nodes_) {
+        if (n && n->booting() && n->boot_->next_deadline() <= now) {
+            n->boot_->on_tick(now); // may finish the boot: runs the completion callback
+        }
+    }
     for (auto& n : nodes_) {
         if (n && n->first_heartbeat_due_ <= now) {
             n->first_heartbeat_due_ = kNever;

@@ -19,6 +19,9 @@ void BlockSender::reset(std::size_t total) {
     acked_ = 0;
     read_ = 0;
     segments_ = 0;
+    block_size_ = 0;
+    last_ack_block_size_ = 0;
+    last_ack_resized_ = false;
     last_unused_ = 0;
     crc_ = 0;
     retransmitted_ = 0;
@@ -39,6 +42,7 @@ bool BlockSender::fill(std::uint8_t block_size, const ReadFn& read) {
         buffered_ += add;
         read_ += add;
     }
+    block_size_ = block_size;
     const std::size_t segs =
         std::max<std::size_t>(1, (buffered_ + kSegmentData - 1) / kSegmentData);
     segments_ = static_cast<std::uint8_t>(std::min<std::size_t>(segs, block_size));
@@ -58,12 +62,18 @@ Payload BlockSender::segment(std::uint8_t seqno) const {
 }
 
 BlockSender::AckResult BlockSender::on_ack(std::uint8_t ackseq, std::uint8_t block_size) {
+    if (last_ack_resized_ && ackseq == last_ackseq_ && block_size == last_ack_block_size_) {
+        return AckResult::Repeat;
+    }
     if (ackseq > segments_) {
         return AckResult::InvalidSequence;
     }
     if (block_size == 0 || block_size > kMaxBlockSize) {
         return AckResult::InvalidBlockSize;
     }
+    last_ack_resized_ = block_size != block_size_;
+    last_ackseq_ = ackseq;
+    last_ack_block_size_ = block_size;
     retransmitted_ += segments_ - ackseq;
     const bool all_acked = ackseq == segments_;
     const std::size_t done = std::min(buffered_, std::size_t{ackseq} * kSegmentData);

@@ -18,6 +18,9 @@ namespace {
 
 constexpr std::size_t kMaxSdoSize = 0xFFFFFFFFU; // the SDO size field is 32 bits
 constexpr std::size_t kMaxReserve = 16U * 1024U * 1024U;
+/// Transfers failing inside start() in one start_next() call before the rest is deferred to
+/// the next tick (bounds the work of one call when a callback retries during bus-off).
+constexpr int kMaxFailedStartsPerCall = 16;
 
 std::string mux(std::uint16_t index, std::uint8_t subindex) {
     return fmt::format("0x{:04X}:{:02X}", index, subindex);
@@ -53,6 +56,33 @@ FrameKind expected_kind(ClientState s) {
         break;
     }
     return FrameKind::Invalid;
+}
+
+/// The protocol a server response belongs to (0: none of the client's).
+int family(FrameKind k) {
+    switch (k) {
+    case FrameKind::InitiateUploadResponse:
+    case FrameKind::UploadSegmentResponse:
+        return 1;
+    case FrameKind::InitiateDownloadResponse:
+    case FrameKind::DownloadSegmentResponse:
+        return 2;
+    case FrameKind::BlockDownloadInitiateResponse:
+    case FrameKind::BlockDownloadAck:
+    case FrameKind::BlockDownloadEndResponse:
+        return 3;
+    case FrameKind::BlockUploadInitiateResponse:
+    case FrameKind::BlockUploadEndRequest:
+    case FrameKind::BlockSegment:
+        return 4;
+    default:
+        return 0;
+    }
+}
+
+bool initiate_state(ClientState s) {
+    return s == ClientState::InitiateUpload || s == ClientState::InitiateDownload ||
+           s == ClientState::BlockDownloadInitiate || s == ClientState::BlockUploadInitiate;
 }
 
 /// Marks the time of the frame or tick being handled, for the duration of the handler.
@@ -175,11 +205,28 @@ bool SdoClient::cancel(TransferId id) {
 }
 
 void SdoClient::start_next(TimePoint now) {
+    // Iterative, never nested: a transfer that fails inside start() (the bus refuses the
+    // request, e.g. bus-off) completes through finish(), whose callback may submit again, and
+    // finish() calls start_next() again. The outer call drains the queue; the inner returns.
+    if (draining_) {
+        return;
+    }
+    draining_ = true;
+    int failed_at_start = 0;
     while (!active_ && !queue_.empty() && !in_callback_) {
+        if (failed_at_start == kMaxFailedStartsPerCall) {
+            // A callback that retries at once while every send fails would otherwise loop
+            // here forever: the rest waits for the next on_tick().
+            deferred_start_ = true;
+            deadline_ = std::min(deadline_, now);
+            break;
+        }
         active_ = std::move(queue_.front());
         queue_.pop_front();
         start(*active_, now);
+        failed_at_start += active_ ? 0 : 1;
     }
+    draining_ = false;
 }
 
 bool SdoClient::send(const Payload& payload) {
@@ -261,12 +308,90 @@ bool SdoClient::on_frame(const Frame& frame, TimePoint now) {
         ++stats_.unexpected_responses;
         return true;
     }
+    if (is_repeat(frame)) {
+        // Ignored without re-arming the timeout: a stream of repeats cannot keep a dead
+        // transfer alive.
+        ++stats_.stale_responses;
+        return true;
+    }
     if (active_->state == ClientState::BlockUploadData) {
         handle_block_upload_segment(frame, now);
     } else {
         handle_response(frame, now);
     }
     return true;
+}
+
+void SdoClient::remember_response(const Frame& frame) {
+    Transfer& t = *active_;
+    std::copy_n(frame.data.begin(), kFrameLen, t.last_response.begin());
+    t.have_last_response = frame.len == kFrameLen;
+}
+
+bool SdoClient::is_repeat(const Frame& frame) const {
+    const Transfer& t = *active_;
+    if (!t.have_last_response || frame.len != kFrameLen ||
+        !std::equal(t.last_response.begin(), t.last_response.end(), frame.data.begin())) {
+        return false;
+    }
+    switch (t.state) {
+    case ClientState::BlockDownloadAck:
+        // Two successive sub-block responses may legitimately be identical (same ackseq and
+        // blksize): BlockSender::on_ack() decides, knowing whether the server alternates the
+        // block size.
+        return false;
+    case ClientState::BlockUploadData:
+        // The segment accepted next may carry the bytes of the previous one (blksize 1, repeated
+        // data): only an out-of-sequence copy is a repeat.
+        return frame.data[0] != 0x80 && (frame.data[0] & 0x7FU) != t.receiver.next_seqno();
+    default:
+        return true;
+    }
+}
+
+bool SdoClient::is_leftover(const FrameInfo& info) {
+    Transfer& t = *active_;
+    const bool initiate_response = info.kind == FrameKind::InitiateUploadResponse ||
+                                   info.kind == FrameKind::InitiateDownloadResponse ||
+                                   info.kind == FrameKind::BlockDownloadInitiateResponse ||
+                                   info.kind == FrameKind::BlockUploadInitiateResponse;
+    if (initiate_state(t.state)) {
+        // The server's first answer to an initiate request is an initiate response or an abort,
+        // both naming the object (CiA 301 §7.2.4.3). Anything else, or one naming another
+        // object, answers a request of an earlier transfer that crossed our new one on the bus.
+        const bool upload_switch = t.state == ClientState::BlockUploadInitiate &&
+                                   info.kind == FrameKind::InitiateUploadResponse;
+        const bool ours = (info.kind == expected_kind(t.state) || upload_switch) &&
+                          info.index == t.index && info.subindex == t.subindex;
+        if (!ours && initiate_response && !t.stray_other_object &&
+            (info.index != t.index || info.subindex != t.subindex)) {
+            t.stray_other_object = true;
+            t.stray_index = info.index;
+            t.stray_subindex = info.subindex;
+        }
+        // Segments of an earlier block upload the server was still streaming can carry any
+        // byte 0, including a reserved command specifier.
+        t.stray_invalid = t.stray_invalid || info.kind == FrameKind::Invalid;
+        return !ours;
+    }
+    switch (t.state) {
+    case ClientState::BlockDownloadEnd:
+        // A sub-block response after the last one was taken: a repeat or a late answer.
+        return initiate_response || info.kind == FrameKind::BlockDownloadAck;
+    case ClientState::BlockUploadEnd:
+        // Block segments carry no command specifier: a late or repeated one (they come in
+        // bursts) can look like any frame. Only the end request and an abort are answers.
+        return info.kind != FrameKind::BlockUploadEndRequest && info.kind != FrameKind::Abort;
+    default:
+        if (info.kind == FrameKind::Invalid) {
+            return false;
+        }
+        // An initiate response names its object and only ever answers an initiate request: one
+        // arriving later in a transfer is a repeat or a late answer. A response of another
+        // protocol (e.g. a block download end response during a segmented upload) answers an
+        // earlier transfer. Only a response of this protocol in the wrong phase is an error.
+        return initiate_response || family(info.kind) != family(expected_kind(t.state));
+    }
 }
 
 void SdoClient::server_abort(const FrameInfo& info) {
@@ -296,6 +421,10 @@ void SdoClient::handle_response(const Frame& frame, TimePoint now) {
         server_abort(info);
         return;
     }
+    if (is_leftover(info)) {
+        ++stats_.stale_responses;
+        return;
+    }
     const bool upload_switch = t.state == ClientState::BlockUploadInitiate &&
                                info.kind == FrameKind::InitiateUploadResponse;
     if (info.kind != expected_kind(t.state) && !upload_switch) {
@@ -304,26 +433,7 @@ void SdoClient::handle_response(const Frame& frame, TimePoint now) {
                                    to_string(info.kind)));
         return;
     }
-    switch (info.kind) {
-    case FrameKind::InitiateUploadResponse:
-    case FrameKind::InitiateDownloadResponse:
-    case FrameKind::BlockDownloadInitiateResponse:
-    case FrameKind::BlockUploadInitiateResponse:
-        if (info.index != t.index || info.subindex != t.subindex) {
-            // CiA 301 leaves this open; a response for another object means client and server
-            // disagree about the transfer, so it cannot continue.
-            (void)send(
-                make_abort(t.index, t.subindex, static_cast<std::uint32_t>(SdoAbort::General)));
-            fail(make_error_code(SdoErrc::WrongObject),
-                 fmt::format("server answered for {} instead of {}", mux(info.index, info.subindex),
-                             mux(t.index, t.subindex)),
-                 AbortOrigin::Client);
-            return;
-        }
-        break;
-    default:
-        break;
-    }
+    remember_response(frame);
 
     switch (t.state) {
     case ClientState::InitiateUpload:
@@ -376,10 +486,14 @@ void SdoClient::handle_response(const Frame& frame, TimePoint now) {
         }
         t.receiver.reset(t.block_size);
         t.state = ClientState::BlockUploadData;
-        if (!send(make_block_upload_start())) {
+        t.flow_frame = make_block_upload_start();
+        if (!send(t.flow_frame)) {
             fail(make_error_code(SdoErrc::SendFailed), "start request refused by the bus");
             return;
         }
+        // A repeated start is ignored by a server that got the first (codrive's does).
+        t.flow_sent = now;
+        deadline_ = std::min(deadline_, now + config_.block_gap_timeout);
         arm(now);
         return;
 
@@ -463,6 +577,10 @@ void SdoClient::handle_response(const Frame& frame, TimePoint now) {
 
     case ClientState::BlockDownloadAck: {
         const auto r = t.sender.on_ack(info.seqno, info.block_size);
+        if (r == BlockSender::AckResult::Repeat) {
+            ++stats_.stale_responses;
+            return;
+        }
         if (r == BlockSender::AckResult::InvalidSequence) {
             abort_and_fail(static_cast<std::uint32_t>(SdoAbort::InvalidSequence),
                            fmt::format("server acknowledged segment {} of a {}-segment sub-block",
@@ -542,6 +660,9 @@ void SdoClient::handle_block_upload_segment(const Frame& frame, TimePoint now) {
     using R = BlockReceiver::SegmentResult;
     const auto r =
         t.receiver.on_segment(info, [this](std::span<const std::uint8_t> d) { return deliver(d); });
+    if (r != R::Stale) {
+        t.flow_sent = kNever; // the sub-block asked for is coming
+    }
     switch (r) {
     case R::InvalidSequence:
         abort_and_fail(static_cast<std::uint32_t>(SdoAbort::InvalidSequence),
@@ -557,12 +678,16 @@ void SdoClient::handle_block_upload_segment(const Frame& frame, TimePoint now) {
         return;
     case R::Stored:
     case R::Skipped:
+        if (r == R::Stored) {
+            remember_response(frame);
+        }
         t.done = t.receiver.received();
         t.gap_activity = now;
         deadline_ = std::min(deadline_, now + config_.block_gap_timeout);
         arm(now);
         return;
     case R::SubBlockDone:
+        remember_response(frame);
         t.done = t.receiver.received();
         report_progress();
         send_block_upload_ack(now);
@@ -574,14 +699,24 @@ void SdoClient::send_block_upload_ack(TimePoint now, bool early) {
     Transfer& t = *active_;
     const std::uint8_t ackseq = t.receiver.ackseq();
     const bool complete = t.receiver.complete();
+    t.block_size = t.receiver.next_block_size(
+        std::clamp<std::uint8_t>(t.options.block_size, 1, kMaxBlockSize));
     t.receiver.start_sub_block(t.block_size, early);
     t.gap_activity = kNever;
     if (complete) {
         t.state = ClientState::BlockUploadEnd;
     }
-    if (!send(make_block_upload_ack(ackseq, t.block_size))) {
+    t.flow_frame = make_block_upload_ack(ackseq, t.block_size);
+    if (!send(t.flow_frame)) {
         fail(make_error_code(SdoErrc::SendFailed), "sub-block response refused by the bus");
         return;
+    }
+    // Repeating a response is safe only when the server can tell the copy from a new response:
+    // successive responses differ when the block size alternates (BlockReceiver::next_block_size).
+    const bool alternating = t.options.block_size > 1;
+    t.flow_sent = !complete && alternating ? now : kNever;
+    if (t.flow_sent != kNever) {
+        deadline_ = std::min(deadline_, now + config_.block_gap_timeout);
     }
     arm(now);
 }
@@ -659,7 +794,7 @@ TimePoint SdoClient::next_deadline() const {
 
 void SdoClient::reschedule() {
     if (!active_) {
-        deadline_ = kNever;
+        deadline_ = deferred_start_ ? deadline_ : kNever;
         return;
     }
     const Transfer& t = *active_;
@@ -667,10 +802,17 @@ void SdoClient::reschedule() {
     if (t.gap_activity != kNever) {
         deadline_ = std::min(deadline_, t.gap_activity + config_.block_gap_timeout);
     }
+    if (t.flow_sent != kNever) {
+        deadline_ = std::min(deadline_, t.flow_sent + config_.block_gap_timeout);
+    }
 }
 
 void SdoClient::on_tick(TimePoint now) {
     const DispatchScope scope(dispatch_now_, now);
+    if (deferred_start_ && !active_) {
+        deferred_start_ = false;
+        start_next(now);
+    }
     if (active_) {
         Transfer& t = *active_;
         if (t.state == ClientState::BlockUploadData && t.gap_activity != kNever &&
@@ -679,6 +821,12 @@ void SdoClient::on_tick(TimePoint now) {
             // sequence so the server repeats the rest (CiA 301 §7.2.4.3.14).
             ++stats_.early_acks;
             send_block_upload_ack(now, /*early=*/true);
+        } else if (t.state == ClientState::BlockUploadData && t.flow_sent != kNever &&
+                   now >= t.flow_sent + config_.block_gap_timeout && now < t.activity + t.timeout) {
+            // Nothing of the sub-block came: the response (or start) was probably lost.
+            ++stats_.acks_repeated;
+            t.flow_sent = now;
+            (void)send(t.flow_frame);
         } else if (now >= t.activity + t.timeout) {
             on_timeout(now);
         }
@@ -688,16 +836,32 @@ void SdoClient::on_tick(TimePoint now) {
 
 void SdoClient::on_timeout(TimePoint now) {
     Transfer& t = *active_;
-    const bool initiate =
-        t.state == ClientState::InitiateUpload ||
-        (t.state == ClientState::InitiateDownload && t.protocol == Protocol::Expedited);
-    if (initiate && t.retries_left > 0) {
+    // Any unanswered initiate request may be repeated: nothing has been transferred yet, and a
+    // server that did get the first one restarts the same transfer (its repeated response is
+    // ignored as a repeat, see is_repeat()).
+    if (initiate_state(t.state) && t.retries_left > 0) {
         --t.retries_left;
         ++stats_.retries;
         if (send(t.initiate)) {
             arm(now);
             return;
         }
+    }
+    if (initiate_state(t.state) && t.stray_other_object) {
+        // Only answers for another object came: client and server disagree about the transfer
+        // (CiA 301 leaves this open), so it cannot continue.
+        (void)send(make_abort(t.index, t.subindex, static_cast<std::uint32_t>(SdoAbort::General)));
+        fail(make_error_code(SdoErrc::WrongObject),
+             fmt::format("server answered for {} instead of {}",
+                         mux(t.stray_index, t.stray_subindex), mux(t.index, t.subindex)),
+             AbortOrigin::Client);
+        return;
+    }
+    if (initiate_state(t.state) && t.stray_invalid) {
+        abort_and_fail(static_cast<std::uint32_t>(SdoAbort::UnknownCommand),
+                       "no valid response to the initiate request; frames with a reserved "
+                       "command specifier came instead");
+        return;
     }
     std::string phase;
     switch (t.state) {

@@ -51,7 +51,22 @@ struct ClientTransfer {
     TimePoint activity = kNever;
     /// Last block segment of a sub-block not yet acknowledged (kNever: none pending).
     TimePoint gap_activity = kNever;
+    /// Block upload: the start or sub-block response sent last, and when, while nothing of the
+    /// sub-block it asks for has arrived (kNever: not waiting). Repeated after the gap timeout:
+    /// a lost one would otherwise stall both sides until the timeout.
+    Payload flow_frame{};
+    TimePoint flow_sent = kNever;
     Payload initiate{};
+    /// Last response accepted in this transfer: a byte-identical frame is a repeat (a CAN
+    /// controller repeats a frame after an ACK error; a fault injector duplicates it).
+    Payload last_response{};
+    bool have_last_response = false;
+    /// Initiate phase: an initiate response for another object was ignored as left over from an
+    /// earlier transfer; if no answer for our object follows, the timeout reports it.
+    bool stray_other_object = false;
+    std::uint16_t stray_index = 0;
+    std::uint8_t stray_subindex = 0;
+    bool stray_invalid = false; ///< initiate phase: a frame with a reserved command specifier
     BlockSender sender;
     BlockReceiver receiver;
 };

@@ -50,12 +50,21 @@ struct detail::ServerSession {
     TimePoint activity = kNever;
     /// Last block segment of a sub-block not yet acknowledged (kNever: none pending).
     TimePoint gap_activity = kNever;
+    /// Block download: the initiate or sub-block response sent last, and when, while nothing of
+    /// the sub-block it asks for has arrived (kNever: not waiting); repeated after the gap
+    /// timeout, since a lost one would stall both sides until the timeout.
+    Payload flow_frame{};
+    TimePoint flow_sent = kNever;
     /// Upload: the object's bytes (copied from the dictionary) or a domain reader.
     DomainReader reader;
     /// Download: collected bytes for the dictionary, or a domain writer.
     std::optional<DomainWriter> writer;
     std::vector<std::uint8_t> buffer;
     SdoAbort write_error = SdoAbort::DataTransfer;
+    /// Last request handled: a byte-identical copy is a repeat (CAN repeats a frame after an
+    /// ACK error), see is_ignorable_repeat().
+    Payload last_request{};
+    bool have_last_request = false;
     BlockSender sender;
     BlockReceiver receiver;
 };
@@ -116,6 +125,7 @@ struct Ctx {
     void idle() const {
         s.state = State::Idle;
         s.gap_activity = kNever;
+        s.flow_sent = kNever;
         s.reader = {};
         s.writer.reset();
     }
@@ -274,6 +284,19 @@ void send_sub_block(Ctx& c) {
     c.arm();
 }
 
+/// Sends a sub-block response; `waiting`: a sub-block is expected next, so the response is
+/// repeated if nothing of it arrives (only when the block size alternates, so that the client
+/// can tell the copy from a new response — BlockSender::on_ack).
+void send_flow(Ctx& c, const Payload& p, bool waiting) {
+    auto& s = c.s;
+    s.flow_frame = p;
+    (void)c.send(p);
+    s.flow_sent = waiting && c.config.block_size > 1 ? c.now : kNever;
+    if (s.flow_sent != kNever) {
+        s.deadline = std::min(s.deadline, c.now + c.config.block_gap_timeout);
+    }
+}
+
 /// Initiate upload response for an opened upload; also used by a block upload that switches
 /// protocol (size <= pst).
 void respond_upload(Ctx& c) {
@@ -301,6 +324,24 @@ void respond_upload(Ctx& c) {
     c.arm();
 }
 
+/// A request byte-identical to the previous one is a repeat of the same frame for the kinds a
+/// client never sends twice in a row on purpose: segment requests alternate the toggle bit, and
+/// start, end request and end response come once per transfer. Initiate requests are answered
+/// again (a client retries an expedited request unchanged; restarting is harmless), and two
+/// successive sub-block responses may legitimately be identical.
+bool is_ignorable_repeat(FrameKind kind) {
+    switch (kind) {
+    case FrameKind::UploadSegmentRequest:
+    case FrameKind::DownloadSegmentRequest:
+    case FrameKind::BlockUploadStart:
+    case FrameKind::BlockDownloadEndRequest:
+    case FrameKind::BlockUploadEndResponse:
+        return true;
+    default:
+        return false;
+    }
+}
+
 } // namespace
 
 bool SdoServer::on_frame(const Frame& frame, TimePoint now) {
@@ -314,6 +355,43 @@ bool SdoServer::on_frame(const Frame& frame, TimePoint now) {
     const FrameInfo info = parse_frame(frame.payload(), Sender::Client, in_block);
     ++stats_.requests;
 
+    const bool same_as_last =
+        s.have_last_request && frame.len == kFrameLen &&
+        std::equal(s.last_request.begin(), s.last_request.end(), frame.data.begin());
+    if (same_as_last && in_block &&
+        parse_frame(frame.payload(), Sender::Client).kind ==
+            FrameKind::BlockDownloadInitiateRequest) {
+        // The block download initiate request again (a repeat, or the client's retry after our
+        // response was lost): inside the sub-block it would read as a segment. Answer it again;
+        // a client that got the first answer ignores the copy.
+        ++stats_.repeats_ignored;
+        (void)c.send(s.flow_frame);
+        return true;
+    }
+    const bool repeat = !in_block && same_as_last;
+    std::copy_n(frame.data.begin(), kFrameLen, s.last_request.begin());
+    s.have_last_request = frame.len == kFrameLen;
+    // In the end phase of a block download the copy of the last segment (c bit set, no command
+    // specifier) parses as some command: a repeat of it is ignored whatever it looks like.
+    if (repeat && (is_ignorable_repeat(info.kind) || s.state == State::BlockDownloadEnd)) {
+        ++stats_.repeats_ignored;
+        return true;
+    }
+    if (info.kind == FrameKind::BlockUploadAck && s.state == State::BlockUploadEnd) {
+        // A sub-block response after the last sub-block was taken as acknowledged: a repeat, or
+        // the answer to a sub-block a repeated response made us send early. The data it
+        // acknowledges is already confirmed; the end frame is on its way.
+        ++stats_.repeats_ignored;
+        return true;
+    }
+
+    if (info.kind == FrameKind::Abort && s.state != State::Idle &&
+        (info.index != s.index || info.subindex != s.sub)) {
+        // CiA 301 §7.2.4.3.17: an abort names the transfer it ends. One for another object is
+        // left over from an earlier transfer (or a late block segment that looks like one).
+        ++stats_.repeats_ignored;
+        return true;
+    }
     if (info.kind == FrameKind::Abort) {
         ++stats_.aborts_received;
         c.cancel_writer();
@@ -464,7 +542,11 @@ bool SdoServer::on_frame(const Frame& frame, TimePoint now) {
         s.block_size = config_.block_size;
         s.receiver.reset(s.block_size);
         s.state = State::BlockDownloadData;
-        (void)c.send(make_block_download_initiate_response(s.index, s.sub, s.crc, s.block_size));
+        s.flow_frame = make_block_download_initiate_response(s.index, s.sub, s.crc, s.block_size);
+        (void)c.send(s.flow_frame);
+        // A client that got it ignores a repeat (an initiate response in mid-transfer is late).
+        s.flow_sent = now;
+        s.deadline = std::min(s.deadline, now + config_.block_gap_timeout);
         c.arm();
         return true;
     }
@@ -473,6 +555,9 @@ bool SdoServer::on_frame(const Frame& frame, TimePoint now) {
         using R = BlockReceiver::SegmentResult;
         const auto r = s.receiver.on_segment(
             info, [&c](std::span<const std::uint8_t> d) { return write_data(c, d); });
+        if (r != BlockReceiver::SegmentResult::Stale) {
+            s.flow_sent = kNever; // the sub-block asked for is coming
+        }
         switch (r) {
         case R::InvalidSequence:
             c.abort(SdoAbort::InvalidSequence);
@@ -500,9 +585,10 @@ bool SdoServer::on_frame(const Frame& frame, TimePoint now) {
         if (s.receiver.complete()) {
             s.state = State::BlockDownloadEnd;
         }
+        s.block_size = s.receiver.next_block_size(config_.block_size);
         s.receiver.start_sub_block(s.block_size);
         s.gap_activity = kNever;
-        (void)c.send(make_block_download_ack(ackseq, s.block_size));
+        send_flow(c, make_block_download_ack(ackseq, s.block_size), !s.receiver.complete());
         c.arm();
         return true;
     }
@@ -577,6 +663,10 @@ bool SdoServer::on_frame(const Frame& frame, TimePoint now) {
             return true;
         }
         const auto r = s.sender.on_ack(info.seqno, info.block_size);
+        if (r == BlockSender::AckResult::Repeat) {
+            ++stats_.repeats_ignored;
+            return true;
+        }
         if (r == BlockSender::AckResult::InvalidSequence) {
             c.abort(SdoAbort::InvalidSequence);
             return true;
@@ -618,11 +708,19 @@ void SdoServer::on_tick(TimePoint now) {
         // The sub-block stalled, most likely because its last segment was lost: acknowledge
         // what arrived in sequence so the client repeats the rest (CiA 301 §7.2.4.3.10).
         const std::uint8_t ackseq = s.receiver.ackseq();
+        s.block_size = s.receiver.next_block_size(config_.block_size);
         s.receiver.start_sub_block(s.block_size, /*early=*/true);
         s.gap_activity = kNever;
         ++stats_.early_acks;
-        (void)c.send(make_block_download_ack(ackseq, s.block_size));
+        send_flow(c, make_block_download_ack(ackseq, s.block_size), true);
         c.arm();
+    } else if (s.state == State::BlockDownloadData && s.flow_sent != kNever &&
+               now >= s.flow_sent + config_.block_gap_timeout &&
+               now < s.activity + config_.timeout) {
+        // Nothing of the sub-block came: the response was probably lost.
+        ++stats_.acks_repeated;
+        s.flow_sent = now;
+        (void)c.send(s.flow_frame);
     } else if (s.state != State::Idle && now >= s.activity + config_.timeout) {
         ++stats_.timeouts;
         c.abort(SdoAbort::Timeout);
@@ -634,6 +732,9 @@ void SdoServer::on_tick(TimePoint now) {
     s.deadline = s.activity + config_.timeout;
     if (s.gap_activity != kNever) {
         s.deadline = std::min(s.deadline, s.gap_activity + config_.block_gap_timeout);
+    }
+    if (s.flow_sent != kNever) {
+        s.deadline = std::min(s.deadline, s.flow_sent + config_.block_gap_timeout);
     }
 }
 

@@ -47,9 +47,9 @@ int run(const Options& o) {
             std::fprintf(stderr, "codrive-sim: %s\n", err.c_str());
             return 2;
         }
-        if (!s.profile->can) {
+        if (!s.profile->can()) {
             std::fprintf(stderr, "codrive-sim: node %u: %s has no CAN interface (EtherCAT only)\n",
-                         s.node, s.profile->name.c_str());
+                         s.node, std::string(s.profile->name()).c_str());
             return 2;
         }
         for (const auto& other : specs) {
@@ -119,7 +119,7 @@ int run(const Options& o) {
         std::filesystem::create_directories(o.eds_dir, ec);
         for (const auto& d : devices) {
             const std::string path =
-                fmt::format("{}/node{}-{}.eds", o.eds_dir, d->node(), d->profile().name);
+                fmt::format("{}/node{}-{}.eds", o.eds_dir, d->node(), d->profile().name());
             if (auto r = save_eds(d->describe(), path); !r) {
                 std::fprintf(stderr, "codrive-sim: node %u: cannot write %s: %s\n", d->node(),
                              path.c_str(), r.error().message().c_str());

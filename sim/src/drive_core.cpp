@@ -13,10 +13,11 @@ using cia::Command;
 using cia::State;
 
 DriveCore::DriveCore(ObjectDictionary& od, const SimProfile& profile, unsigned axis,
-                     MachineConfig machine)
+                     std::optional<MachineConfig> machine)
     : od_(od), profile_(profile), axis_(axis), motor_([&] {
-          machine.counts_per_rev = profile.counts_per_rev;
-          return machine;
+          MachineConfig m = machine.value_or(profile.machine);
+          m.counts_per_rev = profile.counts_per_rev;
+          return m;
       }()) {
     install_objects();
     od_.on_write(index(obj::kControlword),
@@ -39,7 +40,7 @@ DriveCore::DriveCore(ObjectDictionary& od, const SimProfile& profile, unsigned a
                  [this](std::uint16_t, std::uint8_t,
                         std::span<const std::uint8_t> d) -> tl::expected<void, SdoAbort> {
                      const auto v = d.size() >= 2 ? get_le<std::int16_t>(d.data()) : -1000;
-                     const auto& o = profile_.quick_stop_options;
+                     const auto o = profile_.quick_stop_options();
                      if (std::find(o.begin(), o.end(), v) == o.end()) {
                          return tl::unexpected(SdoAbort::InvalidValue);
                      }
@@ -58,7 +59,7 @@ DriveCore::DriveCore(ObjectDictionary& od, const SimProfile& profile, unsigned a
 }
 
 std::uint16_t DriveCore::index(std::uint16_t base) const {
-    return static_cast<std::uint16_t>(base + axis_ * profile_.axis_offset);
+    return static_cast<std::uint16_t>(base + axis_ * profile_.axis_offset());
 }
 
 std::uint16_t DriveCore::mfr_index(std::uint16_t base) const {
@@ -94,7 +95,7 @@ double DriveCore::halt_decel() const {
     if (mode_ == static_cast<std::int8_t>(cia::Mode::Homing)) {
         return accel_param(obj::kHomingAcceleration);
     }
-    if (profile_.has_option_objects && get<std::int16_t>(obj::kHaltOption) == 2) {
+    if (profile_.has_option_objects() && get<std::int16_t>(obj::kHaltOption) == 2) {
         return accel_param(obj::kQuickStopDeceleration);
     }
     return accel_param(obj::kProfileDeceleration);
@@ -124,11 +125,12 @@ void DriveCore::power_on() {
     traj_.reset(motor_.position());
     od_.set<std::uint16_t>(index(obj::kControlword), 0, 0);
     od_.set<std::uint16_t>(index(obj::kErrorCode), 0, 0);
-    mode_ = get<std::int8_t>(obj::kModesOfOperation, 0, profile_.default_mode);
+    mode_ = get<std::int8_t>(obj::kModesOfOperation, 0, profile_.default_mode());
     set_state(State::SwitchOnDisabled);
-    if (sto_ && !profile_.sto_warning.text.empty() && profile_.sto_warning.emcy != 0) {
-        warnings_.push_back(profile_.sto_warning);
-        emit(AxisEvent::Kind::WarningRaised, profile_.sto_warning);
+    if (sto_ && profile_.sto_warning_code != 0) {
+        const FaultCode warn = profile_.fault(profile_.sto_warning_code);
+        warnings_.push_back(warn);
+        emit(AxisEvent::Kind::WarningRaised, warn);
     }
     update_outputs();
 }
@@ -209,7 +211,7 @@ void DriveCore::command(Command c) {
         }
         if (c == Command::SwitchOn) { // disable operation
             const auto opt =
-                profile_.has_option_objects ? get<std::int16_t>(obj::kDisableOperationOption) : 1;
+                profile_.has_option_objects() ? get<std::int16_t>(obj::kDisableOperationOption) : 1;
             if (opt == 0) {
                 disable_now(State::SwitchedOn); // 5
             } else {
@@ -217,7 +219,7 @@ void DriveCore::command(Command c) {
             }
         } else if (c == Command::Shutdown) {
             const auto opt =
-                profile_.has_option_objects ? get<std::int16_t>(obj::kShutdownOption) : 0;
+                profile_.has_option_objects() ? get<std::int16_t>(obj::kShutdownOption) : 0;
             if (opt == 0) {
                 disable_now(State::ReadyToSwitchOn); // 8
             } else {
@@ -293,7 +295,7 @@ void DriveCore::start_fault_reaction() {
         return; // nothing to stop: FAULT at the next step (14)
     }
     double decel = 0;
-    if (profile_.has_option_objects) {
+    if (profile_.has_option_objects()) {
         switch (get<std::int16_t>(obj::kFaultReactionOption)) {
         case 1:
             decel = accel_param(obj::kProfileDeceleration);
@@ -335,7 +337,7 @@ void DriveCore::try_fault_reset() {
     // Transition 15 only if no fault condition remains (akd2g.md §5.3, ds-bvs.md §2.2).
     if (sto_ && profile_.code_for(FaultKind::Sto).emcy != 0 &&
         std::any_of(faults_.begin(), faults_.end(),
-                    [&](const FaultCode& f) { return f.emcy == profile_.sto_fault.emcy; })) {
+                    [&](const FaultCode& f) { return f.emcy == profile_.sto_code; })) {
         return;
     }
     faults_.clear();
@@ -350,13 +352,13 @@ void DriveCore::set_sto(bool active) {
         return;
     }
     sto_ = active;
-    const FaultCode& warn = profile_.sto_warning;
+    const FaultCode warn = profile_.fault(profile_.sto_warning_code);
     if (active) {
         if (state_ == State::OperationEnabled || state_ == State::QuickStopActive ||
             state_ == State::SwitchedOn || stop_.active) {
             // Torque is cut while the axis was powered: the STO fault (AKD2G F9000).
             const bool was_enabled = enabled();
-            raise_fault(profile_.sto_fault, true);
+            raise_fault(profile_.code_for(FaultKind::Sto), true);
             if (was_enabled) {
                 stop_ = {}; // STO removes torque at once: no ramp
                 set_state(State::FaultReactionActive);
@@ -388,14 +390,14 @@ void DriveCore::inject(FaultKind kind) {
         set_sto(true);
         break;
     case FaultKind::OverCurrent:
-        raise_fault(profile_.over_current);
+        raise_fault(profile_.code_for(FaultKind::OverCurrent));
         break;
     case FaultKind::FollowingError:
-        raise_fault(profile_.following_error);
+        raise_fault(profile_.code_for(FaultKind::FollowingError));
         break;
     case FaultKind::HeartbeatLoss:
         if (profile_.heartbeat_loss_is_fault) {
-            raise_fault(profile_.heartbeat_loss);
+            raise_fault(profile_.code_for(FaultKind::HeartbeatLoss));
         } else {
             abort_connection(od_.get<std::int16_t>(0x6007, 0).value_or(0));
         }
@@ -410,7 +412,7 @@ void DriveCore::abort_connection(std::int16_t option) {
     // 6007h (CiA 402): 1 fault signal, 2 disable voltage, 3 quick stop.
     switch (option) {
     case 1:
-        raise_fault(profile_.heartbeat_loss);
+        raise_fault(profile_.code_for(FaultKind::HeartbeatLoss));
         break;
     case 2:
         command(Command::DisableVoltage);
@@ -436,7 +438,7 @@ void DriveCore::enter_mode(std::int8_t mode) {
     torque_demand_ = 0;
     csp_last_target_ = static_cast<double>(get<std::int32_t>(obj::kTargetPosition));
     csp_since_change_ = 0;
-    csp_velocity_ = 0;
+    csp_segment_time_ = csp_period_; // no segment running: hold 607Ah
     pp_target_ = motor_.position();
 }
 
@@ -500,7 +502,7 @@ void DriveCore::monitor_following_error(double dt) {
                                 ? get<std::uint16_t>(obj::kFollowingErrorTimeout)
                                 : 0;
     if (exceeded && ferr_time_ * 1000.0 >= static_cast<double>(timeout_ms)) {
-        raise_fault(profile_.following_error);
+        raise_fault(profile_.code_for(FaultKind::FollowingError));
     }
 }
 
@@ -685,23 +687,27 @@ void DriveCore::run_csp(double dt) {
                           static_cast<double>(get<std::int32_t>(obj::kPositionOffset));
     csp_since_change_ += dt;
     if (target != csp_last_target_) {
-        // The set-point rate gives the velocity feed-forward for the interpolation.
-        csp_velocity_ = (target - csp_last_target_) / std::max(csp_since_change_, dt);
+        // CiA 402 CSP: a set-point is where the axis is to be one cycle later. Interpolate from
+        // where the interpolation stands now to the new set-point over the measured set-point
+        // period, so a late or early set-point costs at most one period of lag and never
+        // accumulates (a fixed-rate interpolation fell further behind with every irregular
+        // cycle of a loaded machine, and overshot with its feed-forward when it caught up).
+        csp_period_ = std::clamp(csp_since_change_, dt, 0.1);
+        csp_from_ = traj_.position();
         csp_last_target_ = target;
         csp_since_change_ = 0;
-    } else if (csp_since_change_ > 0.1) {
-        csp_velocity_ = 0;
+        csp_segment_time_ = 0;
     }
-    // Linear interpolation toward the latest set-point at the set-point rate.
-    double pos = traj_.position();
-    const double step = csp_velocity_ * dt;
-    if (std::abs(target - pos) <= std::abs(step) || csp_velocity_ == 0) {
-        pos = target;
-    } else {
-        pos += step;
+    csp_segment_time_ += dt;
+    double pos = target;
+    double feed_forward = 0;
+    if (csp_segment_time_ < csp_period_) {
+        const double f = csp_segment_time_ / csp_period_;
+        pos = csp_from_ + (target - csp_from_) * f;
+        feed_forward = (target - csp_from_) / csp_period_;
     }
-    traj_.set({pos, csp_velocity_});
-    motor_.follow_position(pos, csp_velocity_, dt);
+    traj_.set({pos, feed_forward});
+    motor_.follow_position(pos, feed_forward, dt);
 }
 
 void DriveCore::update_outputs() {
@@ -723,7 +729,7 @@ void DriveCore::update_outputs() {
     if (!warnings_.empty()) {
         s |= sw::kWarning;
     }
-    if (profile_.sto_bit8 && sto_) {
+    if (profile_.drive->quirks.sto_in_statusword_bit8 && sto_) {
         s |= sw::kManufacturer8;
     }
     s |= sw::kRemote;
@@ -804,7 +810,8 @@ void DriveCore::update_outputs() {
             break;
         }
     }
-    if (profile_.ds_bvs_objects && !profile_.akd2g_objects && profile_.name == "ds-bvs" && homed_) {
+    if (profile_.ds_bvs_objects && !profile_.akd2g_objects && profile_.name() == "ds-bvs" &&
+        homed_) {
         s |= 1U << 15; // DS-BVS §5.8.2: position referenced to home
     }
     statusword_ = s;

@@ -85,39 +85,38 @@ void DriveCore::install_objects() {
     using DT = DataType;
     const auto rw = Access::Rw;
     const auto ro = Access::Ro;
-    const bool fio = p.name == "fio";
+    const bool fio = p.name() == "fio";
     const auto vel = [&p](std::uint32_t v) { return static_cast<std::int64_t>(v); };
 
     in.var(obj::kErrorCode, "Error code", DT::Unsigned16, ro, 'T', 0);
     in.var(obj::kControlword, "Controlword", DT::Unsigned16, rw, 'R', 0);
     in.var(obj::kStatusword, "Statusword", DT::Unsigned16, ro, 'T', 0);
-    {
-        auto& s = in.var(obj::kQuickStopOption, "Quick stop option code", DT::Integer16, rw, '-',
-                         p.quick_stop_default);
-        in.range(s, p.quick_stop_options.front(), p.quick_stop_options.back());
+    // Option codes (605Ah..605Eh, 6007h): which exist, defaults and ranges from the profile.
+    const auto objects = drives::device_objects(*p.drive, 1);
+    const auto option = [&](std::uint16_t base) {
+        for (const auto& o : objects) {
+            if (o.index == base && o.subindex == 0) {
+                auto& s = in.var(base, std::string(o.name), o.type, o.access, '-', o.default_value);
+                if (o.has_limits) {
+                    in.range(s, o.low, o.high);
+                }
+                return;
+            }
+        }
+    };
+    option(obj::kQuickStopOption);
+    if (p.has_option_objects()) {
+        for (std::uint16_t base : {obj::kShutdownOption, obj::kDisableOperationOption,
+                                   obj::kHaltOption, obj::kFaultReactionOption}) {
+            option(base);
+        }
     }
-    if (p.has_option_objects) {
-        in.range(in.var(obj::kShutdownOption, "Shutdown option code", DT::Integer16, rw, '-',
-                        p.shutdown_default),
-                 0, 1);
-        in.range(in.var(obj::kDisableOperationOption, "Disable operation option code",
-                        DT::Integer16, rw, '-', p.disable_operation_default),
-                 0, 1);
-        in.range(
-            in.var(obj::kHaltOption, "Halt option code", DT::Integer16, rw, '-', p.halt_default),
-            fio ? 1 : 0, 2);
-        in.range(in.var(obj::kFaultReactionOption, "Fault reaction option code", DT::Integer16, rw,
-                        '-', p.fault_reaction_default),
-                 fio ? 1 : 0, fio ? 2 : 0);
+    if (axis_ == 0) {
+        option(0x6007); // abort connection: one per device
     }
-    if (p.has_abort_connection && axis_ == 0) {
-        in.range(in.var(0x6007, "Abort connection option code", DT::Integer16, rw, '-',
-                        p.abort_connection_default),
-                 fio ? -1 : 0, 3);
-    }
-    in.var(obj::kModesOfOperation, "Modes of operation", DT::Integer8, rw, 'R', p.default_mode);
+    in.var(obj::kModesOfOperation, "Modes of operation", DT::Integer8, rw, 'R', p.default_mode());
     in.var(obj::kModesOfOperationDisplay, "Modes of operation display", DT::Integer8, ro, 'T',
-           p.default_mode);
+           p.default_mode());
     if (p.ds_bvs_objects) {
         in.var(obj::kPositionDemand, "Position demand value", DT::Integer32, ro, fio ? 'T' : '-',
                0);
@@ -215,9 +214,8 @@ void DriveCore::install_objects() {
     if (p.has_supported_homing_object) {
         std::vector<SubObject> subs;
         std::uint8_t si = 1;
-        for (const auto& m : p.homing_methods) {
-            subs.push_back(
-                make_sub(si++, "Supported homing method", DT::Integer16, ro, '-', m.method));
+        for (const std::int8_t m : p.drive->homing_methods) {
+            subs.push_back(make_sub(si++, "Supported homing method", DT::Integer16, ro, '-', m));
         }
         in.record(0x60E3, "Supported homing methods", ObjectCode::Array, std::move(subs));
     }
@@ -229,7 +227,7 @@ void DriveCore::install_objects() {
     in.var(obj::kDigitalInputs, "Digital inputs", DT::Unsigned32, ro, 'T', 0);
     in.var(obj::kTargetVelocity, "Target velocity", DT::Integer32, rw, 'R', 0);
     in.var(obj::kSupportedDriveModes, "Supported drive modes", DT::Unsigned32,
-           p.ds_bvs_objects ? Access::Const : ro, '-', p.supported_modes);
+           p.ds_bvs_objects ? Access::Const : ro, '-', p.supported_modes());
 
     if (p.akd2g_objects) {
         // Manufacturer axis objects: axis 2 at +0x100 (akd2g.md §4).

@@ -5,6 +5,7 @@
 
 #include <codrive/sim/drive_core.hpp>
 #include <codrive/sim/profile.hpp>
+#include <codrive/sim/sim_device.hpp>
 
 #include <codrive/ethercat/mailbox.hpp>
 #include <codrive/ethercat/sii.hpp>
@@ -159,6 +160,12 @@ public:
             });
             core_->power_on();
         }
+        // 1000h as the master-side profile expects it (FIO: servo + stepper 0x00060192), so
+        // drives::match_identity() finds the same profile over CoE as the drive would give.
+        if (profile != nullptr && profile->drive != nullptr &&
+            profile->drive->identity.device_type != 0) {
+            device_type_ = profile->drive->identity.device_type;
+        }
         build(def, serial);
     }
     [[nodiscard]] bool uses_drive_core() const { return core_ != nullptr; }
@@ -176,12 +183,15 @@ public:
             return;
         }
         if (core_) {
-            // DriveCore integrates with small fixed steps; split long gaps.
-            constexpr double kMaxStep = 0.001;
-            while (dt > 1e-9) {
-                const double h = std::min(dt, kMaxStep);
-                core_->step(h);
-                dt -= h;
+            // DriveCore runs in fixed 1 ms steps, as in the CAN simulator (SimDeviceConfig::step).
+            // Stepping it by the gaps between frames instead (tens of µs between the frames of
+            // one cycle, then a whole period) made the reported 606Ch the speed over the last
+            // tiny step — about 82 % of the true speed — so PV never reached its window.
+            constexpr double kStep = 0.001;
+            pending_ += dt;
+            while (pending_ >= kStep) {
+                core_->step(kStep);
+                pending_ -= kStep;
             }
             return;
         }
@@ -320,7 +330,7 @@ private:
     }
 
     void build(const DriveDef& def, std::uint32_t serial) {
-        od_.add_var(0x1000, "Device type", DataType::Unsigned32, Access::Ro, u32(0x00020192));
+        od_.add_var(0x1000, "Device type", DataType::Unsigned32, Access::Ro, u32(device_type_));
         od_.add_var(0x1001, "Error register", DataType::Unsigned8, Access::Ro, u8(0), true);
         od_.add_var(0x1008, "Manufacturer device name", DataType::VisibleString, Access::Const,
                     Value::from_string(def.name));
@@ -462,6 +472,13 @@ private:
         }
         od_.add_var(kScratchStringIndex, "Simulator scratch string", DataType::VisibleString,
                     Access::Rw, Value::from_string("codrive"));
+        if (core_) {
+            add_control_object();
+            // DriveCore owns 6040h/6041h (its controlword hook runs the CiA 402 state machine);
+            // installing the built-in hooks here would replace it and run a second, diverging
+            // state machine on the same objects.
+            return;
+        }
         od_.on_write(0x6040,
                      [this](std::uint16_t, std::uint8_t,
                             std::span<const std::uint8_t> d) -> tl::expected<void, SdoAbort> {
@@ -473,6 +490,36 @@ private:
                      });
         od_.on_read(0x6041, [this](std::uint16_t, std::uint8_t, SubObject&) { apply_cw(); });
         update_statusword();
+    }
+
+    /// The simulation control object of the CAN simulator (kControlObject, sim_device.hpp), so
+    /// tests inject faults the same way over CoE as over CANopen SDO.
+    void add_control_object() {
+        od_.add_sub(kControlObject,
+                    SubObject::make(0, "Number of entries", DataType::Unsigned8, Access::Ro,
+                                    u8(kControlFollowingError)),
+                    "Simulation control");
+        od_.add_sub(kControlObject, SubObject::make(kControlSto, "STO input active",
+                                                    DataType::Unsigned8, Access::Rw, u8(0)));
+        od_.add_sub(kControlObject, SubObject::make(kControlOverCurrent, "Inject over-current",
+                                                    DataType::Unsigned8, Access::Rw, u8(0)));
+        od_.add_sub(kControlObject,
+                    SubObject::make(kControlFollowingError, "Inject following error",
+                                    DataType::Unsigned8, Access::Rw, u8(0)));
+        od_.find(kControlObject)->code = ObjectCode::Record;
+        od_.on_write(kControlObject,
+                     [this](std::uint16_t, std::uint8_t sub,
+                            std::span<const std::uint8_t> d) -> tl::expected<void, SdoAbort> {
+                         const bool on = !d.empty() && d[0] != 0;
+                         if (sub == kControlSto) {
+                             core_->set_sto(on);
+                         } else if (sub == kControlOverCurrent && on) {
+                             core_->inject(FaultKind::OverCurrent);
+                         } else if (sub == kControlFollowingError && on) {
+                             core_->inject(FaultKind::FollowingError);
+                         }
+                         return {};
+                     });
     }
 
     // The write hook runs before the value is stored; apply the controlword on the next access.
@@ -494,6 +541,8 @@ private:
     std::uint16_t pending_cw_ = 0;
     bool has_cw_ = false;
     TimePoint last_{};
+    double pending_ = 0;                     ///< seconds not yet stepped (DriveCore)
+    std::uint32_t device_type_ = 0x00020192; ///< CiA 402 drive
     std::vector<emcy::EmcyMessage> emergencies_;
 };
 

@@ -20,8 +20,9 @@ constexpr std::int64_t kHopNs = 500; // simulated per-slave forwarding delay for
 
 bool read_only_register(std::uint32_t a) {
     return a < 0x0010 || (a >= 0x0110 && a < 0x0112) || (a >= 0x0130 && a < 0x0140) ||
-           (a >= 0x0800 && a < 0x0880 && (a - 0x0800) % 8 == 5) || (a >= 0x0900 && a < 0x0910) ||
-           (a >= 0x0918 && a < 0x0920) || (a >= 0x092C && a < 0x0930);
+           (a >= 0x0800 && a < 0x0880 && ((a - 0x0800) % 8 == 5 || (a - 0x0800) % 8 == 7)) ||
+           (a >= 0x0900 && a < 0x0910) || (a >= 0x0918 && a < 0x0920) ||
+           (a >= 0x092C && a < 0x0930);
 }
 
 bool overlaps(std::uint32_t a, std::size_t len, std::uint32_t b, std::size_t blen) {
@@ -141,6 +142,8 @@ void EscSlave::after_sm_read(std::uint16_t addr, std::size_t len) {
         const std::uint32_t last = s.start + s.length - 1U;
         if (last >= addr && last < addr + len) {
             mailbox_out_full_ = false;
+            last_read_ = std::move(sm1_message_);
+            sm1_message_.clear();
             set_sm_status(n, 0);
             load_mailbox_out();
         }
@@ -397,6 +400,9 @@ void EscSlave::on_al_control(std::uint16_t value) {
         mailbox_in_full_ = false;
         mailbox_out_full_ = false;
         outbox_.clear();
+        sm1_message_.clear();
+        last_read_.clear();
+        last_request_counter_ = 0; // a new master session starts counting again
         set_sm_status(0, 0);
         set_sm_status(1, 0);
     }
@@ -415,8 +421,36 @@ void EscSlave::load_mailbox_out() {
     outbox_.pop_front();
     msg.resize(s1.length, 0);
     std::memcpy(mem_.data() + s1.start, msg.data(), msg.size());
+    sm1_message_ = std::move(msg);
     mailbox_out_full_ = true;
     set_sm_status(1, SyncManager::kStatusMailboxFull);
+}
+
+void EscSlave::serve_mailbox_repeat() {
+    // The application's side of the repeat protocol (ETG.1000.4 §6.7.2): on a toggled repeat
+    // request write the last message the master read into SM1 again; a newer one waiting there
+    // goes back to the head of the queue. Then acknowledge with the same toggle.
+    const auto act = static_cast<std::uint16_t>(reg::sm(1) + SyncManager::kActivateOffset);
+    const auto pdi = static_cast<std::uint16_t>(reg::sm(1) + SyncManager::kPdiControlOffset);
+    const bool request = (mem_[act] & SyncManager::kActivateRepeatRequest) != 0;
+    const bool ack = (mem_[pdi] & SyncManager::kPdiRepeatAck) != 0;
+    if (request == ack) {
+        return;
+    }
+    const SyncManager s1 = sm(1);
+    if (s1.enabled() && s1.length != 0 && !last_read_.empty()) {
+        if (mailbox_out_full_) {
+            outbox_.push_front(std::move(sm1_message_));
+        }
+        sm1_message_ = last_read_;
+        sm1_message_.resize(s1.length, 0);
+        std::memcpy(mem_.data() + s1.start, sm1_message_.data(), sm1_message_.size());
+        mailbox_out_full_ = true;
+        set_sm_status(1, SyncManager::kStatusMailboxFull);
+        ++mailbox_repeats_;
+    }
+    mem_[pdi] = static_cast<std::uint8_t>(request ? mem_[pdi] | SyncManager::kPdiRepeatAck
+                                                  : mem_[pdi] & ~SyncManager::kPdiRepeatAck);
 }
 
 void EscSlave::send_mailbox(std::vector<std::uint8_t> payload, MailboxType type) {
@@ -508,7 +542,16 @@ void EscSlave::after_frame(TimePoint now) {
             std::span<const std::uint8_t>(mem_).subspan(s0.start, s0.length));
         mailbox_in_full_ = false;
         set_sm_status(0, 0);
-        if (!faults_.mailbox_silent && state_ != AlState::Init) {
+        // A write the master repeated because its frame was lost carries the same counter:
+        // it was handled already (ETG.1000.6 §5.6.1, counter 0 = no duplicate detection).
+        const bool duplicate =
+            msg && msg->header.counter != 0 && msg->header.counter == last_request_counter_;
+        if (msg) {
+            last_request_counter_ = msg->header.counter;
+        }
+        if (duplicate) {
+            ++duplicate_requests_;
+        } else if (!faults_.mailbox_silent && state_ != AlState::Init) {
             if (!msg) {
                 std::vector<std::uint8_t> err{0x01, 0x00, 0x05, 0x00}; // invalid header
                 send_mailbox(std::move(err), MailboxType::Error);
@@ -522,6 +565,7 @@ void EscSlave::after_frame(TimePoint now) {
             }
         }
     }
+    serve_mailbox_repeat();
     if (state_ != AlState::Init) {
         for (const auto& e : app_->take_emergencies()) {
             send_mailbox(CoeServer::emergency(e), MailboxType::Coe);

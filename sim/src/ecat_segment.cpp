@@ -37,6 +37,21 @@ bool EcatSegment::process(std::span<std::uint8_t> frame, TimePoint now) {
     return true;
 }
 
+bool EcatSegment::carries_mailbox_answer(std::span<std::uint8_t> frame, std::size_t slave) const {
+    if (slave >= slaves_.size()) {
+        return false;
+    }
+    const EscSlave& s = *slaves_[slave];
+    const std::uint16_t station = s.station_address();
+    const std::uint16_t offset = s.sii().tx_mailbox_offset;
+    bool found = false;
+    (void)for_each_datagram(frame, [&](DatagramRef& d) {
+        found = found || (d.command == Command::Fprd && d.adp() == station && d.ado() == offset &&
+                          d.wkc() == 1);
+    });
+    return found;
+}
+
 VoidResult SegmentLink::send(std::span<const std::uint8_t> frame) {
     if (record_) {
         sent_.emplace_back(frame.begin(), frame.end());
@@ -48,6 +63,13 @@ VoidResult SegmentLink::send(std::span<const std::uint8_t> frame) {
     }
     std::vector<std::uint8_t> f(frame.begin(), frame.end());
     if (segment_.process(f, clock_.now())) {
+        if (lose_answers_ > 0 && segment_.carries_mailbox_answer(f, lose_slave_)) {
+            spare_next_ = !spare_next_;
+            if (spare_next_) {
+                --lose_answers_;
+                return {};
+            }
+        }
         pending_.push_back(std::move(f));
     }
     return {};

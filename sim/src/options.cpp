@@ -65,8 +65,9 @@ bool parse_node_spec(std::string_view text, NodeSpec& out, std::string& error) {
                             text, rest);
         return false;
     }
-    if (axes > p->max_axes) {
-        error = fmt::format("node spec '{}': {} has at most {} axis", text, p->name, p->max_axes);
+    if (axes > p->max_axes()) {
+        error =
+            fmt::format("node spec '{}': {} has at most {} axis", text, p->name(), p->max_axes());
         return false;
     }
     out = NodeSpec{static_cast<NodeId>(*id), p, axes};

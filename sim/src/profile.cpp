@@ -2,6 +2,8 @@
 // The built-in simulated drive models (AKD2G, DS-BVS, FIO), from the specs in shared/specs.
 #include <codrive/sim/profile.hpp>
 
+#include <fmt/format.h>
+
 #include <algorithm>
 
 namespace codrive::sim {
@@ -41,28 +43,74 @@ bool parse_fault_kind(std::string_view text, FaultKind& out) {
 }
 
 const HomingMethod* SimProfile::find_homing(std::int8_t method) const {
-    auto it = std::find_if(homing_methods.begin(), homing_methods.end(),
+    const auto& listed = drive->homing_methods;
+    if (std::find(listed.begin(), listed.end(), method) == listed.end()) {
+        return nullptr;
+    }
+    auto it = std::find_if(homing_behaviour.begin(), homing_behaviour.end(),
                            [method](const HomingMethod& m) { return m.method == method; });
-    return it == homing_methods.end() ? nullptr : &*it;
+    return it == homing_behaviour.end() ? nullptr : &*it;
 }
 
-bool SimProfile::accepts_mode(std::int8_t mode) const {
-    return std::find(accepted_modes.begin(), accepted_modes.end(), mode) != accepted_modes.end();
+std::int64_t SimProfile::object_default(std::uint16_t index, std::uint8_t sub,
+                                        std::int64_t fallback) const {
+    for (const auto& o : drives::device_objects(*drive, 1)) {
+        if (o.index == index && o.subindex == sub) {
+            return o.default_value;
+        }
+    }
+    return fallback;
 }
 
-const FaultCode& SimProfile::code_for(FaultKind k) const {
+FaultCode SimProfile::fault(std::uint16_t code) const {
+    FaultCode f;
+    f.emcy = code;
+    f.text = drive->fault_text(code);
+    if (f.text.empty()) {
+        f.text = fmt::format("error code 0x{:04X}", code);
+    }
+    const drives::FaultRow* row = drive->fault(code);
+    // 1001h bit 0 (generic) is set with every error (CiA 301 §7.5.2.2); AKD2G uses no other.
+    // Codes the profile's table does not give a register for get the bit of their CiA 301
+    // error class: current, voltage, temperature, communication, manufacturer.
+    std::uint8_t bits = row != nullptr ? row->error_register : 0;
+    if (bits == 0) {
+        switch (code >> 12) {
+        case 0x2:
+            bits = 0x02;
+            break;
+        case 0x3:
+            bits = 0x04;
+            break;
+        case 0x4:
+            bits = 0x08;
+            break;
+        case 0xF:
+            bits = 0x80;
+            break;
+        default:
+            bits = (code >> 8) == 0x81 ? 0x10 : 0x00;
+            break;
+        }
+    }
+    f.error_register =
+        static_cast<std::uint8_t>(0x01 | (error_register_generic_only ? 0x00 : bits));
+    return f;
+}
+
+FaultCode SimProfile::code_for(FaultKind k) const {
     switch (k) {
     case FaultKind::Sto:
-        return sto_fault;
+        return fault(sto_code);
     case FaultKind::OverCurrent:
-        return over_current;
+        return fault(over_current_code);
     case FaultKind::FollowingError:
-        return following_error;
+        return fault(following_error_code);
     case FaultKind::HeartbeatLoss:
     case FaultKind::NodeReset:
         break;
     }
-    return heartbeat_loss;
+    return fault(heartbeat_loss_code);
 }
 
 namespace {
@@ -75,11 +123,9 @@ HomingMethod hm(std::int8_t method, HomingRef ref, std::int8_t dir, bool index, 
 // Kollmorgen AKD2G, CAN option "C" (akd2g.md; [M] manual, [STD] CiA fill-ins).
 SimProfile make_akd2g() {
     SimProfile p;
-    p.name = "akd2g";
+    p.drive = &drives::akd2g_profile();
     p.vendor_name = "Kollmorgen";
     p.product_name = "AKD2G";
-    p.device_type = 0x00020192;         // §5.2.1
-    p.vendor_id = 0x0000006A;           // §5.2.16
     p.product_code_1_axis = 0x11110100; // bit fields of §2.8: family 1, HW 1, 1 axis, SIL2
     p.product_code_2_axes = 0x11210100; // 2 axes
     p.revision = 0x03010000;            // byte 3 = FW minor, byte 2 = map revision
@@ -87,12 +133,8 @@ SimProfile make_akd2g() {
     p.hw_version = "A";
     p.sw_version = "02-03-01-001 (codrive-sim)";
     p.default_axes = 2;
-    p.max_axes = 2;
-    p.axis_offset = 0x800;                         // §4: axis 2 = index + 0x800
-    p.supported_modes = 0xAD;                      // 6502h §5.5
-    p.accepted_modes = {-2, -1, 1, 3, 4, 6, 8, 9}; // CSV accepted although 6502h omits it (AMB-13)
-    p.default_mode = 8;                            // not stated; CSP is what a CAN master will use
-    p.homing_methods = {
+    p.power_on_mode = 8; // not stated in the manual; CSP is what a CAN master will use
+    p.homing_behaviour = {
         hm(-4, HomingRef::HomeSwitch, 1, false, -1,
            "reference switch fast, home on switch slow, positive"),
         hm(-3, HomingRef::HomeSwitch, -1, false, 1,
@@ -112,9 +154,6 @@ SimProfile make_akd2g() {
         hm(35, HomingRef::CurrentPosition, 1, false, 0, "current position"),
     };
     p.default_homing_method = 35;
-    p.quick_stop_options = {1, 2, 5, 6}; // §5.4
-    p.quick_stop_default = 2;
-    p.has_option_objects = false; // no 605Bh..605Eh (§5.4)
     p.quick_stop_ignored_in_pt = true;
     p.counts_per_rev = 65536; // 6092h feed 65536/1 (§5.11)
     p.velocity_in_rpm = false;
@@ -132,19 +171,17 @@ SimProfile make_akd2g() {
     p.homing_acceleration = 6553600;
     p.akd2g_objects = true;
     p.has_interpolation_period = true;
-    p.sto_bit8 = true;
-    p.sto_fault = {0xFF0B, 0x01, "F9000 Safe torque off"};
-    p.sto_warning = {0xFF0C, 0x01, "W9000 Safe torque off"};
-    p.over_current = {0xFF07, 0x01, "F2002 Output over current"};
-    p.following_error = {0x8611, 0x01, "F6001 Following error magnitude fault"};
-    p.heartbeat_loss = {0x8130, 0x01, "F7002 Fieldbus Heartbeat lost"};
+    p.sto_code = 0xFF0B;
+    p.sto_warning_code = 0xFF0C;
+    p.over_current_code = 0xFF07;
+    p.following_error_code = 0x8611;
+    p.heartbeat_loss_code = 0x8130;
     p.heartbeat_loss_is_fault = true;
     p.error_register_generic_only = true; // §5.2.2
     p.has_error_history_1003 = true;
     p.rpdo_default_type = 0xFF; // AMB-9
     p.tpdo_default_type = 0xFF;
     p.default_can_maps = true; // AMB-10 suggestion
-    p.max_mapped_entries = 8;
     p.node_guarding = true;
     p.has_sync_objects = true;
     return p;
@@ -153,10 +190,9 @@ SimProfile make_akd2g() {
 // DINGS DS-BVS/BVM (ds-bvs.md).
 SimProfile make_ds_bvs() {
     SimProfile p;
-    p.name = "ds-bvs";
+    p.drive = &drives::ds_bvs_profile();
     p.vendor_name = "DINGS Motion";
     p.product_name = "DS-BVS";
-    p.device_type = 0x00020192;
     p.vendor_id = 0x00444D53;           // not in the manual: sim choice ("DMS")
     p.product_code_1_axis = 0x42565331; // not in the manual: sim choice ("BVS1")
     p.product_code_2_axes = 0x42565331;
@@ -165,11 +201,7 @@ SimProfile make_ds_bvs() {
     p.hw_version = "1.0";
     p.sw_version = "1.1 (codrive-sim)";
     p.default_axes = 1;
-    p.max_axes = 1;
-    p.supported_modes = 0x3AF; // 6502h
-    p.accepted_modes = {1, 3, 6, 8, 9, 10, -8, -9, -10, -12, -128};
-    p.default_mode = 3; // PVM
-    p.homing_methods = {
+    p.homing_behaviour = {
         hm(37, HomingRef::CurrentPosition, 1, false, 0, "actual position"),
         hm(27, HomingRef::HomeSwitch, -1, false, 1, "home switch, negative speed"),
         hm(23, HomingRef::HomeSwitch, 1, false, -1, "home switch, positive speed"),
@@ -181,16 +213,14 @@ SimProfile make_ds_bvs() {
     p.default_homing_method = 17;
     p.homing_moves_by_offset = true;
     p.has_supported_homing_object = true;
-    p.quick_stop_options = {0, 1, 2, 5, 6};
-    p.quick_stop_default = 6;
-    p.has_option_objects = true;
-    p.shutdown_default = 0;
-    p.disable_operation_default = 1;
-    p.halt_default = 1;
-    p.fault_reaction_default = 0;
-    p.has_abort_connection = true;
-    p.abort_connection_default = 0;
     p.counts_per_rev = 500; // 608Fh:01 default, treated as counts (spec §7)
+    // At 500 increments per revolution the default machine (limit switches at ±10 rev) would
+    // leave ±5,000 increments of travel and a mechanical stop at 5,250: a 20,000-increment PP
+    // move ran into it and "stopped short". The simulated DS-BVS machine is longer.
+    p.machine.neg_limit_rev = -100;
+    p.machine.pos_limit_rev = 100;
+    p.machine.neg_stop_rev = -105;
+    p.machine.pos_stop_rev = 105;
     p.velocity_in_rpm = true;
     p.profile_velocity = 1000;
     p.profile_acceleration = 1000;
@@ -207,19 +237,17 @@ SimProfile make_ds_bvs() {
     p.homing_acceleration = 10000;
     p.ds_bvs_objects = true;
     // The manual documents no STO; its emergency input (60FDh bit 3) stands in: generic error.
-    p.sto_fault = {0x1000, 0x01, "generic error (emergency input)"};
-    p.sto_warning = {0, 0, ""};
-    p.over_current = {0x2310, 0x03, "over current"};
-    p.following_error = {0x8611, 0x21, "following error"};
-    p.heartbeat_loss = {0x8130, 0x11, "heartbeat error"}; // [S] CiA 301 code
-    p.heartbeat_loss_is_fault = false;                    // reaction per 1029h:01 and 6007h
+    p.sto_code = 0x1000;
+    p.sto_warning_code = 0;
+    p.over_current_code = 0x2310;
+    p.following_error_code = 0x8611;
+    p.heartbeat_loss_code = 0x8130;
+    p.heartbeat_loss_is_fault = false; // reaction per 1029h:01 and 6007h
     p.has_error_history_1003 = false;
     p.has_error_history_4080 = true;
-    p.pdo_cob_id_read_only = true;
     p.tpdo_no_rtr_bit = true;
     p.rpdo_default_type = 0xFF;
     p.tpdo_default_type = 0;
-    p.max_mapped_entries = 10;
     p.has_error_behaviour_1029 = true;
     return p;
 }
@@ -227,22 +255,16 @@ SimProfile make_ds_bvs() {
 // Kuhnke FIO Drive Control (kuhnke-fio.md), EtherCAT only.
 SimProfile make_fio() {
     SimProfile p;
-    p.name = "fio";
+    p.drive = &drives::fio_profile();
     p.vendor_name = "Kendrion Kuhnke";
     p.product_name = "FIO Drive Control";
-    p.device_type = 0x00060192;
-    p.vendor_id = 0x0048554B;
     p.product_code_1_axis = 0x0002BA67;
     p.product_code_2_axes = 0x0002BA67;
     p.revision = 0;
     p.device_name = "FIO Drive Control";
     p.hw_version = "1";
     p.sw_version = "V2039 (codrive-sim)";
-    p.can = false;
-    p.supported_modes = 0x3AF;
-    p.accepted_modes = {-2, -1, 1, 2, 3, 4, 6, 8, 9, 10};
-    p.default_mode = 0;
-    p.homing_methods = {
+    p.homing_behaviour = {
         hm(1, HomingRef::LimitSwitch, -1, true, 0, "negative limit switch and index"),
         hm(2, HomingRef::LimitSwitch, 1, true, 0, "positive limit switch and index"),
     };
@@ -250,7 +272,7 @@ SimProfile make_fio() {
     // the positive side, 5/6 and 21/22 on the negative side, 7-14 and 23-30 narrow switch with
     // reversal at a limit switch. The simulated switch is the region [2, 3] rev.
     const auto add = [&p](int m, std::int8_t dir, bool index, std::int8_t edge, const char* text) {
-        p.homing_methods.push_back(
+        p.homing_behaviour.push_back(
             hm(static_cast<std::int8_t>(m), HomingRef::HomeSwitch, dir, index, edge, text));
     };
     for (int m : {3, 4}) {
@@ -271,9 +293,9 @@ SimProfile make_fio() {
     for (int m : {13, 14}) {
         add(m, -1, true, -1, "home switch, reversal at LS-, index");
     }
-    p.homing_methods.push_back(
+    p.homing_behaviour.push_back(
         hm(17, HomingRef::LimitSwitch, -1, false, 0, "negative limit switch"));
-    p.homing_methods.push_back(
+    p.homing_behaviour.push_back(
         hm(18, HomingRef::LimitSwitch, 1, false, 0, "positive limit switch"));
     for (int m : {19, 20}) {
         add(m, 1, false, -1, "home switch (positive side)");
@@ -293,41 +315,33 @@ SimProfile make_fio() {
     for (int m : {29, 30}) {
         add(m, -1, false, -1, "home switch, reversal at LS-");
     }
-    p.homing_methods.push_back(
+    p.homing_behaviour.push_back(
         hm(33, HomingRef::IndexPulse, -1, true, 0, "next index pulse, negative"));
-    p.homing_methods.push_back(
+    p.homing_behaviour.push_back(
         hm(34, HomingRef::IndexPulse, 1, true, 0, "next index pulse, positive"));
-    p.homing_methods.push_back(hm(35, HomingRef::CurrentPosition, 1, false, 0, "current position"));
+    p.homing_behaviour.push_back(
+        hm(35, HomingRef::CurrentPosition, 1, false, 0, "current position"));
     // Homing on block: the mechanical block replaces the limit switch. -1/-2 and -17/-18 home
     // on the block itself; -7..-14 and -23..-30 search the home switch and reverse at the block
     // (the simulated stops lie just beyond the limit switches, so they behave as 7..14, 23..30).
-    p.homing_methods.push_back(hm(-1, HomingRef::HardStop, -1, false, 0, "block, negative"));
-    p.homing_methods.push_back(hm(-2, HomingRef::HardStop, 1, false, 0, "block, positive"));
-    p.homing_methods.push_back(
+    p.homing_behaviour.push_back(hm(-1, HomingRef::HardStop, -1, false, 0, "block, negative"));
+    p.homing_behaviour.push_back(hm(-2, HomingRef::HardStop, 1, false, 0, "block, positive"));
+    p.homing_behaviour.push_back(
         hm(-17, HomingRef::HardStop, -1, false, 0, "block, negative, no index"));
-    p.homing_methods.push_back(
+    p.homing_behaviour.push_back(
         hm(-18, HomingRef::HardStop, 1, false, 0, "block, positive, no index"));
-    const std::size_t switch_methods = p.homing_methods.size();
+    const std::size_t switch_methods = p.homing_behaviour.size();
     for (std::size_t i = 0; i < switch_methods; ++i) {
-        const HomingMethod m = p.homing_methods[i];
+        const HomingMethod m = p.homing_behaviour[i];
         if (m.ref == HomingRef::HomeSwitch &&
             ((m.method >= 7 && m.method <= 14) || (m.method >= 23 && m.method <= 30))) {
             HomingMethod b = m;
             b.method = static_cast<std::int8_t>(-m.method);
             b.text = m.text + " (block instead of limit switch)";
-            p.homing_methods.push_back(b);
+            p.homing_behaviour.push_back(b);
         }
     }
     p.default_homing_method = 35;
-    p.quick_stop_options = {0, 1, 2, 5, 6};
-    p.quick_stop_default = 1;
-    p.has_option_objects = true;
-    p.shutdown_default = 1;
-    p.disable_operation_default = 1;
-    p.halt_default = 1;
-    p.fault_reaction_default = 2;
-    p.has_abort_connection = true;
-    p.abort_connection_default = -1;
     p.counts_per_rev = 3600; // 60A8h default: 0.1 degree
     p.velocity_in_rpm = true;
     p.profile_velocity = 500;
@@ -345,10 +359,10 @@ SimProfile make_fio() {
     p.homing_acceleration = 500;
     p.ds_bvs_objects = true; // 6062h, 6067h/6068h, 6080h, 6085h, 6086h, 608Fh exist too
     p.has_interpolation_period = true;
-    p.sto_fault = {0x1000, 0x01, "generic error (power cut-off)"};
-    p.over_current = {0x2300, 0x03, "current at controller output too high (error number 02h)"};
-    p.following_error = {0x8611, 0x21, "following error (error number 0Dh)"};
-    p.heartbeat_loss = {0x8000, 0x11, "fieldbus error (error number 04h)"};
+    p.sto_code = 0x1000;
+    p.over_current_code = 0x2300;
+    p.following_error_code = 0x8611;
+    p.heartbeat_loss_code = 0x8000;
     p.heartbeat_loss_is_fault = false;
     p.has_error_history_1003 = true;
     return p;

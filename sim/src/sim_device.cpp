@@ -35,7 +35,7 @@ using WriteResult = tl::expected<void, SdoAbort>;
 SimDevice::SimDevice(ICanBus& bus, SimDeviceConfig config) : bus_(bus), config_(config) {
     const SimProfile& p = *config_.profile;
     unsigned n = config_.axes == 0 ? p.default_axes : config_.axes;
-    n = std::clamp(n, 1U, p.max_axes);
+    n = std::clamp(n, 1U, p.max_axes());
     for (unsigned a = 0; a < n; ++a) {
         axes_.push_back(std::make_unique<DriveCore>(od_, p, a, config_.machine));
         axes_.back()->set_event_handler([this](const AxisEvent& e) { on_axis_event(e); });
@@ -75,7 +75,7 @@ nmt::NmtState SimDevice::nmt_state() const {
 }
 
 std::string SimDevice::summary() const {
-    return fmt::format("node {} {} ({} {})", config_.node, config_.profile->name, axes_.size(),
+    return fmt::format("node {} {} ({} {})", config_.node, config_.profile->name(), axes_.size(),
                        axes_.size() == 1 ? "axis" : "axes");
 }
 
@@ -224,7 +224,7 @@ void SimDevice::install_hooks() {
             if (d.size() < 4 || get_le<std::uint32_t>(d.data()) != kLoadSignature) {
                 return tl::unexpected(SdoAbort::DataTransfer);
             }
-            if (config_.profile->name == "ds-bvs" &&
+            if (config_.profile->name() == "ds-bvs" &&
                 nmt_->state() != nmt::NmtState::PreOperational) {
                 return tl::unexpected(SdoAbort::DataTransferState); // ds-bvs.md §4.1
             }
@@ -288,7 +288,7 @@ void SimDevice::install_hooks() {
 }
 
 void SimDevice::save() {
-    const bool volatile_maps = config_.profile->name == "akd2g"; // akd2g.md §2.9
+    const bool volatile_maps = config_.profile->drive->quirks.pdo_maps_volatile; // akd2g.md §2.9
     for (const auto& [index, o] : od_.objects()) {
         if (volatile_maps &&
             ((index >= 0x1600 && index <= 0x1603) || (index >= 0x1A00 && index <= 0x1A03))) {
@@ -491,12 +491,12 @@ void SimDevice::heartbeat_lost() {
     if (p.heartbeat_loss_is_fault) {
         // AKD2G: F7002 "Fieldbus Heartbeat lost" (EMCY 8130h) faults the axes.
         for (auto& a : axes_) {
-            a->raise_fault(p.heartbeat_loss);
+            a->raise_fault(p.code_for(FaultKind::HeartbeatLoss));
         }
         return;
     }
     // DS-BVS: EMCY 8130h with 1001h bit 4, NMT reaction 1029h:01, drive reaction 6007h.
-    raise_error(p.heartbeat_loss, -1, false);
+    raise_error(p.code_for(FaultKind::HeartbeatLoss), -1, false);
     const auto behaviour = od_.get<std::uint8_t>(0x1029, 1).value_or(1);
     if (behaviour == 0 && nmt_->state() == nmt::NmtState::Operational) {
         nmt_->enter(nmt::NmtState::PreOperational);
@@ -511,7 +511,7 @@ void SimDevice::heartbeat_lost() {
 
 void SimDevice::heartbeat_recovered() {
     if (!config_.profile->heartbeat_loss_is_fault) {
-        clear_errors(-1, false, config_.profile->heartbeat_loss.emcy);
+        clear_errors(-1, false, config_.profile->heartbeat_loss_code);
     }
 }
 

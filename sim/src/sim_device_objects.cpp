@@ -3,6 +3,7 @@
 #include <codrive/sim/sim_device.hpp>
 
 #include <codrive/core/cob_id.hpp>
+#include <codrive/drives/canopen_transport.hpp>
 #include <codrive/pdo/od_objects.hpp>
 #include <codrive/pdo/quirks.hpp>
 
@@ -39,20 +40,10 @@ Object record(std::uint16_t index, std::string name, ObjectCode code, std::vecto
     return o;
 }
 
-pdo::PdoQuirks quirks_for(const SimProfile& p) {
-    if (p.name == "akd2g") {
-        return pdo::quirks::akd2g();
-    }
-    if (p.name == "ds-bvs") {
-        return pdo::quirks::ds_bvs();
-    }
-    return pdo::quirks::standard();
-}
-
 } // namespace
 
 pdo::PdoQuirks sim_pdo_quirks(const SimProfile& p) {
-    return quirks_for(p);
+    return drives::pdo_quirks(*p.drive); // the same PDO quirks the master configures with
 }
 
 void SimDevice::build_objects() {
@@ -60,7 +51,7 @@ void SimDevice::build_objects() {
     const NodeId node = config_.node;
     using DT = DataType;
     od_.add_var(0x1000, "Device type", DT::Unsigned32, Access::Ro,
-                u(DT::Unsigned32, p.device_type));
+                u(DT::Unsigned32, p.device_type()));
     od_.add_var(0x1001, "Error register", DT::Unsigned8, Access::Ro, u(DT::Unsigned8, 0), true);
     if (p.has_error_history_1003) {
         std::vector<SubObject> subs;
@@ -77,7 +68,7 @@ void SimDevice::build_objects() {
         od_.add_var(0x1006, "Communication cycle period", DT::Unsigned32, Access::Rw,
                     u(DT::Unsigned32, 0));
     }
-    const Access string_access = p.name == "ds-bvs" ? Access::Const : Access::Ro;
+    const Access string_access = p.name() == "ds-bvs" ? Access::Const : Access::Ro;
     od_.add_var(0x1008, "Manufacturer device name", DT::VisibleString, string_access,
                 Value::from_string(p.device_name));
     od_.add_var(0x1009, "Manufacturer hardware version", DT::VisibleString, string_access,
@@ -101,7 +92,7 @@ void SimDevice::build_objects() {
     const std::uint32_t product =
         axes_.size() > 1 || config_.axes > 1 ? p.product_code_2_axes : p.product_code_1_axis;
     od_.insert(record(0x1018, "Identity object", ObjectCode::Record,
-                      {sub(1, "Vendor-ID", DT::Unsigned32, Access::Ro, p.vendor_id),
+                      {sub(1, "Vendor-ID", DT::Unsigned32, Access::Ro, p.identity_vendor_id()),
                        sub(2, "Product code", DT::Unsigned32, Access::Ro, product),
                        sub(3, "Revision number", DT::Unsigned32, Access::Ro, p.revision),
                        sub(4, "Serial number", DT::Unsigned32, Access::Ro, 0x00510000U + node)}));
@@ -128,25 +119,27 @@ void SimDevice::build_objects() {
     }
 
     // PDO communication and mapping objects, shaped by the profile's PDO quirks.
-    const pdo::PdoQuirks q = quirks_for(p);
+    const pdo::PdoQuirks q = sim_pdo_quirks(p);
     std::vector<pdo::PdoConfig> preset;
     if (p.default_can_maps) {
-        // AKD2G: the manual gives no CAN default maps (AMB-10); the simulator offers
-        // RPDO1/TPDO1 for axis 1 and RPDO2/TPDO2 for axis 2 (the spec's suggestion).
-        using pdo::MappingEntry;
-        for (unsigned a = 0; a < axes_.size(); ++a) {
-            const auto off = static_cast<std::uint16_t>(a * p.axis_offset);
-            preset.push_back(
-                pdo::rpdo(a + 1,
-                          {MappingEntry{static_cast<std::uint16_t>(0x6040 + off), 0, 16},
-                           MappingEntry{static_cast<std::uint16_t>(0x607A + off), 0, 32}},
-                          p.rpdo_default_type));
-            auto t = pdo::tpdo(a + 1,
-                               {MappingEntry{static_cast<std::uint16_t>(0x6041 + off), 0, 16},
-                                MappingEntry{static_cast<std::uint16_t>(0x6064 + off), 0, 32}},
-                               p.tpdo_default_type);
-            t.comm.inhibit_time = 100; // 10 ms: event TPDOs of a moving axis stay readable
-            preset.push_back(std::move(t));
+        // AKD2G: the manual gives no CAN default maps (AMB-10); the simulator offers the
+        // profile's CSP layout, RPDO1/TPDO1 for axis 1 and RPDO2/TPDO2 for axis 2.
+        if (const drives::ModeLayout* l =
+                p.drive->layout(drives::cia402::Mode::CyclicSyncPosition)) {
+            for (unsigned a = 0; a < axes_.size(); ++a) {
+                const auto entries = [&](std::span<const drives::PdoEntry> es) {
+                    std::vector<pdo::MappingEntry> m;
+                    for (const auto& e : es) {
+                        m.push_back({p.drive->axis_index(e.index, a + 1), e.subindex, e.bits});
+                    }
+                    return m;
+                };
+                const unsigned number = l->first_pdo + a + 1;
+                preset.push_back(pdo::rpdo(number, entries(l->rx), p.rpdo_default_type));
+                auto t = pdo::tpdo(number, entries(l->tx), p.tpdo_default_type);
+                t.comm.inhibit_time = 100; // 10 ms: event TPDOs of a moving axis stay readable
+                preset.push_back(std::move(t));
+            }
         }
     }
     pdo::PdoObjectDefaults defaults;
@@ -171,7 +164,7 @@ void SimDevice::build_objects() {
 DeviceDescription SimDevice::describe() const {
     const SimProfile& p = *config_.profile;
     DeviceDescription d;
-    d.file_info.file_name = p.name + "-node" + std::to_string(config_.node) + ".eds";
+    d.file_info.file_name = std::string(p.name()) + "-node" + std::to_string(config_.node) + ".eds";
     d.file_info.file_version = "1";
     d.file_info.file_revision = "0";
     d.file_info.eds_version = "4.0";
@@ -179,11 +172,11 @@ DeviceDescription SimDevice::describe() const {
         "codrive-sim " + p.product_name + " (" + std::to_string(axes_.size()) + " axes), simulated";
     d.file_info.created_by = "codrive-sim";
     d.device_info.vendor_name = p.vendor_name;
-    d.device_info.vendor_number = p.vendor_id;
+    d.device_info.vendor_number = p.identity_vendor_id();
     d.device_info.product_name = p.product_name;
     d.device_info.product_number = od_.get<std::uint32_t>(0x1018, 2).value_or(0);
     d.device_info.revision_number = p.revision;
-    d.device_info.baud_rates = p.name == "ds-bvs"
+    d.device_info.baud_rates = p.name() == "ds-bvs"
                                    ? std::vector<unsigned>{20, 50, 125, 250, 500, 1000}
                                    : std::vector<unsigned>{125, 250, 500, 1000};
     d.device_info.simple_boot_up_slave = true;

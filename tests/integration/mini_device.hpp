@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: Apache-2.0
 // A minimal CANopen device for integration tests: object dictionary, SDO server, NMT slave,
-// heartbeat producer and EMCY producer on one virtual bus endpoint.
+// heartbeat producer, EMCY producer and a SYNC-driven TPDO on one virtual bus endpoint.
 #pragma once
 
 #include <codrive/core/object_dictionary.hpp>
@@ -8,6 +8,8 @@
 #include <codrive/emcy/producer.hpp>
 #include <codrive/nmt/heartbeat_producer.hpp>
 #include <codrive/nmt/slave.hpp>
+#include <codrive/pdo/device.hpp>
+#include <codrive/pdo/od_objects.hpp>
 #include <codrive/sdo/server.hpp>
 
 #include <algorithm>
@@ -31,6 +33,13 @@ inline constexpr std::uint16_t kScratch = 0x2100;
 inline constexpr std::uint16_t kReference = 0x2200;
 inline constexpr std::array<std::size_t, 9> kReferenceSizes{0,   1,    4,    7,    100,
                                                             889, 1000, 8192, 65536};
+
+/// Object 2300h: a u32 the device counts up on every SYNC, mapped into TPDO1 (180h + node,
+/// transmission type 1: one TPDO after every SYNC while operational).
+inline constexpr std::uint16_t kSyncCounter = 0x2300;
+[[nodiscard]] inline pdo::PdoConfig counter_tpdo() {
+    return pdo::tpdo(1, {{kSyncCounter, 0, 32}}, 1);
+}
 
 /// Deterministic content, different per size, so a mixed-up transfer cannot pass.
 inline std::vector<std::uint8_t> reference_pattern(std::size_t size, std::uint32_t seed = 0) {
@@ -63,8 +72,10 @@ public:
         last_now_ = now;
         build();
         nmt_ = std::make_unique<nmt::NmtSlave>(node_);
-        nmt_->set_state_handler(
-            [this](nmt::NmtState, nmt::NmtState to) { producer_->set_state(to); });
+        nmt_->set_state_handler([this](nmt::NmtState, nmt::NmtState to) {
+            producer_->set_state(to);
+            pdo_->set_operational(to == nmt::NmtState::Operational, last_now_);
+        });
         nmt_->set_reset_handler([this](nmt::NmtCommand) { pending_reset_ = true; });
         nmt_->boot_up();
         producer_->set_period(milliseconds(0), now);
@@ -73,12 +84,13 @@ public:
     }
 
     [[nodiscard]] TimePoint next_deadline() const override {
-        return std::min(
-            {server_->next_deadline(), producer_->next_deadline(), emcy_->next_deadline()});
+        return std::min({server_->next_deadline(), producer_->next_deadline(),
+                         emcy_->next_deadline(), pdo_->next_deadline()});
     }
     void on_tick(TimePoint now) override {
         last_now_ = now;
-        for (ITimed* t : std::array<ITimed*, 3>{server_.get(), producer_.get(), emcy_.get()}) {
+        for (ITimed* t :
+             std::array<ITimed*, 4>{server_.get(), producer_.get(), emcy_.get(), pdo_.get()}) {
             if (t->next_deadline() <= now) {
                 t->on_tick(now);
             }
@@ -88,6 +100,7 @@ public:
     [[nodiscard]] ObjectDictionary& od() { return *od_; }
     [[nodiscard]] sdo::SdoServer& server() { return *server_; }
     [[nodiscard]] emcy::EmcyProducer& emcy() { return *emcy_; }
+    [[nodiscard]] pdo::DevicePdo& pdo() { return *pdo_; }
     [[nodiscard]] nmt::HeartbeatProducer& heartbeat() { return *producer_; }
     [[nodiscard]] nmt::NmtState state() const {
         return nmt_ ? nmt_->state() : nmt::NmtState::BootUp;
@@ -115,13 +128,16 @@ private:
         into.timeouts += s.timeouts;
         into.frames_ignored += s.frames_ignored;
         into.early_acks += s.early_acks;
+        into.repeats_ignored += s.repeats_ignored;
+        into.acks_repeated += s.acks_repeated;
     }
 
     void build() {
         if (server_) {
             add(retired_stats_, server_->stats());
         }
-        server_.reset(); // the server refers to the dictionary: drop it first
+        server_.reset(); // the server and the PDO engine refer to the dictionary: drop them first
+        pdo_.reset();
         od_ = std::make_unique<ObjectDictionary>();
         ObjectDictionary& od = *od_;
         od.add_var(0x1000, "Device type", DataType::Unsigned32, Access::Ro,
@@ -153,6 +169,15 @@ private:
                                               last_now_);
                         return {};
                     });
+        od.add_var(kSyncCounter, "SYNC counter", DataType::Unsigned32, Access::Ro,
+                   Value::zero(DataType::Unsigned32), /*pdo_mappable=*/true);
+        const std::array<pdo::PdoConfig, 1> preset{counter_tpdo()};
+        pdo::PdoObjectDefaults defaults;
+        defaults.preset = preset;
+        pdo::add_pdo_objects(od, node_, pdo::PdoQuirks{}, defaults);
+        pdo::DevicePdoOptions po;
+        po.node = node_;
+        pdo_ = std::make_unique<pdo::DevicePdo>(od, bus_, po);
         sdo::ServerConfig sc;
         sc.node = node_;
         server_ = std::make_unique<sdo::SdoServer>(od, bus_, sc);
@@ -174,6 +199,14 @@ private:
         if (server_->on_frame(f, now)) {
             return;
         }
+        if (f.id == cob::kSync && !f.extended()) {
+            SubObject* counter = od_->find(kSyncCounter, 0);
+            counter->value = *Value::from_uint(
+                DataType::Unsigned32, (counter->value.as_uint().value_or(0) + 1) & 0xFFFFFFFFU);
+        }
+        if (pdo_->on_frame(f, now)) {
+            return;
+        }
         nmt_->on_frame(f, now);
         if (pending_reset_) {
             pending_reset_ = false;
@@ -188,6 +221,7 @@ private:
     std::unique_ptr<nmt::HeartbeatProducer> producer_;
     std::unique_ptr<emcy::EmcyProducer> emcy_;
     std::unique_ptr<nmt::NmtSlave> nmt_;
+    std::unique_ptr<pdo::DevicePdo> pdo_;
     sdo::ServerStats retired_stats_;
     TimePoint last_now_{};
     unsigned boots_ = 0;

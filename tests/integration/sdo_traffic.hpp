@@ -7,6 +7,8 @@
 
 #include <codrive/sdo/client.hpp>
 
+#include <fmt/format.h>
+
 #include <cstdint>
 #include <cstdio>
 #include <map>
@@ -176,6 +178,13 @@ private:
             key = buf;
         } else {
             key = e.cause.message();
+            if (e.cause == make_error_code(sdo::SdoErrc::Timeout)) {
+                // Group timeouts by protocol and phase ("block download: no response to end
+                // request"), without the byte counts.
+                const std::string phase = e.detail.substr(0, e.detail.find(" after"));
+                key += fmt::format(" ({} {}: {})", to_string(e.protocol), to_string(e.direction),
+                                   phase);
+            }
         }
         if (figures_.failed_by_cause[key]++ == 0 && figures_.sample_failures.size() < 12) {
             figures_.sample_failures.push_back(text);

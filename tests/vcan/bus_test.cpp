@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: Apache-2.0
-// SocketCanBus on real vcan: two processes, filters, error frames, transmit-queue flooding.
+// SocketCanBus on real vcan: two processes, filters, error frames, transmit-queue flooding, and
+// the event loop's direct-read fast path.
 #include <codrive/core/event_loop.hpp>
 #include <codrive/core/socket_can_bus.hpp>
 #include <codrive/testing/process.hpp>
@@ -9,6 +10,7 @@
 #include <linux/can/error.h>
 
 #include <cstdlib>
+#include <thread>
 #include <vector>
 
 using namespace codrive;
@@ -152,4 +154,75 @@ TEST(VcanBus, FloodingARateLimitedTransmitQueueLosesNothing) {
     EXPECT_EQ(stream.output().find(" 0 waited in the retry queue"), std::string::npos)
         << "the retry queue was never used, so the test proved nothing: " << stream.output();
     std::printf("%s%s", stream.output().c_str(), sink.output().c_str());
+}
+
+namespace {
+struct Ticker : ITimed {
+    TimePoint next;
+    Duration period{};
+    std::vector<TimePoint> times;
+    [[nodiscard]] TimePoint next_deadline() const override { return next; }
+    void on_tick(TimePoint now) override {
+        times.push_back(now);
+        next += period;
+    }
+};
+} // namespace
+
+TEST(VcanBus, LoneBusOnALoopReceivesInOrderAndTicksTimersOnTime) {
+    CODRIVE_REQUIRE_VCAN("vcan0");
+    // One bus is all the loop waits for: it receives through the direct-read fast path, which
+    // must neither lose frames nor let a deadline slip while frames keep coming.
+    auto loop = EventLoop::create();
+    ASSERT_TRUE(loop);
+    SocketCanOptions o;
+    o.filters = {CanFilter{0x321, 0x7FF, false, false}};
+    auto rx = open_or_fail("vcan0", o);
+    auto tx = open_or_fail("vcan0");
+    ASSERT_TRUE(rx && tx);
+    std::vector<std::uint8_t> got;
+    rx->set_frame_handler([&](const Frame& f, TimePoint) { got.push_back(f.data[0]); });
+    ASSERT_TRUE(rx->attach(**loop));
+    Ticker ticker;
+    ticker.period = 60ms;
+    ticker.next = (*loop)->now() + ticker.period;
+    const TimePoint first = ticker.next;
+    (*loop)->add_timed(&ticker);
+    constexpr int kFrames = 200;
+    std::thread sender([&] {
+        for (int i = 0; i < kFrames; ++i) {
+            (void)tx->send(Frame::make(0x321, {static_cast<std::uint8_t>(i)}));
+            std::this_thread::sleep_for(2ms);
+        }
+    });
+    const bool done =
+        (*loop)->run_until([&] { return got.size() == kFrames && ticker.times.size() >= 4; }, 20s);
+    sender.join();
+    (*loop)->remove_timed(&ticker);
+    ASSERT_TRUE(done) << got.size() << " frames, " << ticker.times.size() << " ticks";
+    for (int i = 0; i < kFrames; ++i) {
+        ASSERT_EQ(got[static_cast<std::size_t>(i)], static_cast<std::uint8_t>(i));
+    }
+    for (std::size_t i = 0; i < 4; ++i) {
+        const TimePoint due = first + ticker.period * static_cast<int>(i);
+        EXPECT_GE(ticker.times[i], due);
+        EXPECT_LT(ticker.times[i], due + 50ms) << "tick " << i << " late";
+    }
+}
+
+TEST(VcanBus, StopFromAnotherThreadEndsALoopWaitingOnALoneBus) {
+    CODRIVE_REQUIRE_VCAN("vcan0");
+    auto loop = EventLoop::create();
+    ASSERT_TRUE(loop);
+    auto rx = open_or_fail("vcan0");
+    ASSERT_TRUE(rx);
+    ASSERT_TRUE(rx->attach(**loop));
+    std::thread stopper([&] {
+        std::this_thread::sleep_for(50ms);
+        (*loop)->stop();
+    });
+    const auto t0 = std::chrono::steady_clock::now();
+    ASSERT_TRUE((*loop)->run());
+    stopper.join();
+    EXPECT_LT(std::chrono::steady_clock::now() - t0, 2s);
 }

@@ -1,21 +1,28 @@
 // SPDX-License-Identifier: Apache-2.0
 // `codrive drive`: one CiA 402 axis over SDO (no bus file needed): status, enable, disable,
-// fault reset, homing, profile position / velocity moves and jog.
+// fault reset, homing, profile position / velocity moves and jog — over CAN (`-i IFACE`) or
+// EtherCAT CoE (`--ethercat IFACE`, `-n` = slave position from 1).
 #include "cli_common.hpp"
 #include "command_registry.hpp"
+#include "ecat_session.hpp"
 
 #include <codrive/drives/axis.hpp>
 #include <codrive/drives/canopen_transport.hpp>
 #include <codrive/drives/profile.hpp>
+#include <codrive/ethercat/coe_transport.hpp>
 #include <codrive/master/master.hpp>
 
 #include <fmt/format.h>
+
+#include <functional>
+#include <thread>
 
 namespace codrive::cli {
 namespace {
 
 struct DriveArgs {
     std::string iface;
+    std::string ethercat;
     unsigned node = 0;
     unsigned axis = 1;
     std::string action;
@@ -27,77 +34,63 @@ struct DriveArgs {
     int timeout_ms = 10000;
 };
 
-int run_drive(const DriveArgs& a) {
-    if (!valid_node_id(a.node)) {
-        fmt::print(stderr, "codrive: node id must be 1..127\n");
-        return kExitUsage;
-    }
-    auto s = open_bus(a.iface);
-    if (!s) {
-        return kExitNoBus;
-    }
-    master::Master m(*s->bus, RealClock::instance());
-    s->loop->add_timed(&m);
-    const auto node = static_cast<NodeId>(a.node);
-    auto& sdo = m.sdo().client(node);
+/// What the operations need from a wire: the device's DriveTransport, how messages name the
+/// device, and the I/O loop (CAN: the event loop; EtherCAT: mailbox polling).
+struct DriveWire {
+    drives::DriveTransport* transport = nullptr;
+    std::string who; ///< "node 3", "slave 2"
+    /// Runs the I/O until pred() holds or `timeout` passes; returns pred().
+    std::function<bool(const std::function<bool()>&, Duration)> run_until;
+    /// Hands the axis to the loop (on_tick), or takes it back with nullptr.
+    std::function<void(drives::Axis*)> attach;
+};
 
-    // Identify the drive so messages and quirks come from its profile.
+/// Reads 1008h, 1000h and 1018h:1/:2 and picks the profile; nullptr (printed) without 1000h.
+const drives::Profile* identify(DriveWire& w) {
     std::optional<std::uint32_t> device_type;
     std::optional<std::uint32_t> vendor;
     std::optional<std::uint32_t> product;
     std::string error;
     std::string device_name;
     int pending = 4;
-    sdo.read<std::string>(0x1008, 0, [&](sdo::SdoResult<std::string> r) {
+    w.transport->read(0x1008, 0, [&](drives::DriveResult<drives::Bytes> r) {
         --pending;
         if (r) {
-            device_name = *r;
+            device_name.assign(r->begin(), r->end());
         }
     });
-    sdo.read<std::uint32_t>(0x1000, 0, [&](sdo::SdoResult<std::uint32_t> r) {
+    w.transport->read_as<std::uint32_t>(0x1000, 0, [&](drives::DriveResult<std::uint32_t> r) {
         --pending;
         if (r) {
             device_type = *r;
         } else {
-            error = r.error().to_string();
+            error = r.error().message;
         }
     });
-    sdo.read<std::uint32_t>(0x1018, 1, [&](sdo::SdoResult<std::uint32_t> r) {
+    w.transport->read_as<std::uint32_t>(0x1018, 1, [&](drives::DriveResult<std::uint32_t> r) {
         --pending;
         if (r) {
             vendor = *r;
         }
     });
-    sdo.read<std::uint32_t>(0x1018, 2, [&](sdo::SdoResult<std::uint32_t> r) {
+    w.transport->read_as<std::uint32_t>(0x1018, 2, [&](drives::DriveResult<std::uint32_t> r) {
         --pending;
         if (r) {
             product = *r;
         }
     });
-    s->loop->run_until([&] { return pending == 0; }, seconds(5));
+    w.run_until([&] { return pending == 0; }, seconds(5));
     if (!device_type) {
-        fmt::print(stderr, "codrive: {}\n", error.empty() ? "no answer" : error);
-        return kExitFailure;
+        fmt::print(stderr, "codrive: {}\n", error.empty() ? w.who + ": no answer" : error);
+        return nullptr;
     }
     const drives::Profile* profile =
         drives::match_identity(*device_type, vendor.value_or(0), product.value_or(0), device_name);
-    if (profile == nullptr) {
-        profile = &drives::generic_profile();
-    }
-    m.emcy().set_text_provider(node, drives::emcy_text_provider(*profile));
-    drives::CanopenTransport transport(sdo);
-    drives::AxisConfig ac;
-    ac.axis = a.axis;
-    ac.profile = profile;
-    ac.timeout = milliseconds(a.timeout_ms);
-    drives::Axis axis(transport, ac);
-    s->loop->add_timed(&axis);
-    m.set_event_handler([](const master::MasterEvent& e) {
-        if (e.kind == master::MasterEventKind::Emcy) {
-            fmt::print("{}\n", e.text);
-        }
-    });
+    return profile != nullptr ? profile : &drives::generic_profile();
+}
 
+/// The action on one axis, then one status line. Transport-neutral: the same on both wires.
+int operate(const DriveArgs& a, DriveWire& w, drives::Axis& axis, const drives::Profile& profile) {
     auto wait = [&](const std::function<void(drives::Axis::Done)>& op) -> bool {
         bool done = false;
         std::string err;
@@ -105,7 +98,7 @@ int run_drive(const DriveArgs& a) {
             done = true;
             err = r ? "" : r.error().message;
         });
-        s->loop->run_until([&] { return done; }, milliseconds(a.timeout_ms + 2000));
+        w.run_until([&] { return done; }, milliseconds(a.timeout_ms + 2000));
         if (!done) {
             err = "the operation did not finish";
         }
@@ -115,8 +108,8 @@ int run_drive(const DriveArgs& a) {
         return err.empty();
     };
 
-    if (!s->loop->run_until([&] { return axis.has_statusword(); }, seconds(3))) {
-        fmt::print(stderr, "codrive: node {} axis {}: no statusword (0x{:04X}) over SDO\n", a.node,
+    if (!w.run_until([&] { return axis.has_statusword(); }, seconds(3))) {
+        fmt::print(stderr, "codrive: {} axis {}: no statusword (0x{:04X}) over SDO\n", w.who,
                    a.axis, axis.index(0x6041));
         return kExitFailure;
     }
@@ -158,43 +151,161 @@ int run_drive(const DriveArgs& a) {
                  axis.set_mode(drives::cia402::Mode::ProfileVelocity, std::move(done));
              }) &&
              wait([&](auto done) { axis.run_velocity(a.jog_velocity, std::move(done)); });
-        s->loop->run_until(s->loop->now() + std::chrono::duration_cast<Duration>(
-                                                std::chrono::duration<double>(a.jog_s)));
+        w.run_until([] { return false; },
+                    std::chrono::duration_cast<Duration>(std::chrono::duration<double>(a.jog_s)));
         ok = ok && wait([&](auto done) { axis.run_velocity(0, std::move(done)); });
     } else if (a.action == "move") {
         fmt::print(stderr, "codrive: move needs --pp TARGET or --pv VELOCITY\n");
         return kExitUsage;
     }
-    s->loop->run_until(s->loop->now() + milliseconds(50));
-    // Without PDOs the position comes from one SDO read.
+    w.run_until([] { return false; }, milliseconds(50));
+    // Without process data the position comes from one SDO read.
     std::optional<std::int32_t> position = axis.position_actual();
     if (!position) {
         bool read_done = false;
-        sdo.read<std::int32_t>(axis.index(0x6064), 0, [&](sdo::SdoResult<std::int32_t> r) {
-            read_done = true;
-            if (r) {
-                position = *r;
-            }
-        });
-        s->loop->run_until([&] { return read_done; }, seconds(2));
+        w.transport->read_as<std::int32_t>(axis.index(0x6064), 0,
+                                           [&](drives::DriveResult<std::int32_t> r) {
+                                               read_done = true;
+                                               if (r) {
+                                                   position = *r;
+                                               }
+                                           });
+        w.run_until([&] { return read_done; }, seconds(2));
     }
-    fmt::print("node {} axis {} ({}): {}, statusword 0x{:04X}, mode {}, position {}{}\n", a.node,
-               a.axis, profile->title, drives::cia402::to_string(axis.state()), axis.statusword(),
+    fmt::print("{} axis {} ({}): {}, statusword 0x{:04X}, mode {}, position {}{}\n", w.who, a.axis,
+               profile.title, drives::cia402::to_string(axis.state()), axis.statusword(),
                axis.mode_display() ? drives::cia402::mode_name(*axis.mode_display()) : "-",
                position ? std::to_string(*position) : "-",
                axis.state() == drives::cia402::State::OperationEnabled
                    ? std::string()
                    : std::string(" — ") + axis.diagnose());
-    s->loop->remove_timed(&axis);
-    s->loop->remove_timed(&m);
     return ok ? kExitOk : kExitFailure;
+}
+
+drives::AxisConfig axis_config(const DriveArgs& a, const drives::Profile& profile) {
+    drives::AxisConfig ac;
+    ac.axis = a.axis;
+    ac.profile = &profile;
+    ac.timeout = milliseconds(a.timeout_ms);
+    return ac;
+}
+
+int run_drive_can(const DriveArgs& a) {
+    if (!valid_node_id(a.node)) {
+        fmt::print(stderr, "codrive: node id must be 1..127\n");
+        return kExitUsage;
+    }
+    auto s = open_bus(a.iface);
+    if (!s) {
+        return kExitNoBus;
+    }
+    master::Master m(*s->bus, RealClock::instance());
+    s->loop->add_timed(&m);
+    const auto node = static_cast<NodeId>(a.node);
+    drives::CanopenTransport transport(m.sdo().client(node));
+    DriveWire w;
+    w.transport = &transport;
+    w.who = fmt::format("node {}", a.node);
+    w.run_until = [&s](const std::function<bool()>& pred, Duration timeout) {
+        return s->loop->run_until(pred, timeout);
+    };
+    drives::Axis* attached = nullptr;
+    w.attach = [&s, &attached](drives::Axis* axis) {
+        if (attached != nullptr) {
+            s->loop->remove_timed(attached);
+        }
+        attached = axis;
+        if (axis != nullptr) {
+            s->loop->add_timed(axis);
+        }
+    };
+    const drives::Profile* profile = identify(w);
+    if (profile == nullptr) {
+        return kExitFailure;
+    }
+    m.emcy().set_text_provider(node, drives::emcy_text_provider(*profile));
+    drives::Axis axis(transport, axis_config(a, *profile));
+    w.attach(&axis);
+    m.set_event_handler([](const master::MasterEvent& e) {
+        if (e.kind == master::MasterEventKind::Emcy) {
+            fmt::print("{}\n", e.text);
+        }
+    });
+    const int rc = operate(a, w, axis, *profile);
+    w.attach(nullptr);
+    s->loop->remove_timed(&m);
+    return rc;
+}
+
+/// EtherCAT: the slave at position -n (from 1) in PRE-OP, the axis over CoE SDO (statusword
+/// polled, controlword written), emergencies from the mailbox.
+int run_drive_ecat(const DriveArgs& a) {
+    auto s = open_segment(a.ethercat, 1);
+    if (!s) {
+        return kExitNoBus;
+    }
+    ethercat::Master& m = *s->master;
+    const auto slave = slave_for_coe(m, a.node, 1);
+    if (!slave) {
+        return kExitFailure;
+    }
+    ethercat::CoeTransport transport(m, *slave);
+    drives::Axis* attached = nullptr;
+    DriveWire w;
+    w.transport = &transport;
+    w.who = fmt::format("slave {}", a.node);
+    w.attach = [&attached](drives::Axis* axis) { attached = axis; };
+    w.run_until = [&](const std::function<bool()>& pred, Duration timeout) {
+        const TimePoint deadline = RealClock::instance().now() + timeout;
+        while (!pred()) {
+            const TimePoint now = RealClock::instance().now();
+            if (now >= deadline) {
+                return false;
+            }
+            transport.poll();
+            m.poll_mailboxes();
+            if (attached != nullptr && attached->next_deadline() <= now) {
+                attached->on_tick(now);
+            }
+            if (transport.pending() == 0) {
+                std::this_thread::sleep_for(milliseconds(1));
+            }
+        }
+        return true;
+    };
+    const drives::Profile* profile = identify(w);
+    if (profile == nullptr) {
+        return kExitFailure;
+    }
+    const auto texts = drives::emcy_text_provider(*profile);
+    m.on_emergency([&](std::size_t from, const emcy::EmcyMessage& e) {
+        fmt::print("{}\n", m.describe_emergency(from, e, texts.get()));
+        if (attached != nullptr) {
+            attached->note_error_code(e.error_code);
+        }
+    });
+    drives::Axis axis(transport, axis_config(a, *profile));
+    w.attach(&axis);
+    const int rc = operate(a, w, axis, *profile);
+    w.attach(nullptr);
+    return rc;
+}
+
+int run_drive(const DriveArgs& a) {
+    if (a.iface.empty() == a.ethercat.empty()) {
+        fmt::print(stderr, "codrive: drive needs -i IFACE (CAN) or --ethercat IFACE\n");
+        return kExitUsage;
+    }
+    return a.ethercat.empty() ? run_drive_can(a) : run_drive_ecat(a);
 }
 
 void install_drive(CLI::App& app, int& exit_code) {
     auto a = std::make_shared<DriveArgs>();
-    auto* cmd = app.add_subcommand("drive", "Operate one CiA 402 axis over SDO");
-    cmd->add_option("-i,--iface", a->iface, "CAN interface")->required();
-    cmd->add_option("-n,--node", a->node, "Node id")->required();
+    auto* cmd = app.add_subcommand("drive", "Operate one CiA 402 axis over SDO (CAN or CoE)");
+    auto* can = cmd->add_option("-i,--iface", a->iface, "CAN interface");
+    cmd->add_option("--ethercat", a->ethercat, "EtherCAT: network interface of the segment")
+        ->excludes(can);
+    cmd->add_option("-n,--node", a->node, "Node id (EtherCAT: slave position from 1)")->required();
     cmd->add_option("--axis", a->axis, "Axis of a multi-axis drive (AKD2G: 1 or 2)")
         ->capture_default_str();
     cmd->add_option("action", a->action, "status|enable|disable|reset|home|move|jog")

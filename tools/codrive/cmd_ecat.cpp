@@ -1,11 +1,10 @@
 // SPDX-License-Identifier: Apache-2.0
 // `codrive ecat`: EtherCAT segment scan, CoE SDO read/write and state requests over a raw socket.
 #include "command_registry.hpp"
+#include "ecat_session.hpp"
 
 #include <codrive/core/data_type.hpp>
 #include <codrive/core/value.hpp>
-#include <codrive/ethercat/master.hpp>
-#include <codrive/ethercat/raw_socket_link.hpp>
 
 #include <fmt/format.h>
 
@@ -26,28 +25,6 @@ struct EcatOptions {
     std::string state;
     bool complete_access = false;
 };
-
-struct Session {
-    std::unique_ptr<RawSocketLink> link;
-    std::unique_ptr<Master> master;
-};
-
-std::optional<Session> open_segment(const std::string& iface) {
-    auto link = RawSocketLink::open(iface);
-    if (!link) {
-        fmt::print(stderr, "codrive: {}\n",
-                   RawSocketLink::describe_open_error(iface, link.error()));
-        return std::nullopt;
-    }
-    Session s;
-    s.link = std::move(*link);
-    s.master = std::make_unique<Master>(*s.link, RealClock::instance());
-    if (!s.master->scan()) {
-        fmt::print(stderr, "codrive: {}\n", s.master->last_error());
-        return std::nullopt;
-    }
-    return s;
-}
 
 int run_scan(const EcatOptions& o) {
     auto s = open_segment(o.iface);
@@ -76,17 +53,9 @@ std::optional<std::pair<std::uint16_t, std::uint8_t>> parse_object(const EcatOpt
     return std::make_pair(static_cast<std::uint16_t>(*index), static_cast<std::uint8_t>(*sub));
 }
 
+/// `codrive ecat` numbers slaves from 0 (as `-n` here counts them).
 bool to_preop(Master& m, std::size_t slave) {
-    if (slave >= m.slaves().size()) {
-        fmt::print(stderr, "codrive: there is no slave at position {} ({} found)\n", slave,
-                   m.slaves().size());
-        return false;
-    }
-    if (m.slaves()[slave].state == AlState::Init && !m.request_state(slave, AlState::PreOp)) {
-        fmt::print(stderr, "codrive: {}\n", m.last_error());
-        return false;
-    }
-    return true;
+    return slave_for_coe(m, static_cast<unsigned>(slave), 0).has_value();
 }
 
 int run_sdo_read(const EcatOptions& o) {

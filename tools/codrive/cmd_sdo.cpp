@@ -1,7 +1,9 @@
 // SPDX-License-Identifier: Apache-2.0
-// `codrive sdo read|write|serve`: SDO access from the command line (CiA 301 §7.2.4).
+// `codrive sdo read|write|serve`: SDO access from the command line (CiA 301 §7.2.4), over CAN or
+// over EtherCAT CoE (`--ethercat IFACE`, `-n` = slave position from 1).
 #include "cli_common.hpp"
 #include "command_registry.hpp"
+#include "ecat_session.hpp"
 #include "sdo_cli_format.hpp"
 #include "sdo_progress.hpp"
 #include "sdo_serve.hpp"
@@ -12,6 +14,8 @@
 #include <cstdio>
 #include <cstring>
 #include <fmt/format.h>
+#include <fstream>
+#include <iterator>
 #include <memory>
 
 namespace codrive::cli {
@@ -19,6 +23,7 @@ namespace {
 
 struct SdoOptions {
     std::string iface;
+    std::string ethercat; ///< EtherCAT interface instead of a CAN one
     std::string node;
     std::string object;
     std::string type;
@@ -38,13 +43,11 @@ struct Prepared {
     sdo::TransferOptions transfer;
 };
 
-/// Parses the common arguments and opens the bus; prints the problem and returns nullopt.
-std::optional<Prepared> prepare(const SdoOptions& o, int& exit_code, SdoProgressBar& bar) {
-    Prepared p;
-    exit_code = kExitUsage;
+/// Parses node, object, type and timeout; prints the problem and returns false.
+bool parse_args(const SdoOptions& o, Prepared& p) {
     const auto node = parse_node(o.node);
     if (!node) {
-        return std::nullopt;
+        return false;
     }
     p.node = static_cast<NodeId>(*node);
     const auto mux = parse_multiplexer(o.object);
@@ -53,7 +56,7 @@ std::optional<Prepared> prepare(const SdoOptions& o, int& exit_code, SdoProgress
                    "codrive: '{}' is not an object address: use INDEX:SUB in hex, e.g. 0x1018:1 "
                    "or 1018:01\n",
                    o.object);
-        return std::nullopt;
+        return false;
     }
     p.mux = *mux;
     if (!o.type.empty()) {
@@ -63,11 +66,21 @@ std::optional<Prepared> prepare(const SdoOptions& o, int& exit_code, SdoProgress
                        "codrive: unknown type '{}' (use u8 u16 u32 u64 i8 i16 i32 i64 f32 f64 str "
                        "hex domain)\n",
                        o.type);
-            return std::nullopt;
+            return false;
         }
     }
     if (o.timeout_ms == 0) {
         fmt::print(stderr, "codrive: --timeout must be at least 1 ms\n");
+        return false;
+    }
+    return true;
+}
+
+/// Parses the common arguments and opens the bus; prints the problem and returns nullopt.
+std::optional<Prepared> prepare(const SdoOptions& o, int& exit_code, SdoProgressBar& bar) {
+    Prepared p;
+    exit_code = kExitUsage;
+    if (!parse_args(o, p)) {
         return std::nullopt;
     }
     auto sdo = sdo::BlockingSdo::open(o.iface);
@@ -92,7 +105,131 @@ int report(const sdo::SdoError& e, SdoProgressBar& bar) {
     return kExitFailure;
 }
 
+/// Prints read bytes as --type asks (raw for domain); `who` names the node or slave.
+int print_read(const std::optional<SdoValueType>& type, const std::string& who,
+               const Multiplexer& mux, std::span<const std::uint8_t> bytes) {
+    if (!type) {
+        fmt::print("{}\n", format_untyped(bytes));
+        return kExitOk;
+    }
+    auto text = format_value(*type, bytes);
+    if (!text) {
+        fmt::print(stderr, "codrive: {}: 0x{:04X}:{:02X}: {}\n", who, mux.index, mux.subindex,
+                   text.error());
+        return kExitFailure;
+    }
+    if (*type == SdoValueType::Domain) {
+        std::fwrite(text->data(), 1, text->size(), stdout);
+    } else {
+        fmt::print("{}\n", *text);
+    }
+    return kExitOk;
+}
+
+/// The EtherCAT session of --ethercat with the slave selected by -n (a position from 1) in
+/// PRE-OP; prints the problem and returns nullopt.
+struct CoeTarget {
+    EcatSession session;
+    std::size_t slave = 0;
+};
+std::optional<CoeTarget> open_coe(const SdoOptions& o, Prepared& p, int& exit_code) {
+    exit_code = kExitUsage;
+    if (!parse_args(o, p)) {
+        return std::nullopt;
+    }
+    if (o.block) {
+        fmt::print(stderr, "codrive: --block is a CANopen SDO transfer; CoE chooses expedited, "
+                           "normal or segmented by itself\n");
+        return std::nullopt;
+    }
+    exit_code = kExitNoBus;
+    auto s = open_segment(o.ethercat, 1);
+    if (!s) {
+        return std::nullopt;
+    }
+    exit_code = kExitFailure;
+    s->master->config().mailbox_timeout = std::chrono::milliseconds(o.timeout_ms);
+    const auto slave = slave_for_coe(*s->master, p.node, 1);
+    if (!slave) {
+        return std::nullopt;
+    }
+    exit_code = kExitOk;
+    return CoeTarget{std::move(*s), *slave};
+}
+
+int run_read_coe(const SdoOptions& o) {
+    Prepared p;
+    int rc = kExitOk;
+    auto t = open_coe(o, p, rc);
+    if (!t) {
+        return rc;
+    }
+    ethercat::Master& m = *t->session.master;
+    auto data = m.sdo_upload(t->slave, p.mux.index, p.mux.subindex);
+    if (!data) {
+        fmt::print(stderr, "codrive: {}\n", m.last_error());
+        return kExitFailure;
+    }
+    if (!o.output.empty()) {
+        std::ofstream f(o.output, std::ios::binary);
+        f.write(reinterpret_cast<const char*>(data->data()),
+                static_cast<std::streamsize>(data->size()));
+        if (!f) {
+            fmt::print(stderr, "codrive: writing {} failed\n", o.output);
+            return kExitFailure;
+        }
+        return kExitOk;
+    }
+    return print_read(p.type, m.slave_label(t->slave), p.mux, *data);
+}
+
+int run_write_coe(const SdoOptions& o) {
+    Prepared p;
+    int rc = kExitOk;
+    auto t = open_coe(o, p, rc);
+    if (!t) {
+        return rc;
+    }
+    std::vector<std::uint8_t> bytes;
+    if (!o.file.empty()) {
+        std::ifstream f(o.file, std::ios::binary);
+        if (!f) {
+            fmt::print(stderr, "codrive: cannot read {}\n", o.file);
+            return kExitUsage;
+        }
+        bytes.assign(std::istreambuf_iterator<char>(f), std::istreambuf_iterator<char>());
+    } else {
+        auto b = encode_value(*p.type, o.value);
+        if (!b) {
+            fmt::print(stderr, "codrive: {}\n", b.error());
+            return kExitUsage;
+        }
+        bytes = std::move(*b);
+    }
+    ethercat::Master& m = *t->session.master;
+    if (!m.sdo_download(t->slave, p.mux.index, p.mux.subindex, bytes)) {
+        fmt::print(stderr, "codrive: {}\n", m.last_error());
+        return kExitFailure;
+    }
+    return kExitOk;
+}
+
+/// -i or --ethercat, one of them.
+bool has_wire(const SdoOptions& o) {
+    if (o.iface.empty() && o.ethercat.empty()) {
+        fmt::print(stderr, "codrive: sdo needs -i IFACE (CAN) or --ethercat IFACE\n");
+        return false;
+    }
+    return true;
+}
+
 int run_read(const SdoOptions& o) {
+    if (!has_wire(o)) {
+        return kExitUsage;
+    }
+    if (!o.ethercat.empty()) {
+        return run_read_coe(o);
+    }
     int rc = kExitOk;
     SdoProgressBar bar;
     auto p = prepare(o, rc, bar);
@@ -123,25 +260,13 @@ int run_read(const SdoOptions& o) {
         return report(r.error(), bar);
     }
     bar.finish();
-    if (!p->type) {
-        fmt::print("{}\n", format_untyped(*r));
-        return kExitOk;
-    }
-    auto text = format_value(*p->type, *r);
-    if (!text) {
-        fmt::print(stderr, "codrive: node {}: 0x{:04X}:{:02X}: {}\n", p->node, p->mux.index,
-                   p->mux.subindex, text.error());
-        return kExitFailure;
-    }
-    if (*p->type == SdoValueType::Domain) {
-        std::fwrite(text->data(), 1, text->size(), stdout);
-    } else {
-        fmt::print("{}\n", *text);
-    }
-    return kExitOk;
+    return print_read(p->type, fmt::format("node {}", p->node), p->mux, *r);
 }
 
 int run_write(const SdoOptions& o) {
+    if (!has_wire(o)) {
+        return kExitUsage;
+    }
     if (o.file.empty() == o.value.empty()) {
         fmt::print(stderr, "codrive: sdo write needs either VALUE (with --type) or --file FILE\n");
         return kExitUsage;
@@ -150,6 +275,9 @@ int run_write(const SdoOptions& o) {
         fmt::print(stderr, "codrive: sdo write VALUE needs --type T (u8 u16 u32 u64 i8 i16 i32 "
                            "i64 f32 f64 str hex domain)\n");
         return kExitUsage;
+    }
+    if (!o.ethercat.empty()) {
+        return run_write_coe(o);
     }
     int rc = kExitOk;
     SdoProgressBar bar;
@@ -183,6 +311,14 @@ int run_write(const SdoOptions& o) {
 }
 
 int run_serve(const SdoOptions& o) {
+    if (!o.ethercat.empty()) {
+        fmt::print(stderr, "codrive: sdo serve answers on CAN only (-i IFACE); the simulated "
+                           "EtherCAT slaves are codrive-ecat-sim\n");
+        return kExitUsage;
+    }
+    if (!has_wire(o)) {
+        return kExitUsage;
+    }
     const auto node = parse_node(o.node);
     if (!node) {
         return kExitUsage;
@@ -191,8 +327,12 @@ int run_serve(const SdoOptions& o) {
 }
 
 void add_common(CLI::App* cmd, SdoOptions& o) {
-    cmd->add_option("-i,--iface", o.iface, "CAN interface")->required();
-    cmd->add_option("-n,--node", o.node, "Node id 1..127")->required();
+    auto* can = cmd->add_option("-i,--iface", o.iface, "CAN interface");
+    auto* ecat = cmd->add_option("--ethercat", o.ethercat,
+                                 "EtherCAT: network interface of the segment (CoE SDO)");
+    can->excludes(ecat);
+    cmd->add_option("-n,--node", o.node, "Node id 1..127 (EtherCAT: slave position from 1)")
+        ->required();
 }
 
 void install_sdo(CLI::App& app, int& exit_code) {

@@ -112,4 +112,13 @@ std::optional<std::uint64_t> CoeTransport::get_raw(drives::CyclicHandle h) const
     return get_le_n(in.data() + s.offset, s.bytes);
 }
 
+std::optional<std::uint64_t> CoeTransport::input_count(drives::CyclicHandle h) const {
+    if (!h.valid() || static_cast<std::size_t>(h.slot) >= slots_.size() ||
+        slots_[static_cast<std::size_t>(h.slot)].output) {
+        return std::nullopt;
+    }
+    const ProcessDataStats& st = master_.stats();
+    return st.cycles - st.wkc_errors;
+}
+
 } // namespace codrive::ethercat

@@ -6,8 +6,12 @@
 #include <codrive/master/master.hpp>
 #include <codrive/sim/profile.hpp>
 #include <codrive/sim/sim_device.hpp>
+#include <codrive/testing/soak.hpp>
 
 #include <gtest/gtest.h>
+
+#include <atomic>
+#include <thread>
 
 using namespace codrive;
 using namespace codrive::controller;
@@ -140,4 +144,141 @@ TEST(Controller, BootsConfiguresPdosAndRunsCspOnBothAxes) {
     EXPECT_EQ(a2->state(), drives::cia402::State::SwitchOnDisabled);
     rig.controller->run_for(20ms);
     EXPECT_EQ(rig.drive->nmt_state(), nmt::NmtState::PreOperational);
+}
+
+namespace {
+
+int open_fds() {
+    return codrive::testing::count_dir_entries("/proc/self/fd") - 1; // minus opendir()'s own
+}
+int threads() {
+    return codrive::testing::count_dir_entries("/proc/self/task");
+}
+
+} // namespace
+
+TEST(ControllerResources, DestroyedControllerLeavesNoFileDescriptorsOrThreads) {
+    const int fds_before = open_fds();
+    const int threads_before = threads();
+    {
+        Rig rig;
+        ASSERT_TRUE(rig.start()) << rig.all_events();
+        rig.controller->run_for(50ms);
+        EXPECT_GT(open_fds(), fds_before); // the loop's epoll and timer descriptors
+    }
+    EXPECT_EQ(open_fds(), fds_before);
+    EXPECT_EQ(threads(), threads_before);
+}
+
+TEST(ControllerResources, StopRequestEndsRunWithSafeShutdownWithinOneSecond) {
+    Rig rig;
+    ASSERT_TRUE(rig.start()) << rig.all_events();
+    auto* a1 = rig.controller->axis(1, 1);
+    ASSERT_NE(a1, nullptr);
+    ASSERT_TRUE(rig.controller->run_until([&] { return a1->has_statusword(); }, 2s));
+    bool enabled = false;
+    a1->enable([&](drives::DriveVoid r) { enabled = r.has_value(); });
+    ASSERT_TRUE(rig.controller->run_until([&] { return enabled; }, 3s)) << rig.all_events();
+    std::atomic<std::int64_t> requested_ns{0};
+    std::thread stopper([&] {
+        std::this_thread::sleep_for(100ms);
+        requested_ns = SteadyClock::now().time_since_epoch().count();
+        rig.controller->request_stop();
+    });
+    rig.controller->run(); // returns after the safe shutdown
+    const auto returned = SteadyClock::now().time_since_epoch().count();
+    stopper.join();
+    const double ms = static_cast<double>(returned - requested_ns.load()) / 1e6;
+    std::printf("stop request to run() returning (single-thread mode): %.1f ms\n", ms);
+    EXPECT_LT(ms, 1000.0);
+    EXPECT_EQ(a1->state(), drives::cia402::State::SwitchOnDisabled) << rig.all_events();
+}
+
+TEST(ControllerThreading, DedicatedCyclicModeRefusesInProcessBusesWithAReason) {
+    ControllerOptions o;
+    VirtualNetwork net{RealClock::instance()};
+    o.buses = {&net.endpoint("controller")};
+    o.threading = Threading::DedicatedCyclic;
+    master::BusConfig c;
+    c.iface = "virtual";
+    std::vector<master::BusConfig> v{c};
+    auto ctl = Controller::create(std::move(v), o);
+    ASSERT_TRUE(ctl);
+    auto r = (*ctl)->start();
+    ASSERT_FALSE(r);
+    EXPECT_NE(r.error().find("DedicatedCyclic needs SocketCAN interfaces"), std::string::npos)
+        << r.error();
+}
+
+TEST(ControllerBusFile, EthercatSectionParsesNextToTheCanBus) {
+    const std::string text = "bus:\n"
+                             "  interface: vcan0\n"
+                             "ethercat:\n"
+                             "  interface: ecm0\n"
+                             "  cycle_us: 2000\n"
+                             "  slaves:\n"
+                             "    - {position: 0, name: table, profile: fio, axes: [{axis: 1, "
+                             "mode: csp}]}\n"
+                             "nodes:\n"
+                             "  - id: 1\n"
+                             "    profile: akd2g\n";
+    const auto s = split_bus_file(text, "bus.yml");
+    ASSERT_TRUE(s.errors.empty()) << s.errors.front();
+    EXPECT_TRUE(s.has_can);
+    ASSERT_TRUE(s.ethercat);
+    EXPECT_EQ(s.ethercat->iface, "ecm0");
+    EXPECT_EQ(s.ethercat->cycle_us, 2000U);
+    ASSERT_EQ(s.ethercat->slaves.size(), 1U);
+    EXPECT_EQ(s.ethercat->slaves[0].profile, "fio");
+    EXPECT_EQ(s.ethercat->slaves[0].name, "table");
+    ASSERT_EQ(s.ethercat->slaves[0].axes.size(), 1U);
+    EXPECT_EQ(s.ethercat->slaves[0].axes[0].mode, std::int8_t{8});
+    // The CAN part keeps its line numbers: `nodes:` is still on line 8.
+    auto can = master::parse_bus_config(s.can_text, "bus.yml");
+    ASSERT_TRUE(can.config) << can.to_string();
+    ASSERT_EQ(can.config->nodes.size(), 1U);
+    auto bad = master::parse_bus_config(s.can_text + "  - id: 1\n", "bus.yml");
+    ASSERT_FALSE(bad.config);
+    EXPECT_NE(bad.to_string().find("bus.yml:11:"), std::string::npos) << bad.to_string();
+}
+
+TEST(ControllerBusFile, EthercatSectionReportsEveryFindingWithItsLine) {
+    const std::string text = "ethercat:\n"
+                             "  cycle_us: 5\n"
+                             "  slaves:\n"
+                             "    - {position: 0, profile: fio, axes: [{axis: 1, mode: warp}]}\n"
+                             "    - {position: 0, profile: nosuch}\n"
+                             "    - {position: 1, profile: fio, speed: 3}\n";
+    const auto s = split_bus_file(text, "e.yml");
+    EXPECT_FALSE(s.ethercat);
+    std::string all;
+    for (const auto& e : s.errors) {
+        all += e + "\n";
+    }
+    EXPECT_NE(all.find("e.yml:1: `ethercat` needs `interface: IFACE`"), std::string::npos) << all;
+    EXPECT_NE(all.find("e.yml:2: `ethercat.cycle_us` must be"), std::string::npos) << all;
+    EXPECT_NE(all.find("e.yml:4: slave 0 axis 1: unknown mode `warp`"), std::string::npos) << all;
+    EXPECT_NE(all.find("e.yml:5: slave 0: unknown profile `nosuch`"), std::string::npos) << all;
+    EXPECT_NE(all.find("e.yml:5: slave position 0 is configured twice"), std::string::npos) << all;
+    EXPECT_NE(all.find("e.yml:6: unknown key `speed` in an EtherCAT slave"), std::string::npos)
+        << all;
+}
+
+TEST(ControllerBusFile, FileWithoutAnySectionIsRejected) {
+    const auto s = split_bus_file("foo: 1\n", "x.yml");
+    ASSERT_EQ(s.errors.size(), 1U);
+    EXPECT_NE(s.errors[0].find("neither a `bus:` (CAN) nor an `ethercat:` section"),
+              std::string::npos);
+}
+
+TEST(ControllerThreading, MissingEthercatInterfaceIsReportedByName) {
+    ControllerOptions o;
+    o.threading = Threading::DedicatedCyclic;
+    EcatSegmentConfig seg;
+    seg.iface = "nosuch0";
+    auto ctl = Controller::create({}, {seg}, o);
+    ASSERT_TRUE(ctl);
+    auto r = (*ctl)->start();
+    ASSERT_FALSE(r);
+    EXPECT_NE(r.error().find("nosuch0"), std::string::npos) << r.error();
 }

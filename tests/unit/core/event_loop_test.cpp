@@ -6,6 +6,7 @@
 
 #include <sys/epoll.h>
 #include <sys/eventfd.h>
+#include <sys/socket.h>
 #include <thread>
 #include <unistd.h>
 
@@ -86,4 +87,156 @@ TEST(EventLoop, PostFromAnotherThreadAndStop) {
     ASSERT_TRUE(l.run());
     t.join();
     EXPECT_TRUE(ran);
+}
+
+TEST(EventLoop, DeadlineMovedEarlierByAnFdHandlerIsServedInTheSameWakeUp) {
+    auto loop = EventLoop::create();
+    ASSERT_TRUE(loop);
+    EventLoop& l = **loop;
+    Periodic p;
+    p.period = std::chrono::hours(1);
+    p.next = l.now() + std::chrono::seconds(30);
+    l.add_timed(&p);
+    const int efd = eventfd(0, EFD_NONBLOCK);
+    ASSERT_TRUE(l.add_fd(efd, EPOLLIN, [&](std::uint32_t) {
+        std::uint64_t v = 0;
+        ASSERT_EQ(::read(efd, &v, sizeof(v)), 8);
+        p.next = l.now(); // due at once
+    }));
+    ASSERT_TRUE(l.poll_once(Duration::zero())); // arms the timer for the 30 s deadline
+    const std::uint64_t one = 1;
+    ASSERT_EQ(::write(efd, &one, sizeof(one)), 8);
+    ASSERT_TRUE(l.poll_once(std::chrono::seconds(1)));
+    EXPECT_EQ(p.ticks, 1);
+    l.remove_timed(&p);
+    l.remove_fd(efd);
+    ::close(efd);
+}
+
+namespace {
+
+/// A datagram socket pair whose receiving end blocks at most 10 ms: a stand-in for a CAN socket
+/// with a direct reader.
+struct DirectSocket {
+    static constexpr Duration kLimit = std::chrono::milliseconds(10);
+    DirectSocket() {
+        EXPECT_EQ(::socketpair(AF_UNIX, SOCK_DGRAM | SOCK_CLOEXEC, 0, fds), 0);
+        timeval tv{0, 10'000};
+        EXPECT_EQ(::setsockopt(fds[0], SOL_SOCKET, SO_RCVTIMEO, &tv, sizeof(tv)), 0);
+    }
+    ~DirectSocket() {
+        ::close(fds[0]);
+        ::close(fds[1]);
+    }
+    DirectSocket(const DirectSocket&) = delete;
+    DirectSocket& operator=(const DirectSocket&) = delete;
+    void send_one() const {
+        const char c = 1;
+        EXPECT_EQ(::send(fds[1], &c, 1, 0), 1);
+    }
+    /// Blocking (up to kLimit) for the first datagram, then what waits behind it.
+    std::size_t receive(int flags) {
+        std::size_t n = 0;
+        char c = 0;
+        while (::recv(fds[0], &c, 1, flags) == 1) {
+            ++n;
+            flags = MSG_DONTWAIT;
+        }
+        received += n;
+        return n;
+    }
+    void attach(EventLoop& l) {
+        ASSERT_TRUE(l.add_fd(fds[0], EPOLLIN, [this](std::uint32_t) {
+            ++epoll_wakeups;
+            receive(MSG_DONTWAIT);
+        }));
+        ASSERT_TRUE(l.set_direct_reader(
+            fds[0],
+            [this] {
+                ++direct_reads;
+                return EventLoop::DirectRead{receive(0), std::nullopt};
+            },
+            kLimit));
+    }
+    int fds[2] = {-1, -1};
+    std::size_t received = 0;
+    int epoll_wakeups = 0;
+    int direct_reads = 0;
+};
+
+} // namespace
+
+TEST(EventLoop, LoneSocketWithDirectReaderIsReadWithoutEpoll) {
+    auto loop = EventLoop::create();
+    ASSERT_TRUE(loop);
+    DirectSocket s;
+    s.attach(**loop);
+    std::thread sender([&] {
+        for (int i = 0; i < 20; ++i) {
+            s.send_one();
+            std::this_thread::sleep_for(std::chrono::milliseconds(1));
+        }
+    });
+    EXPECT_TRUE((*loop)->run_until([&] { return s.received == 20; }, std::chrono::seconds(5)));
+    sender.join();
+    EXPECT_GT(s.direct_reads, 0);
+    EXPECT_EQ(s.epoll_wakeups, 0);
+}
+
+TEST(EventLoop, TimersFireOnTimeWhileTheDirectReaderWaits) {
+    auto loop = EventLoop::create();
+    ASSERT_TRUE(loop);
+    DirectSocket s;
+    s.attach(**loop);
+    Periodic p;
+    p.period = std::chrono::milliseconds(60); // more than two block limits: fast path between
+    p.next = (*loop)->now() + p.period;
+    const TimePoint first = p.next;
+    (*loop)->add_timed(&p);
+    ASSERT_TRUE((*loop)->run_until([&] { return p.ticks >= 3; }, std::chrono::seconds(5)));
+    for (std::size_t i = 0; i < 3; ++i) {
+        const TimePoint due = first + p.period * static_cast<int>(i);
+        EXPECT_GE(p.times[i], due);
+        EXPECT_LT(p.times[i], due + std::chrono::milliseconds(30)) << "tick " << i << " late";
+    }
+    EXPECT_GT(s.direct_reads, 0);
+    (*loop)->remove_timed(&p);
+}
+
+TEST(EventLoop, StopFromAnotherThreadEndsADirectReadWithinItsBlockLimit) {
+    auto loop = EventLoop::create();
+    ASSERT_TRUE(loop);
+    DirectSocket s;
+    s.attach(**loop);
+    std::thread stopper([&] {
+        std::this_thread::sleep_for(std::chrono::milliseconds(30));
+        (*loop)->stop();
+    });
+    const auto t0 = std::chrono::steady_clock::now();
+    ASSERT_TRUE((*loop)->run());
+    stopper.join();
+    EXPECT_LT(std::chrono::steady_clock::now() - t0, std::chrono::seconds(1));
+    EXPECT_GT(s.direct_reads, 0);
+}
+
+TEST(EventLoop, SecondFdOrPostedWorkTurnsTheDirectReaderOff) {
+    auto loop = EventLoop::create();
+    ASSERT_TRUE(loop);
+    EventLoop& l = **loop;
+    DirectSocket s;
+    s.attach(l);
+    const int efd = eventfd(0, EFD_NONBLOCK);
+    ASSERT_TRUE(l.add_fd(efd, EPOLLIN, [](std::uint32_t) {}));
+    s.send_one();
+    EXPECT_TRUE(l.run_until([&] { return s.received == 1; }, std::chrono::seconds(1)));
+    EXPECT_EQ(s.direct_reads, 0) << "two fds: the eventfd would never be seen";
+    l.remove_fd(efd);
+    ::close(efd);
+
+    bool ran = false;
+    l.post([&] { ran = true; });
+    s.send_one();
+    EXPECT_TRUE(l.run_until([&] { return ran && s.received == 2; }, std::chrono::seconds(1)));
+    EXPECT_EQ(s.direct_reads, 0) << "post() needs the wake-up eventfd watched";
+    EXPECT_EQ(s.epoll_wakeups, 2);
 }

@@ -331,6 +331,9 @@ public:
         if (!h.valid() || h.slot < 1000) {
             return std::nullopt;
         }
+        if (auto it = stalled_.find(h.slot); it != stalled_.end()) {
+            return it->second;
+        }
         const auto& [index, sub] = inputs_.at(static_cast<std::size_t>(h.slot - 1000));
         const SubObject* s = dev_.od().find(index, sub);
         if (s == nullptr) {
@@ -343,8 +346,33 @@ public:
         return v;
     }
 
+    /// Counts input receptions (one per cycle) for input_count(), as the CANopen transport does.
+    void count_inputs(bool on) { counting_ = on; }
+    /// A late TPDO: the inputs keep their current values and are not received again until
+    /// stall_inputs(false).
+    void stall_inputs(bool on) {
+        stalled_.clear();
+        if (on) {
+            for (std::size_t i = 0; i < inputs_.size(); ++i) {
+                const CyclicHandle h{static_cast<std::int32_t>(1000 + i)};
+                if (auto v = get_raw(h)) {
+                    stalled_[h.slot] = *v;
+                }
+            }
+        }
+    }
+    [[nodiscard]] std::optional<std::uint64_t> input_count(CyclicHandle h) const override {
+        if (!counting_ || !h.valid() || h.slot < 1000) {
+            return std::nullopt;
+        }
+        return received_;
+    }
+
     /// Completes all queued object accesses (callbacks may queue more: those run next time).
     void process() {
+        if (stalled_.empty()) {
+            ++received_;
+        }
         auto q = std::move(queue_);
         queue_.clear();
         for (auto& fn : q) {
@@ -383,6 +411,9 @@ private:
     std::uint64_t writes_ = 0;
     std::uint64_t cycles_ = 0;
     std::vector<std::pair<std::uint16_t, std::uint8_t>> writes_log_;
+    bool counting_ = false;
+    std::uint64_t received_ = 0;
+    std::map<std::int32_t, std::uint64_t> stalled_;
 };
 
 } // namespace codrive::drives::testing

@@ -158,6 +158,36 @@ TEST(AxisModes, ProfileVelocityAndTorqueWaitForTargetReached) {
     EXPECT_EQ(rig.dev.od().get<std::int16_t>(0x6071, 0), 250);
 }
 
+TEST(AxisModes, LateTpdoRepeatingAStaleTargetReachedDoesNotEndAVelocityChange) {
+    Rig rig(generic_profile());
+    rig.tr.count_inputs(true);
+    enabled(rig, Mode::ProfileVelocity);
+    ASSERT_TRUE(rig.run([&](auto d) { rig.axis().run_velocity(1500, d); }));
+    ASSERT_NE(rig.axis().statusword() & 0x0400, 0) << "target reached at 1500";
+    // The TPDOs stop arriving: the image keeps the statusword with bit 10 from the old target.
+    rig.tr.stall_inputs(true);
+    std::optional<DriveVoid> result;
+    rig.axis().run_velocity(0, [&](DriveVoid r) { result = std::move(r); });
+    rig.cycles(5);
+    EXPECT_FALSE(result.has_value()) << "a repeated statusword is not a new sample";
+    rig.tr.stall_inputs(false);
+    rig.cycles(5);
+    ASSERT_TRUE(result.has_value());
+    EXPECT_TRUE(result->has_value());
+    EXPECT_EQ(rig.axis().velocity_actual(), 0);
+}
+
+TEST(AxisModes, FollowingErrorActualIsReadFromTheProcessDataWhenMapped) {
+    Rig rig(akd2g_profile());
+    rig.cycles(2);
+    EXPECT_FALSE(rig.axis().following_error_actual()) << "60F4h not mapped";
+    rig.tr.map_input(0x60F4, 0);
+    rig.axis().bind();
+    ASSERT_TRUE(rig.dev.od().set<std::int32_t>(0x60F4, 0, -321));
+    rig.cycles(1);
+    EXPECT_EQ(rig.axis().following_error_actual(), -321);
+}
+
 TEST(AxisModes, HomingWritesParametersAndWaitsForAttained) {
     Rig rig(ds_bvs_profile());
     enabled(rig, Mode::Homing);

@@ -93,5 +93,23 @@ TEST_F(CoeTransportTest, AxisEnablesOverTheCyclicControlwordOnEtherCat) {
     EXPECT_EQ(t.get<std::uint16_t>(t.input(0x6041, 0)).value_or(0) & 0x6F, 0x27);
 }
 
+TEST_F(CoeTransportTest, InputCountAdvancesOnlyWithFramesWhoseInputsWereTaken) {
+    bring_up();
+    CoeTransport t(master_, 0);
+    const auto sw = t.input(0x6041, 0);
+    ASSERT_TRUE(sw.valid());
+    EXPECT_FALSE(t.input_count(t.output(0x6040, 0))); // outputs have no reception count
+    const auto before = t.input_count(sw);
+    ASSERT_TRUE(before);
+    ASSERT_TRUE(master_.exchange_process_data()) << master_.last_error();
+    EXPECT_EQ(t.input_count(sw), *before + 1);
+    link_.drop_next(1); // the LRW is lost: inputs stay as they were
+    EXPECT_FALSE(master_.exchange_process_data());
+    EXPECT_EQ(t.input_count(sw), *before + 1);
+    segment_.slave(1).faults().silent = true; // working counter short: inputs not taken
+    EXPECT_FALSE(master_.exchange_process_data());
+    EXPECT_EQ(t.input_count(sw), *before + 1);
+}
+
 } // namespace
 } // namespace codrive::ethercat

@@ -276,12 +276,112 @@ TEST(Master, NodeThatDiesBeforeItsFirstHeartbeatIsReportedLost) {
     b.run_for(500ms);
     ASSERT_TRUE(b.master.node(3)->booted());
     ASSERT_TRUE(b.has_event(MasterEventKind::HeartbeatLost));
+    // Boot-up completes on the first heartbeat reporting operational (NMT start verification);
+    // the consumer, which has seen that heartbeat, reports the loss.
     EXPECT_NE(b.event_text(MasterEventKind::HeartbeatLost)
-                  .find("node 3: heartbeat lost: none received within 150 ms after boot-up"),
+                  .find("node 3: heartbeat lost after 150 ms (consumer time 150 ms)"),
               std::string::npos)
         << b.event_text(MasterEventKind::HeartbeatLost);
     b.net.set_fault_filter(nullptr);
     b.run_for(300ms);
     EXPECT_TRUE(b.has_event(MasterEventKind::HeartbeatRecovered));
     EXPECT_FALSE(b.master.node(3)->heartbeat_lost());
+}
+
+// NMT start is unconfirmed (CiA 301 §7.2.8.3.1): a lost start frame left the node
+// pre-operational while the master reported it started. Boot-up now waits for a heartbeat
+// reporting operational and repeats the command.
+TEST(Master, LostNmtStartIsRepeatedUntilTheHeartbeatReportsOperational) {
+    Bench b;
+    b.power_on();
+    b.master.add_node(b.config());
+    int starts_sent = 0;
+    b.net.set_fault_filter([&](const std::string& sender, const Frame& f) {
+        FaultAction a;
+        if (sender == "master" && f.id == 0x000 && f.len == 2 && f.data[0] == 0x01) {
+            a.drop = ++starts_sent == 1; // the first NMT start is lost
+        }
+        return a;
+    });
+    std::optional<BootReport> report;
+    b.master.boot(3, [&](const BootReport& r) { report = r; });
+    b.run_for(100ms);
+    EXPECT_FALSE(report) << "boot-up must not report success before the node is operational";
+    EXPECT_EQ(b.device.state(), nmt::NmtState::PreOperational);
+    b.run_for(500ms);
+    ASSERT_TRUE(report);
+    EXPECT_TRUE(report->ok) << report->to_string();
+    EXPECT_EQ(starts_sent, 2);
+    EXPECT_EQ(b.device.state(), nmt::NmtState::Operational);
+    EXPECT_EQ(report->steps.back().name, "NMT start");
+    EXPECT_EQ(report->steps.back().detail,
+              "operational (confirmed by heartbeat after 2 NMT start commands)");
+    EXPECT_EQ(b.master.node(3)->state(), nmt::NmtState::Operational);
+}
+
+TEST(Master, NodeThatNeverReachesOperationalFailsBootWithASentence) {
+    Bench b;
+    b.power_on();
+    NodeConfig c = b.config();
+    c.start_retries = 2;
+    b.master.add_node(c);
+    int starts_sent = 0;
+    b.net.set_fault_filter([&](const std::string& sender, const Frame& f) {
+        FaultAction a;
+        if (sender == "master" && f.id == 0x000 && f.len == 2 && f.data[0] == 0x01) {
+            ++starts_sent;
+            a.drop = true;
+        }
+        return a;
+    });
+    std::optional<BootReport> report;
+    b.master.boot(3, [&](const BootReport& r) { report = r; });
+    b.run_for(2s);
+    ASSERT_TRUE(report);
+    EXPECT_FALSE(report->ok);
+    EXPECT_EQ(starts_sent, 3); // the first and two repeats
+    EXPECT_EQ(report->error(), "node 3: did not reach operational after 3 NMT start commands "
+                               "(150 ms apart): its heartbeat reports pre-operational");
+    EXPECT_TRUE(b.has_event(MasterEventKind::BootFailed));
+}
+
+// A node that resets during its boot-up (a power glitch, a watchdog) has lost the configuration
+// written so far: the sequence starts again from the probe instead of failing.
+TEST(Master, NodeRebootDuringBootUpRestartsTheSequence) {
+    Bench b;
+    b.power_on();
+    b.master.add_node(b.config());
+    bool reboot_due = false;
+    bool rebooted = false;
+    b.net.set_fault_filter([&](const std::string& sender, const Frame& f) {
+        FaultAction a;
+        // The write of 6060h reaches the device: it reboots instead of answering.
+        if (!reboot_due && sender == "master" && f.id == 0x603 && f.data[1] == 0x60 &&
+            f.data[2] == 0x60) {
+            reboot_due = true;
+            a.drop = true;
+        }
+        return a;
+    });
+    std::optional<BootReport> report;
+    b.master.boot(3, [&](const BootReport& r) { report = r; });
+    for (int i = 0; i < 1000 && !report; ++i) {
+        b.run_for(1ms);
+        if (reboot_due && !rebooted) {
+            rebooted = true;
+            b.device.boot(b.clock.now());
+        }
+    }
+    ASSERT_TRUE(rebooted);
+    ASSERT_TRUE(report);
+    EXPECT_TRUE(report->ok) << report->to_string();
+    bool restarted = false;
+    for (const auto& s : report->steps) {
+        restarted = restarted || (s.name == "restart" &&
+                                  s.detail.find("node 3 rebooted (boot-up message) during step "
+                                                "\"write 0x6060:00\"") == 0);
+    }
+    EXPECT_TRUE(restarted) << report->to_string();
+    EXPECT_EQ(b.device.state(), nmt::NmtState::Operational);
+    EXPECT_FALSE(b.has_event(MasterEventKind::BootFailed));
 }

@@ -140,8 +140,32 @@ TEST(SdoServer, WrongToggleInUploadAborts) {
     c.h.od.write(0x2100, 0, pattern(30));
     c.send(make_initiate_upload(0x2100, 0));
     c.send(make_upload_segment_request(false));
-    c.send(make_upload_segment_request(false)); // repeated toggle
+    c.send(make_upload_segment_request(true));
+    c.send(make_upload_segment_request(false));
+    c.send(make_upload_segment_request(false)); // a byte-identical repeat: ignored
+    EXPECT_EQ(c.h.server.stats().repeats_ignored, 1U);
+    EXPECT_EQ(c.h.server.stats().aborts_sent, 0U);
+    c.send(make_initiate_upload(0x2100, 0));
+    c.send(make_upload_segment_request(true)); // the first segment must have t=0
     EXPECT_EQ(c.last_abort(), 0x05030000U);
+}
+
+TEST(SdoServer, RepeatedRequestsAreIgnoredNotAborted) {
+    RawClient c;
+    c.h.od.write(0x2100, 0, pattern(30));
+    c.send(make_block_upload_initiate(0x2100, 0, true, 127, 0));
+    c.send(make_block_upload_start());
+    const std::size_t after_start = c.responses.size();
+    c.send(make_block_upload_start()); // repeated: no second sub-block, no abort
+    EXPECT_EQ(c.responses.size(), after_start);
+    c.send(make_block_upload_ack(5, 127)); // all 30 bytes acknowledged: end frame
+    ASSERT_EQ(c.responses.back().data[0] & 0xE3, 0xC1);
+    c.send(make_block_upload_ack(5, 127)); // a late or repeated ack after the last sub-block
+    EXPECT_EQ(c.responses.back().data[0] & 0xE3, 0xC1) << "no abort";
+    c.send(make_block_upload_end_response());
+    EXPECT_FALSE(c.h.server.busy());
+    EXPECT_EQ(c.h.server.stats().repeats_ignored, 2U);
+    EXPECT_EQ(c.h.server.stats().aborts_sent, 0U);
 }
 
 TEST(SdoServer, InvalidBlockSizeAborts) {

@@ -159,10 +159,10 @@ TEST(SimDevice, EachInjectedFaultRaisesTheProfileCode) {
         f.device.inject(0, FaultKind::OverCurrent, f.clock.now());
         f.run_ms(50);
         EXPECT_EQ(f.emcy_codes(2),
-                  (std::vector<std::uint16_t>{p.sto_fault.emcy, 0, p.following_error.emcy, 0,
-                                              p.over_current.emcy}))
+                  (std::vector<std::uint16_t>{p.sto_code, 0, p.following_error_code, 0,
+                                              p.over_current_code}))
             << name;
-        EXPECT_EQ(*f.read<std::uint16_t>(0x603F, 0), p.over_current.emcy) << name;
+        EXPECT_EQ(*f.read<std::uint16_t>(0x603F, 0), p.over_current_code) << name;
     }
 }
 
@@ -246,7 +246,7 @@ TEST(SimDevice, Akd2gDefaultPdosCarryStatuswordAndPositionWhenOperational) {
     f.run_ms(20);
     const auto tpdo = f.with_id(0x183);
     ASSERT_FALSE(tpdo.empty());
-    EXPECT_EQ(tpdo.back().len, 6);
+    EXPECT_EQ(tpdo.back().len, 7) << "the profile's CSP layout: 6041h, 6064h, 6061h";
     EXPECT_EQ(cia::decode_state(
                   static_cast<std::uint16_t>(tpdo.back().data[0] | (tpdo.back().data[1] << 8))),
               cia::State::ReadyToSwitchOn);
@@ -288,5 +288,7 @@ TEST(SimDevice, CspThroughSyncPdosFollowsSetPoints) {
     const auto& last = tpdo.back();
     EXPECT_EQ(cia::decode_state(get_le<std::uint16_t>(last.data.data())),
               cia::State::OperationEnabled);
-    EXPECT_NEAR(get_le<std::int32_t>(last.data.data() + 2), pos, 4);
+    // The TPDO of a SYNC is sampled before that SYNC's set-point acts, and the drive
+    // interpolates to a set-point over one period (CSP): two set-points (8 counts) behind.
+    EXPECT_NEAR(get_le<std::int32_t>(last.data.data() + 2), pos, 8);
 }

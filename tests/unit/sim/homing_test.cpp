@@ -31,8 +31,8 @@ std::string case_name(const ::testing::TestParamInfo<Case>& info) {
 std::vector<Case> all_cases() {
     std::vector<Case> out;
     for (const char* name : {"akd2g", "ds-bvs", "fio"}) {
-        for (const auto& m : find_profile(name)->homing_methods) {
-            out.push_back({name, m.method});
+        for (const std::int8_t m : find_profile(name)->drive->homing_methods) {
+            out.push_back({name, m});
         }
     }
     return out;

@@ -71,6 +71,21 @@ TEST(SimModes, ProfilePositionRelativeAddsToThePreviousTarget) {
     EXPECT_NEAR(f.read<std::int32_t>(obj::kPositionActual), 2000, 5);
 }
 
+TEST(SimModes, DsBvsProfilePositionMoveOf20000IncrementsReachesTheTarget) {
+    // 20,000 increments are 40 revolutions at 500 increments per revolution: the simulated
+    // DS-BVS machine must leave room for it (it used to stop at its 10.5 rev stop: 5,250).
+    AxisFixture f("ds-bvs");
+    select_mode(f, 1);
+    f.enable();
+    ASSERT_TRUE(f.write<std::int32_t>(obj::kTargetPosition, 20000));
+    f.controlword(0x1F);
+    f.run_ms(1);
+    f.controlword(0x0F);
+    ASSERT_TRUE(f.run_until([&] { return (f.statusword() & sw::kTargetReached) != 0; }, 20000));
+    EXPECT_NEAR(f.read<std::int32_t>(obj::kPositionActual), 20000, 5);
+    EXPECT_FALSE(f.axis().motor().blocked());
+}
+
 TEST(SimModes, ChangeSetImmediatelyRetargetsAMovingAxis) {
     AxisFixture f("akd2g");
     select_mode(f, 1);
@@ -172,6 +187,30 @@ TEST(SimModes, CyclicSyncPositionFollowsSetPoints) {
     EXPECT_EQ(f.statusword() & sw::kOpMode13, 0);
     EXPECT_NEAR(f.read<std::int32_t>(obj::kPositionActual), target, 300);
     EXPECT_LT(std::abs(f.read<std::int32_t>(obj::kFollowingErrorActual)), 300);
+}
+
+TEST(SimModes, CyclicSyncPositionLagStaysWithinOneSetPointWhenSetPointsComeIrregularly) {
+    AxisFixture f("akd2g");
+    select_mode(f, 8);
+    f.enable();
+    // 1,000 increments per set-point, nominally every 4 ms; every fifth one comes 5 ms late and
+    // the next one 3 ms early (a loaded real-time cycle).
+    std::int32_t target = 0;
+    double worst = 0;
+    for (int k = 0; k < 400; ++k) {
+        target += 1000;
+        f.write<std::int32_t>(obj::kTargetPosition, target);
+        const int period = k % 5 == 3 ? 9 : (k % 5 == 4 ? 1 : 4);
+        for (int ms = 0; ms < period; ++ms) {
+            f.run_ms(1);
+            const double lag = target - f.read<std::int32_t>(obj::kPositionActual);
+            worst = std::max(worst, std::abs(lag));
+        }
+    }
+    // One set-point step of interpolation lag plus the servo's lag behind its demand.
+    EXPECT_LT(worst, 2 * 1000 + 300) << "lag accumulated over irregular set-points";
+    f.run_ms(20);
+    EXPECT_NEAR(f.read<std::int32_t>(obj::kPositionActual), target, 5) << "no overshoot at the end";
 }
 
 TEST(SimModes, CyclicSyncVelocityAndTorqueUseTheirSetPoints) {

@@ -14,7 +14,7 @@ TEST(SimOptions, NodeSpecsNameIdProfileAndAxes) {
     std::string err;
     ASSERT_TRUE(parse_node_spec("1:akd2g", s, err)) << err;
     EXPECT_EQ(s.node, 1);
-    EXPECT_EQ(s.profile->name, "akd2g");
+    EXPECT_EQ(s.profile->name(), "akd2g");
     EXPECT_EQ(s.axes, 0U);
     ASSERT_TRUE(parse_node_spec("12:akd2g:1", s, err)) << err;
     EXPECT_EQ(s.axes, 1U);
@@ -79,9 +79,10 @@ TEST(SimEds, DescriptionCarriesFactoryValuesNotLiveOnes) {
 
 TEST(SimProfiles, EveryProfileBuildsADeviceWithItsAxes) {
     for (const SimProfile* p : all_profiles()) {
-        DeviceFixture f(p->name.c_str(), 9);
-        EXPECT_EQ(f.device.axis_count(), p->default_axes) << p->name;
-        EXPECT_EQ(f.device.od().get<std::uint32_t>(0x1000, 0), p->device_type) << p->name;
+        const std::string name(p->name());
+        DeviceFixture f(name.c_str(), 9);
+        EXPECT_EQ(f.device.axis_count(), p->default_axes) << name;
+        EXPECT_EQ(f.device.od().get<std::uint32_t>(0x1000, 0), p->device_type()) << name;
         EXPECT_NE(f.device.od().find(0x6040), nullptr);
         EXPECT_NE(f.device.od().find(0x1A00), nullptr);
     }

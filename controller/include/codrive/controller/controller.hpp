@@ -3,6 +3,7 @@
 // CiA 402 axes and an application callback on every SYNC out; safe shutdown on the way out.
 #pragma once
 
+#include <codrive/controller/ethercat_segment.hpp>
 #include <codrive/controller/realtime.hpp>
 
 #include <codrive/core/can_bus.hpp>
@@ -16,6 +17,7 @@
 #include <functional>
 #include <memory>
 #include <string>
+#include <thread>
 #include <vector>
 
 namespace codrive::master {
@@ -24,8 +26,22 @@ class Master;
 
 namespace codrive::controller {
 
+class EcatSegment;
+
+/// Where the per-cycle work runs.
+enum class Threading : std::uint8_t {
+    /// Everything on the thread that calls run(): SYNC, PDOs, SDO, supervision, callbacks.
+    Single,
+    /// SYNC, PDO exchange, axis updates and the cycle callback on a dedicated cyclic thread
+    /// (with `realtime` applied to it); SDO, NMT, heartbeat, EMCY, logging on the thread that
+    /// calls run(). Hand-off between them is lock-free (see docs/controller.md).
+    DedicatedCyclic,
+};
+
 struct ControllerOptions {
-    RealtimeOptions realtime; ///< applied to the thread that calls run()/start()
+    /// Single: applied to the thread that calls start(); DedicatedCyclic: to the cyclic thread.
+    RealtimeOptions realtime;
+    Threading threading = Threading::Single;
     Duration boot_timeout = seconds(15);
     Duration shutdown_timeout = seconds(1);
     /// Buses to use instead of opening the bus files' interfaces (tests: VirtualBus), by bus
@@ -36,14 +52,15 @@ struct ControllerOptions {
 /// Passed to the cyclic callback on every SYNC.
 struct CycleInfo {
     std::uint64_t cycle = 0;
-    TimePoint ideal{};  ///< when this SYNC was due
-    TimePoint actual{}; ///< when it went out
+    TimePoint ideal{};   ///< when this SYNC was due
+    TimePoint actual{};  ///< when it went out
+    std::size_t bus = 0; ///< which bus or EtherCAT segment (segments follow the CAN buses)
 };
 
 /// Where an axis lives.
 struct AxisRef {
     std::size_t bus = 0;
-    NodeId node = 0;
+    NodeId node = 0; ///< CAN node id, or EtherCAT slave position
     unsigned number = 1;
     drives::Axis* axis = nullptr;
     std::string name; ///< "node 1 axis 2 (gantry)"
@@ -60,7 +77,8 @@ struct ControllerStats {
     std::uint64_t rpdos_sent = 0;
     std::uint64_t sdo_completed = 0;
     std::uint64_t sdo_failed = 0;
-    std::uint64_t bus_errors = 0; ///< error frames and bus events
+    std::uint64_t bus_errors = 0;        ///< error frames and bus events
+    std::uint64_t ecat_frame_errors = 0; ///< EtherCAT cycles with a lost frame or a WKC error
     [[nodiscard]] std::string to_string() const;
 };
 
@@ -79,6 +97,10 @@ public:
     /// From parsed bus configurations (one per bus).
     static tl::expected<std::unique_ptr<Controller>, std::string>
     create(std::vector<master::BusConfig> buses, ControllerOptions options = {});
+    /// CAN buses and EtherCAT segments. Bus indexes: CAN buses first, then the segments.
+    static tl::expected<std::unique_ptr<Controller>, std::string>
+    create(std::vector<master::BusConfig> buses, std::vector<EcatSegmentConfig> segments,
+           ControllerOptions options = {});
     ~Controller();
     Controller(const Controller&) = delete;
     Controller& operator=(const Controller&) = delete;
@@ -108,6 +130,8 @@ public:
     void set_event_callback(EventCallback cb) { event_cb_ = std::move(cb); }
 
     [[nodiscard]] const std::vector<master::BootReport>& boot_reports() const { return reports_; }
+    /// An axis by CAN node id (or EtherCAT slave position), axis number and bus index; nullptr
+    /// if there is none.
     [[nodiscard]] drives::Axis* axis(NodeId node, unsigned number = 1, std::size_t bus = 0);
     [[nodiscard]] std::vector<AxisRef> axes() const;
     [[nodiscard]] master::Master& master(std::size_t bus = 0);
@@ -115,24 +139,47 @@ public:
     [[nodiscard]] EventLoop& loop() { return *loop_; }
     [[nodiscard]] bool running() const { return started_ && !stopped_; }
     [[nodiscard]] const master::BusConfig& config(std::size_t bus = 0) const;
+    /// Number of CAN buses and of EtherCAT segments.
+    [[nodiscard]] std::size_t can_bus_count() const { return buses_.size(); }
+    [[nodiscard]] std::size_t ethercat_segment_count() const { return segments_.size(); }
 
 private:
     struct Bus;
     struct Node;
-    Controller(std::vector<master::BusConfig> buses, ControllerOptions options);
+    Controller(std::vector<master::BusConfig> buses, std::vector<EcatSegmentConfig> segments,
+               ControllerOptions options);
     void emit(const std::string& text);
     void on_sync(Bus& bus, const CycleInfo& info);
     tl::expected<void, std::string> open_bus(Bus& b, std::size_t index);
     void setup_node(Bus& b, const master::NodeEntry& entry);
     void after_boot(Bus& b, Node& n);
+    class Pump;
+    [[nodiscard]] bool dedicated() const {
+        return options_.threading == Threading::DedicatedCyclic;
+    }
+    tl::expected<void, std::string> start_cyclic_thread();
+    void cyclic_main();
+    void cyclic_begin_safe_stop(std::size_t& pending);
+    void pump_acyclic();
+    void for_each_axis(const std::function<void(drives::Axis&)>& fn);
 
     ControllerOptions options_;
     std::unique_ptr<EventLoop> loop_;
     std::vector<std::unique_ptr<Bus>> buses_;
+    std::vector<std::unique_ptr<EcatSegment>> segments_;
     std::vector<master::BootReport> reports_;
     CycleCallback cycle_cb_;
     EventCallback event_cb_;
     std::atomic<bool> stop_requested_{false};
+    // Dedicated-cyclic mode.
+    std::unique_ptr<Pump> pump_;
+    std::thread cyclic_thread_;
+    std::atomic<bool> cyclic_ready_{false};
+    std::atomic<bool> safe_stop_requested_{false}; ///< acyclic → cyclic: stop the axes
+    std::atomic<bool> axes_safe_{false};           ///< cyclic → acyclic: axes stopped, SYNC off
+    std::atomic<bool> cyclic_exit_{false};
+    std::vector<std::string> cyclic_warnings_; ///< written before cyclic_ready_
+
     bool started_ = false;
     bool stopped_ = false;
 };

@@ -146,6 +146,8 @@ public:
     [[nodiscard]] std::optional<std::int32_t> position_actual() const;
     [[nodiscard]] std::optional<std::int32_t> velocity_actual() const;
     [[nodiscard]] std::optional<std::int16_t> torque_actual() const;
+    /// The drive's following error actual value (60F4h: position demand − actual), if mapped.
+    [[nodiscard]] std::optional<std::int32_t> following_error_actual() const;
 
     /// The likely cause of being stuck in the current state (for messages), e.g.
     /// "STO active (statusword bit 8)".
@@ -216,7 +218,8 @@ private:
     Duration poll_period_;
 
     // process-image handles
-    CyclicHandle in_statusword_, in_mode_display_, in_position_, in_velocity_, in_torque_;
+    CyclicHandle in_statusword_, in_mode_display_, in_position_, in_velocity_, in_torque_,
+        in_following_error_;
     CyclicHandle out_controlword_, out_mode_, out_target_position_, out_target_velocity_,
         out_target_torque_, out_ip_data_;
 
@@ -225,6 +228,7 @@ private:
     std::uint16_t statusword_ = 0;
     bool has_status_ = false;
     std::uint64_t status_samples_ = 0;
+    std::optional<std::uint64_t> status_received_; ///< input_count() of the last sample
     std::optional<std::int8_t> mode_display_;
     std::optional<std::int32_t> polled_position_;
     std::uint16_t last_error_code_ = 0;

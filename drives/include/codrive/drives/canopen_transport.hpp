@@ -44,6 +44,8 @@ public:
     [[nodiscard]] CyclicHandle input(std::uint16_t index, std::uint8_t subindex) const override;
     void set_raw(CyclicHandle h, std::uint64_t raw) override;
     [[nodiscard]] std::optional<std::uint64_t> get_raw(CyclicHandle h) const override;
+    /// The TPDO's reception counter (PdoMaster).
+    [[nodiscard]] std::optional<std::uint64_t> input_count(CyclicHandle h) const override;
 
 private:
     CyclicHandle resolve(std::uint16_t index, std::uint8_t subindex, PdoDir dir) const;

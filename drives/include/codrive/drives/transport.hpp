@@ -54,6 +54,12 @@ public:
     /// The last value received for an input; nullopt before the first reception or for an
     /// invalid handle.
     [[nodiscard]] virtual std::optional<std::uint64_t> get_raw(CyclicHandle h) const = 0;
+    /// How many times the frame carrying an input has been received, or nullopt if the
+    /// transport cannot tell (then every cycle counts as a new sample). Lets the axis tell a
+    /// fresh statusword from a repeated one when a TPDO comes late.
+    [[nodiscard]] virtual std::optional<std::uint64_t> input_count(CyclicHandle /*h*/) const {
+        return std::nullopt;
+    }
 
     // ---- typed helpers ------------------------------------------------------------------
 

@@ -36,6 +36,9 @@ struct MasterConfig {
     Duration mailbox_poll = microseconds(200); ///< pause between empty mailbox polls
     Duration sii_timeout = milliseconds(100);
     std::uint16_t first_station_address = 0x1001;
+    /// Number of the first slave in messages ("slave 0 (FIO)" by default); the CLI uses 1, as
+    /// its -n counts positions from 1.
+    unsigned slave_label_base = 0;
 };
 
 /// One entry of a PDO mapping (1600h/1A00h sub-index value: index, sub-index, bit length).
@@ -83,6 +86,7 @@ struct SlaveInfo {
     std::size_t output_offset = 0; ///< in the process image
     std::size_t input_offset = 0;
     std::uint8_t mailbox_counter = 0;
+    std::uint8_t mailbox_rx_counter = 0; ///< counter of the last message read from SM1
 
     /// "AKD2G", or "0x0000006A:0x12345678" when the EEPROM has no name.
     [[nodiscard]] std::string display_name() const;
@@ -233,9 +237,18 @@ public:
     void on_emergency(EmergencyHandler handler) { emergency_handler_ = std::move(handler); }
     /// Reads pending mailbox messages of every CoE slave (emergencies outside SDO traffic).
     void poll_mailboxes();
-    /// The sentence for an emergency: "slave 1 (AKD2G): EMCY 0x2310 continuous over-current ...".
-    [[nodiscard]] std::string describe_emergency(std::size_t slave,
-                                                 const emcy::EmcyMessage& m) const;
+    /// Asks the slave to write its last SM1 message again (ETG.1000.4 §6.7.2: toggles the repeat
+    /// request, waits for the repeat acknowledge). mailbox_read() does this by itself when the
+    /// frame of a mailbox read was lost, so that the answer it emptied is not lost with it.
+    /// Errors: MailboxTimeout (no acknowledge), WorkingCounter, NoResponse.
+    VoidResult mailbox_repeat(std::size_t slave);
+    /// How many mailbox repeats were requested (lost mailbox reads recovered).
+    [[nodiscard]] std::uint64_t mailbox_repeats() const { return mailbox_repeats_; }
+    /// The sentence for an emergency: "slave 1 (AKD2G): EMCY 0x2310 continuous over-current ...";
+    /// with a vendor text provider (drives::emcy_text_provider) the drive's own text follows.
+    [[nodiscard]] std::string
+    describe_emergency(std::size_t slave, const emcy::EmcyMessage& m,
+                       const emcy::IEmcyTextProvider* vendor = nullptr) const;
 
     // ---- Process data ----------------------------------------------------------------------
     /// Writes 1C12h/1C13h and the mapping objects over CoE (PRE-OP only): sub 0 = 0, entries,
@@ -304,12 +317,15 @@ private:
                                                        std::uint8_t response_opcode);
     std::uint8_t next_counter(std::size_t slave);
     std::uint8_t next_index() { return index_++; }
+    Result<std::optional<MailboxMessage>> mailbox_read_once(std::size_t slave, bool& lost);
 
     IEcatLink& link_;
     IClock& clock_;
     MasterConfig config_;
     std::vector<SlaveInfo> slaves_;
     std::uint8_t index_ = 0;
+    int last_exchange_lost_ = 0; ///< attempts of the last exchange() whose frame did not return
+    std::uint64_t mailbox_repeats_ = 0;
     std::vector<std::uint8_t> tx_buffer_ = std::vector<std::uint8_t>(kMaxFrameSize);
     std::vector<std::uint8_t> rx_buffer_ = std::vector<std::uint8_t>(kMaxFrameSize + 64);
     std::string last_error_;

@@ -85,6 +85,13 @@ struct SyncManager {
     static constexpr std::uint8_t kInterruptPdi = 0x10;
     static constexpr std::uint8_t kWatchdog = 0x40;
     static constexpr std::uint8_t kStatusMailboxFull = 0x08;
+    /// Mailbox repeat (ETG.1000.4 §6.7.2): the master toggles the repeat request in the activate
+    /// register (+6); the slave writes its last message into the buffer again and copies the
+    /// toggle into the repeat acknowledge of the PDI control register (+7).
+    static constexpr std::uint8_t kActivateRepeatRequest = 0x02;
+    static constexpr std::uint8_t kPdiRepeatAck = 0x02;
+    static constexpr std::uint16_t kActivateOffset = 6;
+    static constexpr std::uint16_t kPdiControlOffset = 7;
 
     [[nodiscard]] bool enabled() const { return (activate & 0x01) != 0; }
     [[nodiscard]] bool is_mailbox() const { return (control & 0x03) == kModeMailbox; }

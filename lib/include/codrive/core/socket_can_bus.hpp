@@ -33,6 +33,10 @@ struct SocketCanOptions {
     int sndbuf_bytes = 0;                 ///< SO_SNDBUF if > 0
     std::size_t tx_queue_capacity = 4096; ///< frames held while the kernel is full
     Duration tx_retry = std::chrono::microseconds(200); ///< retry period when EPOLLOUT is silent
+    /// When this bus is all its loop waits for, the loop receives with one blocking recvmmsg()
+    /// instead of epoll_wait() + recvmmsg(); this is the longest such a receive blocks (the
+    /// socket's SO_RCVTIMEO), i.e. how late a cross-thread stop() may be seen. Zero: never.
+    Duration direct_read_limit = std::chrono::milliseconds(20);
 };
 
 /// A raw SocketCAN socket bound to one interface. Register it with an EventLoop to receive;
@@ -59,6 +63,9 @@ public:
 
     /// Reads every frame waiting in the socket now and dispatches it. Returns frames read.
     std::size_t read_available();
+    /// Waits up to options.direct_read_limit for a frame, then reads and dispatches it and every
+    /// frame waiting behind it (the loop's direct-read fast path; one system call per batch).
+    EventLoop::DirectRead read_blocking();
     /// Tries to push queued frames to the kernel. Returns the frames still queued.
     std::size_t flush();
     /// Blocks (poll) until the retry queue is empty or timeout; true if empty.
@@ -75,6 +82,8 @@ private:
     SocketCanBus() = default;
     bool write_one(const Frame& f, int& err);
     void handle_frame(const Frame& f, TimePoint rx_time);
+    /// recvmmsg() batches until one comes back short; the first with `first_flags`.
+    EventLoop::DirectRead read_batches(int first_flags);
     void update_epollout();
     /// Kernel receive timestamps are CLOCK_REALTIME; protocol time is CLOCK_MONOTONIC. The
     /// offset between them is sampled at most once a second (of receive timestamps): clock

@@ -7,9 +7,12 @@
 #include <codrive/master/node_config.hpp>
 
 #include <codrive/core/time.hpp>
+#include <codrive/nmt/state.hpp>
 
 #include <functional>
 #include <memory>
+#include <optional>
+#include <string>
 
 namespace codrive::sdo {
 class SdoClient;
@@ -38,6 +41,14 @@ public:
     void run(Done done, bool start_node, bool recovery = false);
     [[nodiscard]] bool running() const { return running_; }
 
+    /// The node's NMT state from its heartbeat (BootUp for a boot-up message), fed by the master
+    /// for this node while the sequence runs. Operational confirms NMT start; a boot-up message
+    /// restarts the sequence (bounded by NodeConfig::reboot_restarts).
+    void on_node_state(nmt::NmtState state, TimePoint now);
+    /// Waiting for the node to confirm NMT start: when to repeat it.
+    [[nodiscard]] TimePoint next_deadline() const { return start_deadline_; }
+    void on_tick(TimePoint now);
+
 private:
     struct State;
     void next();
@@ -49,6 +60,9 @@ private:
     void extra(std::size_t i);
     void error_control();
     void finish();
+    bool send_start(TimePoint now);
+    void complete();
+    void restart(std::string why);
 
     const NodeConfig& config_;
     sdo::SdoClient& sdo_;
@@ -60,6 +74,11 @@ private:
     bool start_node_ = true;
     bool running_ = false;
     int phase_ = 0;
+    TimePoint start_deadline_ = kNever; ///< kNever: not waiting for operational
+    int start_sends_ = 0;
+    int restarts_ = 0;
+    bool reboot_seen_ = false; ///< a boot-up message arrived: the failing step restarts
+    std::optional<nmt::NmtState> reported_; ///< last state the heartbeat reported
     std::shared_ptr<bool> alive_; ///< callbacks check it: the sequence may be destroyed first
 };
 

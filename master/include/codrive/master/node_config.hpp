@@ -80,6 +80,13 @@ struct NodeConfig {
     milliseconds sdo_timeout{500};
     /// Repeats of the device type probe before the node is declared missing.
     int probe_retries = 2;
+    /// NMT start is unconfirmed (CiA 301 §7.2.8.3.1). With a heartbeat configured, boot-up waits
+    /// for a heartbeat reporting operational and repeats NMT start this many times if none comes
+    /// within the consumer time, then fails with a sentence.
+    int start_retries = 3;
+    /// A boot-up message (the node reset) during boot-up restarts the sequence from the device
+    /// type probe, at most this many times.
+    int reboot_restarts = 3;
 
     /// The consumer time the master uses for this node.
     [[nodiscard]] milliseconds consumer_time() const {

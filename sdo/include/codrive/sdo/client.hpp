@@ -39,9 +39,14 @@ struct ClientStats {
     std::uint64_t failed = 0;
     std::uint64_t frames_ignored = 0;       ///< frames not for this channel
     std::uint64_t unexpected_responses = 0; ///< responses while idle (e.g. late, after timeout)
+    /// Responses ignored during a transfer as repeats or leftovers of an earlier transfer or
+    /// phase (see docs/sdo.md, "Duplicated, late and reordered responses").
+    std::uint64_t stale_responses = 0;
     std::uint64_t retries = 0;
     std::uint64_t retransmitted_segments = 0;
     std::uint64_t early_acks = 0; ///< sub-blocks acknowledged by the gap timer
+    /// Block upload start / sub-block responses sent again because no segment followed.
+    std::uint64_t acks_repeated = 0;
 };
 
 namespace detail {
@@ -53,7 +58,9 @@ concept SdoScalar = std::is_arithmetic_v<T>;
 
 /// The client of one SDO channel. Requests queue and run one at a time, in order. Completion
 /// callbacks run from on_frame()/on_tick() (or from the submitting call if sending fails); a
-/// callback may submit further requests.
+/// callback may submit further requests. Callbacks never nest: a retry submitted from a
+/// callback while every send fails runs after that callback returns, and after 16 such failures
+/// in one call the rest waits for the next on_tick().
 class SdoClient final : public ITimed {
 public:
     SdoClient(ICanBus& bus, const IClock& clock, ClientConfig config);
@@ -113,6 +120,9 @@ private:
     void arm(TimePoint now);
     void reschedule();
     void handle_response(const Frame& frame, TimePoint now);
+    void remember_response(const Frame& frame);
+    [[nodiscard]] bool is_repeat(const Frame& frame) const;
+    [[nodiscard]] bool is_leftover(const FrameInfo& info);
     void server_abort(const FrameInfo& info);
     void handle_block_upload_segment(const Frame& frame, TimePoint now);
     void on_timeout(TimePoint now);
@@ -137,6 +147,8 @@ private:
     TimePoint dispatch_now_ = kNever; ///< time of the frame/tick being handled
     ClientStats stats_;
     bool in_callback_ = false;
+    bool draining_ = false;       ///< start_next() is running (it never nests)
+    bool deferred_start_ = false; ///< queued transfers wait for the next on_tick()
 };
 
 // ---- typed helpers ---------------------------------------------------------------------------

@@ -70,6 +70,10 @@ struct ServerStats {
     std::uint64_t timeouts = 0;
     std::uint64_t frames_ignored = 0;
     std::uint64_t early_acks = 0; ///< sub-blocks acknowledged by the gap timer
+    /// Requests ignored as byte-identical repeats or late sub-block responses (docs/sdo.md).
+    std::uint64_t repeats_ignored = 0;
+    /// Block download initiate / sub-block responses sent again because no segment followed.
+    std::uint64_t acks_repeated = 0;
 };
 
 /// The SDO server of one node. Reads and writes go through the ObjectDictionary, whose access,

@@ -39,7 +39,7 @@ public:
     using EventHandler = std::function<void(const AxisEvent&)>;
 
     DriveCore(ObjectDictionary& od, const SimProfile& profile, unsigned axis,
-              MachineConfig machine = {});
+              std::optional<MachineConfig> machine = std::nullopt);
     DriveCore(const DriveCore&) = delete;
     DriveCore& operator=(const DriveCore&) = delete;
 
@@ -154,7 +154,9 @@ private:
     // Cyclic.
     double csp_last_target_ = 0;
     double csp_since_change_ = 0;
-    double csp_velocity_ = 0;
+    double csp_from_ = 0;         ///< where the current interpolation segment started
+    double csp_period_ = 0.001;   ///< measured set-point period (s)
+    double csp_segment_time_ = 1; ///< time into the current segment (s)
     // Monitoring.
     double following_error_ = 0;
     double ferr_time_ = 0;

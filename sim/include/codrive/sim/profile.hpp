@@ -1,6 +1,10 @@
 // SPDX-License-Identifier: Apache-2.0
-// What a simulated drive model is: identity, modes, homing methods, option codes, fault codes.
+// A simulated drive model: the drives/ profile plus the simulator's own data (unit, motor,
+// machine).
 #pragma once
+
+#include <codrive/drives/profile.hpp>
+#include <codrive/sim/motor_model.hpp>
 
 #include <cstdint>
 #include <span>
@@ -50,13 +54,17 @@ struct HomingMethod {
     std::string text;
 };
 
-/// Vendor behaviour switches and defaults. Everything a manual says differently lives here.
+/// A simulated drive model: the drive profile (codrive::drives — identity, modes, homing
+/// methods, option codes, PDO quirks, EMCY codes and texts, the same data the master uses) plus
+/// what only a simulator needs: the values of one simulated unit the profile leaves open,
+/// object defaults, the motor and machine, and how each homing method moves that machine.
 struct SimProfile {
-    std::string name; ///< "akd2g", "ds-bvs", "fio"
+    const drives::Profile* drive = nullptr; ///< required
+
+    // Identity values of the simulated unit where the profile has none or only a pattern.
     std::string vendor_name;
     std::string product_name;
-    std::uint32_t device_type = 0x00020192;
-    std::uint32_t vendor_id = 0;
+    std::uint32_t vendor_id = 0; ///< used only if the profile's identity has none (DS-BVS)
     std::uint32_t product_code_1_axis = 0;
     std::uint32_t product_code_2_axes = 0;
     std::uint32_t revision = 0;
@@ -64,34 +72,22 @@ struct SimProfile {
     std::string hw_version;  ///< 1009h
     std::string sw_version;  ///< 100Ah
     unsigned default_axes = 1;
-    unsigned max_axes = 1;
-    std::uint16_t axis_offset = 0x800; ///< index offset of axis 2 (AKD2G: 6040h → 6840h)
-    bool can = true;                   ///< has a CAN interface (FIO is EtherCAT only)
+    std::int8_t power_on_mode = 0; ///< 6060h at power-on when the profile documents none
 
-    // Modes.
-    std::uint32_t supported_modes = 0;       ///< 6502h
-    std::vector<std::int8_t> accepted_modes; ///< values 6060h accepts
-    std::int8_t default_mode = 0;
-    std::vector<HomingMethod> homing_methods;
+    // Homing: how each of the profile's methods moves the simulated machine.
+    std::vector<HomingMethod> homing_behaviour;
     std::int8_t default_homing_method = 0;
     bool homing_moves_by_offset = false;      ///< DS-BVS: move by 607Ch, then position := 0
     bool has_supported_homing_object = false; ///< 60E3h
 
-    // Option codes.
-    std::vector<std::int16_t> quick_stop_options;
-    std::int16_t quick_stop_default = 2;
-    bool has_option_objects = false; ///< 605Bh..605Eh exist
-    std::int16_t shutdown_default = 0;
-    std::int16_t disable_operation_default = 1;
-    std::int16_t halt_default = 1;
-    std::int16_t fault_reaction_default = 2;
-    bool has_abort_connection = false; ///< 6007h (DS-BVS, FIO)
-    std::int16_t abort_connection_default = 0;
+    // Option-code behaviour the profile's data does not carry.
+    bool has_abort_connection = false;     ///< 6007h (DS-BVS, FIO)
     bool quick_stop_ignored_in_pt = false; ///< AKD2G: PT quick stop disables at once
 
-    // Units and defaults (all in the device's own units).
+    // Units, motor and machine, object defaults (all in the device's own units).
     double counts_per_rev = 65536; ///< position units per motor revolution
     bool velocity_in_rpm = false;  ///< velocity rpm / acceleration rpm/s (else units/s, units/s²)
+    MachineConfig machine;         ///< switches and stops (counts_per_rev is set from above)
     std::uint32_t profile_velocity = 0;
     std::uint32_t profile_acceleration = 0;
     std::uint32_t quick_stop_deceleration = 0;
@@ -109,35 +105,59 @@ struct SimProfile {
     bool ds_bvs_objects = false;           ///< 6062h, 6067h/6068h, 6080h, 6085h, 6086h, 608Fh
     bool has_interpolation_period = false; ///< 60C2h
 
-    // Statusword.
-    bool sto_bit8 = false; ///< statusword bit 8 = STO active (AKD2G)
-
-    // Faults.
-    FaultCode sto_fault;
-    FaultCode sto_warning; ///< emcy 0 = no warning code (STO while disabled is silent)
-    FaultCode over_current;
-    FaultCode following_error;
-    FaultCode heartbeat_loss;
+    // Which of the profile's EMCY codes the simulator raises for each fault kind.
+    std::uint16_t sto_code = 0;
+    std::uint16_t sto_warning_code = 0; ///< 0 = no warning (STO while disabled is silent)
+    std::uint16_t over_current_code = 0;
+    std::uint16_t following_error_code = 0;
+    std::uint16_t heartbeat_loss_code = 0;
     bool heartbeat_loss_is_fault = true; ///< AKD2G F7002; DS-BVS reacts per 1029h/6007h instead
     bool error_register_generic_only = false; ///< AKD2G: only 1001h bit 0 is used
     bool has_error_history_1003 = true;
     bool has_error_history_4080 = false; ///< DS-BVS
 
-    // Communication (CAN).
-    bool pdo_cob_id_read_only = false; ///< DS-BVS
-    bool tpdo_no_rtr_bit = false;      ///< DS-BVS: TPDO COB-IDs carry bit 30
+    // Communication (CAN) defaults of the simulated unit.
+    bool tpdo_no_rtr_bit = false; ///< DS-BVS: TPDO COB-IDs carry bit 30
     std::uint8_t rpdo_default_type = 0xFF;
     std::uint8_t tpdo_default_type = 0xFF;
-    bool default_can_maps = false; ///< AKD2G sim choice: RPDO1/2, TPDO1/2 pre-mapped
-    std::uint8_t max_mapped_entries = 8;
+    bool default_can_maps = false; ///< AKD2G sim choice: the CSP layout pre-mapped per axis
     bool node_guarding = false;    ///< 100Ch/100Dh
     bool has_sync_objects = false; ///< 1005h/1006h
     bool has_error_behaviour_1029 = false;
-    std::uint16_t max_homing_switch_speed = 0;
 
+    // ---- from the drive profile -------------------------------------------------------------
+    [[nodiscard]] std::string_view name() const { return drive->name; }
+    [[nodiscard]] std::uint32_t device_type() const { return drive->identity.device_type; }
+    [[nodiscard]] std::uint32_t identity_vendor_id() const {
+        return drive->identity.vendor_id != 0 ? drive->identity.vendor_id : vendor_id;
+    }
+    [[nodiscard]] unsigned max_axes() const { return drive->max_axes; }
+    [[nodiscard]] std::uint16_t axis_offset() const { return drive->axis_offset; }
+    [[nodiscard]] bool can() const { return drive->quirks.canopen; }
+    [[nodiscard]] std::uint32_t supported_modes() const { return drive->supported_modes; }
+    [[nodiscard]] std::int8_t default_mode() const {
+        return drive->default_mode != 0 ? drive->default_mode : power_on_mode;
+    }
+    [[nodiscard]] bool accepts_mode(std::int8_t mode) const { return drive->supports_mode(mode); }
+    [[nodiscard]] std::span<const std::int16_t> quick_stop_options() const {
+        return drive->quick_stop_options;
+    }
+    [[nodiscard]] std::int16_t quick_stop_default() const {
+        return drive->default_quick_stop_option;
+    }
+    [[nodiscard]] bool has_option_objects() const {
+        return drive->quirks.has_shutdown_option_codes;
+    }
+    /// Default of a CiA 402 object as the profile documents it (axis 1 index), else `fallback`.
+    [[nodiscard]] std::int64_t object_default(std::uint16_t index, std::uint8_t sub,
+                                              std::int64_t fallback) const;
+    /// The behaviour of a homing method the profile lists, or nullptr (not a method of this
+    /// drive, or one the simulator cannot execute).
     [[nodiscard]] const HomingMethod* find_homing(std::int8_t method) const;
-    [[nodiscard]] bool accepts_mode(std::int8_t mode) const;
-    [[nodiscard]] const FaultCode& code_for(FaultKind k) const;
+    /// The EMCY code for a fault kind with the profile's text and error-register bits.
+    [[nodiscard]] FaultCode code_for(FaultKind k) const;
+    /// A profile EMCY code with its text and error-register bits (1001h bit 0 always set).
+    [[nodiscard]] FaultCode fault(std::uint16_t code) const;
     /// Position units per velocity unit and second (rpm → counts/s).
     [[nodiscard]] double velocity_scale() const {
         return velocity_in_rpm ? counts_per_rev / 60.0 : 1.0;

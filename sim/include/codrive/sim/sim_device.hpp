@@ -50,10 +50,10 @@ inline constexpr std::uint8_t kControlNodeReset = 5;
 
 struct SimDeviceConfig {
     NodeId node = 1;
-    const SimProfile* profile = nullptr; ///< required
-    unsigned axes = 0;                   ///< 0: the profile's default
-    Duration step = milliseconds(1);     ///< motion step
-    MachineConfig machine;               ///< per axis (counts per revolution from the profile)
+    const SimProfile* profile = nullptr;  ///< required
+    unsigned axes = 0;                    ///< 0: the profile's default
+    Duration step = milliseconds(1);      ///< motion step
+    std::optional<MachineConfig> machine; ///< per axis; nullopt: the profile's machine
 };
 
 /// Counters for tests and the daemon's status line.

@@ -29,6 +29,9 @@ public:
                                              std::uint8_t subindex) const override;
     void set_raw(drives::CyclicHandle h, std::uint64_t raw) override;
     [[nodiscard]] std::optional<std::uint64_t> get_raw(drives::CyclicHandle h) const override;
+    /// LRW frames whose inputs were taken into the image (working counter right): a lost frame
+    /// leaves the inputs as they were, and the count tells the axis so.
+    [[nodiscard]] std::optional<std::uint64_t> input_count(drives::CyclicHandle h) const override;
 
     /// Runs the queued object accesses (call from the non-cyclic part of the loop). Returns how
     /// many completed.

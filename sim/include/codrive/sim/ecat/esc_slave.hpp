@@ -57,6 +57,10 @@ public:
     [[nodiscard]] std::uint64_t system_time(TimePoint now) const;
     [[nodiscard]] bool sync0_active() const;
     [[nodiscard]] std::uint64_t frames_seen() const { return frames_seen_; }
+    /// Mailbox repeats served (ETG.1000.4 §6.7.2).
+    [[nodiscard]] std::uint64_t mailbox_repeats() const { return mailbox_repeats_; }
+    /// Mailbox writes dropped as duplicates (same counter as the previous one).
+    [[nodiscard]] std::uint64_t duplicate_requests() const { return duplicate_requests_; }
     /// Direct register access (tests).
     [[nodiscard]] std::uint8_t reg8(std::uint16_t addr) const { return mem_[addr]; }
     [[nodiscard]] std::uint16_t reg16(std::uint16_t addr) const;
@@ -77,6 +81,7 @@ private:
     void refresh_dc(TimePoint now);
     void send_mailbox(std::vector<std::uint8_t> payload, ethercat::MailboxType type);
     void load_mailbox_out();
+    void serve_mailbox_repeat();
     [[nodiscard]] ethercat::SyncManager sm(unsigned n) const;
     void set_sm_status(unsigned n, std::uint8_t status);
     [[nodiscard]] std::size_t pdo_bytes(std::uint16_t assign_index);
@@ -95,6 +100,11 @@ private:
     bool mailbox_out_full_ = false; ///< SM1 holds a message the master has not read
     std::deque<std::vector<std::uint8_t>> outbox_;
     std::uint8_t mailbox_counter_ = 0;
+    std::vector<std::uint8_t> sm1_message_; ///< the message now in SM1 (if full)
+    std::vector<std::uint8_t> last_read_;   ///< the last message the master read (to repeat)
+    std::uint8_t last_request_counter_ = 0; ///< counter of the last mailbox write
+    std::uint64_t mailbox_repeats_ = 0;
+    std::uint64_t duplicate_requests_ = 0;
     bool outputs_fresh_ = false;
     std::uint64_t frames_seen_ = 0;
     std::int64_t local_base_ns_ = 0;

@@ -25,6 +25,10 @@ public:
     /// (a real segment would drop it).
     bool process(std::span<std::uint8_t> frame, TimePoint now);
     [[nodiscard]] std::uint64_t frames() const { return frames_; }
+    /// True if a processed frame carries a mailbox read that emptied slave `slave`'s SM1 (an
+    /// FPRD of its send mailbox with working counter 1): losing that frame loses the answer.
+    [[nodiscard]] bool carries_mailbox_answer(std::span<std::uint8_t> frame,
+                                              std::size_t slave) const;
     [[nodiscard]] std::uint64_t dropped() const { return dropped_; }
 
 private:
@@ -45,6 +49,14 @@ public:
 
     /// Drops the next `n` frames (lost on the wire).
     void drop_next(int n) { drop_ = n; }
+    /// Loses the next `n` frames that carry a mailbox answer of slave `slave` on their way back
+    /// (processed by the slaves, never received); after each loss the next answer (the repeated
+    /// copy) gets through.
+    void lose_mailbox_answers(std::size_t slave, int n) {
+        lose_slave_ = slave;
+        lose_answers_ = n;
+        spare_next_ = false;
+    }
     [[nodiscard]] const std::vector<std::vector<std::uint8_t>>& sent() const { return sent_; }
     void record(bool on) { record_ = on; }
     /// Per-frame wire time the clock advances by.
@@ -56,6 +68,9 @@ private:
     std::deque<std::vector<std::uint8_t>> pending_;
     std::vector<std::vector<std::uint8_t>> sent_;
     int drop_ = 0;
+    std::size_t lose_slave_ = 0;
+    int lose_answers_ = 0;
+    bool spare_next_ = false;
     bool record_ = false;
     Duration latency_ = microseconds(20);
 };

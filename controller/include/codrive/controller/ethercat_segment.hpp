@@ -1,0 +1,50 @@
+// SPDX-License-Identifier: Apache-2.0
+// The `ethercat:` section of a bus file: one EtherCAT segment (interface, cycle, slaves with
+// drive profiles and axes) that a Controller runs next to its CAN buses.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace codrive::controller {
+
+/// One axis of an EtherCAT slave.
+struct EcatAxisEntry {
+    unsigned axis = 1;               ///< 1-based (AKD2G axis 2 objects at +0x800)
+    std::optional<std::int8_t> mode; ///< written to 6060h in PRE-OP; selects the PDO layout
+};
+
+/// One slave of the segment, by position (0 = next to the master).
+struct EcatSlaveEntry {
+    unsigned position = 0;
+    std::string name;    ///< shown in messages
+    std::string profile; ///< "akd2g", "ds-bvs", "fio", "generic"
+    std::vector<EcatAxisEntry> axes;
+    int line = 0;
+};
+
+/// An EtherCAT segment: bring-up to OP with the profiles' PDO layouts, then one LRW per cycle.
+struct EcatSegmentConfig {
+    std::string file;  ///< bus file, for messages
+    std::string iface; ///< Ethernet interface ("eth1", a veth end)
+    std::uint32_t cycle_us = 1000;
+    std::vector<EcatSlaveEntry> slaves;
+};
+
+/// What from_file() finds in a bus file: CAN buses and EtherCAT segments.
+struct BusFileSections {
+    std::string can_text;                      ///< the file with the `ethercat:` block blanked
+    bool has_can = false;                      ///< a `bus:` section is present
+    std::optional<EcatSegmentConfig> ethercat; ///< set when the section parsed without errors
+    std::vector<std::string> errors;           ///< "bus.yml:14: ..." one per finding
+};
+
+/// Splits a bus file's text: the `ethercat:` block is parsed here (every finding reported, with
+/// line numbers), the rest is left for master::parse_bus_config() with the same line numbers.
+/// Errors (in `errors`): unknown keys, missing interface, bad cycle, duplicate positions, unknown
+/// profiles or modes, no section at all.
+[[nodiscard]] BusFileSections split_bus_file(const std::string& text, const std::string& file);
+
+} // namespace codrive::controller

@@ -1,0 +1,306 @@
+// SPDX-License-Identifier: Apache-2.0
+// One EtherCAT segment in the controller: ESM to OP with the profiles' PDO layouts, axes over
+// the CoE transport, one LRW per cycle.
+#include "ecat_segment.hpp"
+
+#include <codrive/drives/canopen_transport.hpp>
+#include <codrive/drives/profile.hpp>
+
+#include <fmt/format.h>
+
+namespace codrive::controller {
+namespace {
+
+/// The profile's CANopen PDO layouts as EtherCAT mapping objects: RPDO n → 1600h + n − 1,
+/// TPDO n → 1A00h + n − 1 (ETG.1000.6 §5.6.7.4 uses the same CiA 301 numbering).
+void to_ecat_pdos(const std::vector<pdo::PdoConfig>& configs, std::vector<ethercat::PdoMapping>& rx,
+                  std::vector<ethercat::PdoMapping>& tx) {
+    for (const auto& c : configs) {
+        if (!c.enabled || c.mapping.empty()) {
+            continue;
+        }
+        ethercat::PdoMapping m;
+        const bool is_rx = c.dir == PdoDir::Rpdo;
+        m.index = static_cast<std::uint16_t>((is_rx ? 0x1600U : 0x1A00U) + c.number - 1U);
+        for (const auto& e : c.mapping) {
+            m.entries.push_back(ethercat::PdoEntry{e.index, e.subindex, e.bits});
+        }
+        (is_rx ? rx : tx).push_back(std::move(m));
+    }
+}
+
+} // namespace
+
+EcatSegment::EcatSegment(EcatSegmentConfig config, std::size_t bus_index, Emit emit)
+    : config_(std::move(config)), bus_index_(bus_index), emit_(std::move(emit)),
+      period_(microseconds(config_.cycle_us)) {}
+
+EcatSegment::~EcatSegment() = default;
+
+tl::expected<void, std::string> EcatSegment::bring_up(ethercat::IEcatLink* link, bool dedicated) {
+    const std::string where = fmt::format("EtherCAT segment on {}", config_.iface);
+    if (link == nullptr) {
+        auto l = ethercat::RawSocketLink::open(config_.iface);
+        if (!l) {
+            return tl::unexpected(
+                ethercat::RawSocketLink::describe_open_error(config_.iface, l.error()));
+        }
+        own_link_ = std::move(*l);
+        link = own_link_.get();
+    }
+    master_ = std::make_unique<ethercat::Master>(*link, RealClock::instance());
+    if (!master_->scan()) {
+        return tl::unexpected(fmt::format("{}: scan failed: {}", where, master_->last_error()));
+    }
+    const std::size_t found = master_->slaves().size();
+    for (const auto& e : config_.slaves) {
+        if (e.position >= found) {
+            return tl::unexpected(fmt::format("{}:{}: slave {} ({}) is configured but the segment "
+                                              "has only {} slave(s)",
+                                              config_.file, e.line, e.position, e.profile, found));
+        }
+        auto s = std::make_unique<Slave>();
+        s->entry = e;
+        s->index = e.position;
+        s->profile = drives::find_profile(e.profile);
+        const auto& sii = master_->slaves()[e.position].sii;
+        const auto& id = s->profile->identity;
+        if (id.vendor_id != 0 &&
+            (sii.vendor_id != id.vendor_id || (sii.product_code & id.product_code_mask) !=
+                                                  (id.product_code & id.product_code_mask))) {
+            return tl::unexpected(fmt::format(
+                "{}: {} is configured as {} (vendor 0x{:08X} product 0x{:08X}) but answers with "
+                "vendor 0x{:08X} product 0x{:08X}",
+                where, master_->slave_label(e.position), s->profile->title, id.vendor_id,
+                id.product_code, sii.vendor_id, sii.product_code));
+        }
+        slaves_.push_back(std::move(s));
+    }
+    if (!master_->set_state_all(ethercat::AlState::PreOp)) {
+        return tl::unexpected(fmt::format("{}: PRE-OP: {}", where, master_->last_error()));
+    }
+    for (auto& s : slaves_) {
+        if (auto r = configure_slave(*s); !r) {
+            return r;
+        }
+    }
+    if (!master_->set_state_all(ethercat::AlState::Op)) {
+        return tl::unexpected(fmt::format("{}: OP: {}", where, master_->last_error()));
+    }
+    master_->on_emergency([this](std::size_t slave, const emcy::EmcyMessage& m) {
+        emit_(master_->describe_emergency(slave, m));
+        for (auto& s : slaves_) {
+            if (s->index == slave) {
+                s->emcy_code.store(m.error_code);
+            }
+        }
+    });
+    for (auto& s : slaves_) {
+        s->transport = std::make_unique<ethercat::CoeTransport>(*master_, s->index);
+        drives::DriveTransport* axis_transport = s->transport.get();
+        if (dedicated) {
+            s->handoff = std::make_unique<HandoffTransport>(*s->transport);
+            axis_transport = s->handoff.get();
+        }
+        for (const auto& a : s->entry.axes) {
+            drives::AxisConfig ac;
+            ac.axis = a.axis;
+            ac.profile = s->profile;
+            ac.name =
+                fmt::format("slave {} axis {}{}", s->index, a.axis,
+                            s->entry.name.empty() ? std::string() : " (" + s->entry.name + ")");
+            auto axis = std::make_unique<drives::Axis>(*axis_transport, ac);
+            axis->bind();
+            s->axes.push_back(std::move(axis));
+        }
+        emit_(fmt::format("{}: OP, {} axis(es), {} output / {} input bytes",
+                          master_->slave_label(s->index), s->axes.size(),
+                          master_->slaves()[s->index].output_bytes,
+                          master_->slaves()[s->index].input_bytes));
+    }
+    return {};
+}
+
+tl::expected<void, std::string> EcatSegment::configure_slave(Slave& s) {
+    if (s.entry.axes.empty()) {
+        return {}; // keep the slave's own PDO assignment
+    }
+    const std::string who = master_->slave_label(s.index);
+    std::vector<drives::cia402::Mode> modes;
+    for (const auto& a : s.entry.axes) {
+        const std::int8_t mode = a.mode.value_or(8);
+        modes.push_back(static_cast<drives::cia402::Mode>(mode));
+        const std::uint16_t index = s.profile->axis_index(0x6060, a.axis);
+        if (!master_->sdo_write<std::int8_t>(s.index, index, 0, mode)) {
+            return tl::unexpected(fmt::format("{}: cannot set mode {} (0x{:04X}:00): {}", who, mode,
+                                              index, master_->last_error()));
+        }
+    }
+    auto configs = drives::mode_pdo_configs(*s.profile, modes);
+    if (!configs) {
+        emit_(fmt::format("{}: no PDO layout for the configured modes ({}); keeping the slave's "
+                          "own assignment",
+                          who, configs.error().message));
+        return {};
+    }
+    std::vector<ethercat::PdoMapping> rx;
+    std::vector<ethercat::PdoMapping> tx;
+    to_ecat_pdos(*configs, rx, tx);
+    if (!master_->configure_pdos(s.index, rx, tx)) {
+        return tl::unexpected(
+            fmt::format("{}: PDO configuration failed: {}", who, master_->last_error()));
+    }
+    return {};
+}
+
+void EcatSegment::start_cycles(TimePoint first, CycleHook hook) {
+    hook_ = std::move(hook);
+    next_ = first;
+    next_ns_.store(first.time_since_epoch().count(), std::memory_order_relaxed);
+    next_mailbox_poll_ = first;
+}
+
+void EcatSegment::cycle(TimePoint now) {
+    const TimePoint ideal = next_;
+    period_error_.add(now - ideal);
+    next_ += period_;
+    while (next_ <= now) { // a late cycle skips the slots it missed
+        next_ += period_;
+        ++overruns_;
+    }
+    next_ns_.store(next_.time_since_epoch().count(), std::memory_order_relaxed);
+    if (!master_->exchange_process_data()) {
+        frame_errors_.fetch_add(1, std::memory_order_relaxed);
+        frame_error_pending_.store(true, std::memory_order_release);
+    }
+    ++cycles_;
+    if (hook_) {
+        hook_(CycleInfo{cycles_, ideal, now, bus_index_});
+    }
+    for (auto& s : slaves_) {
+        if (const std::uint16_t code = s->emcy_code.exchange(0); code != 0) {
+            for (auto& a : s->axes) {
+                a->note_error_code(code);
+            }
+        }
+        for (auto& a : s->axes) {
+            a->on_cycle(now);
+            if (a->next_deadline() <= now) {
+                a->on_tick(now); // operation timeouts
+            }
+        }
+    }
+}
+
+void EcatSegment::acyclic(TimePoint now) {
+    for (auto& s : slaves_) {
+        if (s->transport) {
+            s->transport->poll();
+        }
+    }
+    if (now >= next_mailbox_poll_) {
+        next_mailbox_poll_ = now + milliseconds(100);
+        master_->poll_mailboxes();
+    }
+    const bool failing = frame_error_pending_.exchange(false, std::memory_order_acquire);
+    if (failing && !frame_error_reported_) {
+        frame_error_reported_ = true;
+        emit_(fmt::format("EtherCAT segment on {}: cyclic exchange failed: {}", config_.iface,
+                          master_->last_error()));
+    } else if (!failing) {
+        frame_error_reported_ = false;
+    }
+}
+
+void EcatSegment::on_tick(TimePoint now) {
+    if (now < next_) {
+        return;
+    }
+    cycle(now);
+    acyclic(now);
+}
+
+void EcatSegment::cyclic_step(TimePoint now) {
+    for (auto& s : slaves_) {
+        if (s->handoff) {
+            s->handoff->deliver_completions();
+        }
+    }
+    if (now < next_) {
+        return;
+    }
+    int expected = 0;
+    if (!owner_.compare_exchange_strong(expected, 1, std::memory_order_acquire)) {
+        // The acyclic side is in a mailbox exchange: skip this slot rather than wait.
+        period_error_.add(now - next_);
+        while (next_ <= now) {
+            next_ += period_;
+            ++overruns_;
+        }
+        next_ns_.store(next_.time_since_epoch().count(), std::memory_order_relaxed);
+        return;
+    }
+    cycle(now);
+    owner_.store(0, std::memory_order_release);
+}
+
+void EcatSegment::acyclic_step(TimePoint now) {
+    for (auto& s : slaves_) {
+        if (s->handoff) {
+            s->handoff->pump_requests(); // into the CoE transport's queue (acyclic side only)
+        }
+    }
+    const TimePoint next{Duration{next_ns_.load(std::memory_order_relaxed)}};
+    if (next - now < period_ / 2) {
+        return; // too close to the next LRW: a mailbox round trip could make it skip
+    }
+    int expected = 0;
+    if (!owner_.compare_exchange_strong(expected, 2, std::memory_order_acquire)) {
+        return;
+    }
+    acyclic(now);
+    owner_.store(0, std::memory_order_release);
+}
+
+void EcatSegment::stop() {
+    next_ = kNever;
+    if (master_) {
+        if (!master_->set_state_all(ethercat::AlState::PreOp)) {
+            emit_(fmt::format("EtherCAT segment on {}: stepping down to PRE-OP failed: {}",
+                              config_.iface, master_->last_error()));
+        }
+    }
+}
+
+drives::Axis* EcatSegment::axis(unsigned position, unsigned number) {
+    for (auto& s : slaves_) {
+        if (s->index != position) {
+            continue;
+        }
+        for (auto& a : s->axes) {
+            if (a->number() == number) {
+                return a.get();
+            }
+        }
+    }
+    return nullptr;
+}
+
+void EcatSegment::collect_axes(std::vector<AxisRef>& out) const {
+    for (const auto& s : slaves_) {
+        for (const auto& a : s->axes) {
+            out.push_back(AxisRef{bus_index_, static_cast<NodeId>(s->index), a->number(), a.get(),
+                                  a->name()});
+        }
+    }
+}
+
+void EcatSegment::for_each_axis(const std::function<void(drives::Axis&)>& fn) {
+    for (auto& s : slaves_) {
+        for (auto& a : s->axes) {
+            fn(*a);
+        }
+    }
+}
+
+} // namespace codrive::controller

@@ -1,0 +1,110 @@
+// SPDX-License-Identifier: Apache-2.0
+// Runtime of one EtherCAT segment inside the Controller: bring-up to OP with the profiles' PDO
+// layouts, CiA 402 axes over CoE, and the per-cycle LRW exchange.
+#pragma once
+
+#include "handoff_transport.hpp"
+
+#include <codrive/controller/controller.hpp>
+#include <codrive/controller/ethercat_segment.hpp>
+
+#include <codrive/drives/axis.hpp>
+#include <codrive/ethercat/coe_transport.hpp>
+#include <codrive/ethercat/master.hpp>
+#include <codrive/ethercat/raw_socket_link.hpp>
+#include <codrive/sync/period_stats.hpp>
+
+#include <atomic>
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace codrive::controller {
+
+class EcatSegment final : public ITimed {
+public:
+    using Emit = std::function<void(const std::string&)>;
+    using CycleHook = std::function<void(const CycleInfo&)>;
+
+    EcatSegment(EcatSegmentConfig config, std::size_t bus_index, Emit emit);
+    ~EcatSegment() override;
+    EcatSegment(const EcatSegment&) = delete;
+    EcatSegment& operator=(const EcatSegment&) = delete;
+
+    /// Opens the interface (or uses `link` when given), scans, checks every configured slave's
+    /// identity against its profile, writes the modes and the profiles' PDO layouts in PRE-OP,
+    /// steps to OP and binds the axes. Error: one sentence naming the slave and the step.
+    /// `dedicated`: the axes will live on the cyclic thread (their object accesses are handed
+    /// to the acyclic thread).
+    tl::expected<void, std::string> bring_up(ethercat::IEcatLink* link, bool dedicated = false);
+    /// First cycle at `first`, then every cycle_us.
+    void start_cycles(TimePoint first, CycleHook hook);
+
+    /// The cyclic part: LRW (outputs of the last cycle out, inputs in), the hook, every axis's
+    /// on_cycle(). No allocation, no locks, no logging I/O.
+    void cycle(TimePoint now);
+    /// The acyclic part: queued CoE object accesses, emergencies, error reports.
+    void acyclic(TimePoint now);
+
+    /// Dedicated-cyclic mode, cyclic thread: completions of object accesses, then the cycle if
+    /// it is due. The EtherCAT master is shared with the acyclic thread by an atomic ownership
+    /// flag taken with compare-exchange, never waited for: if the acyclic side is in a mailbox
+    /// exchange at cycle time, that cycle's LRW is skipped and counted as an overrun.
+    void cyclic_step(TimePoint now);
+    /// Dedicated-cyclic mode, acyclic thread: hands queued object accesses to the CoE transport
+    /// and runs them (and the emergency poll) when at least half a cycle remains before the next
+    /// LRW.
+    void acyclic_step(TimePoint now);
+
+    // ITimed: single-thread mode runs both parts from the controller's loop.
+    [[nodiscard]] TimePoint next_deadline() const override { return next_; }
+    void on_tick(TimePoint now) override;
+    /// Time of the next cycle (dedicated-thread mode waits for it itself).
+    [[nodiscard]] TimePoint next_cycle() const { return next_; }
+    /// Stops cycling (next_deadline() = never) and steps the slaves down to PRE-OP.
+    void stop();
+
+    [[nodiscard]] drives::Axis* axis(unsigned position, unsigned number);
+    void collect_axes(std::vector<AxisRef>& out) const;
+    void for_each_axis(const std::function<void(drives::Axis&)>& fn);
+    [[nodiscard]] const EcatSegmentConfig& config() const { return config_; }
+    [[nodiscard]] const sync::PeriodStats& period_error() const { return period_error_; }
+    [[nodiscard]] std::uint64_t cycles() const { return cycles_; }
+    [[nodiscard]] std::uint64_t overruns() const { return overruns_; }
+    [[nodiscard]] std::uint64_t frame_errors() const { return frame_errors_; }
+    [[nodiscard]] ethercat::Master* master() { return master_.get(); }
+
+private:
+    struct Slave {
+        EcatSlaveEntry entry;
+        std::size_t index = 0; ///< position on the segment
+        const drives::Profile* profile = nullptr;
+        std::unique_ptr<ethercat::CoeTransport> transport;
+        std::unique_ptr<HandoffTransport> handoff; ///< dedicated-cyclic mode
+        std::vector<std::unique_ptr<drives::Axis>> axes;
+        std::atomic<std::uint16_t> emcy_code{0}; ///< written by the acyclic side
+    };
+    tl::expected<void, std::string> configure_slave(Slave& s);
+
+    EcatSegmentConfig config_;
+    std::size_t bus_index_;
+    Emit emit_;
+    std::unique_ptr<ethercat::RawSocketLink> own_link_;
+    std::unique_ptr<ethercat::Master> master_;
+    std::vector<std::unique_ptr<Slave>> slaves_;
+    CycleHook hook_;
+    Duration period_{0};
+    TimePoint next_ = kNever;
+    std::atomic<std::int64_t> next_ns_{0}; ///< next_ for the acyclic thread
+    std::atomic<int> owner_{0};            ///< who uses master_: 0 nobody, 1 cyclic, 2 acyclic
+    std::uint64_t cycles_ = 0;
+    std::uint64_t overruns_ = 0;
+    std::atomic<std::uint64_t> frame_errors_{0};
+    std::atomic<bool> frame_error_pending_{false}; ///< reported by acyclic()
+    bool frame_error_reported_ = false;
+    TimePoint next_mailbox_poll_{};
+    sync::PeriodStats period_error_;
+};
+
+} // namespace codrive::controller

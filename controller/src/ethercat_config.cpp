@@ -1,0 +1,251 @@
+// SPDX-License-Identifier: Apache-2.0
+// Parses the `ethercat:` section of a bus file and leaves the CAN part to the master's loader.
+#include <codrive/controller/ethercat_segment.hpp>
+
+#include <codrive/drives/profile.hpp>
+#include <codrive/master/bus_config.hpp>
+
+#include <fmt/format.h>
+#include <set>
+#include <sstream>
+#include <yaml-cpp/yaml.h>
+
+namespace codrive::controller {
+namespace {
+
+int line_of(const YAML::Node& n) {
+    return n.Mark().line + 1;
+}
+
+bool starts_top_level_key(const std::string& l) {
+    return !l.empty() && l[0] != ' ' && l[0] != '\t' && l[0] != '#' && l[0] != '-';
+}
+
+class SectionParser {
+public:
+    SectionParser(std::string file, std::vector<std::string>& errors)
+        : file_(std::move(file)), errors_(errors) {}
+
+    std::optional<EcatSegmentConfig> parse(const YAML::Node& s, int key_line) {
+        EcatSegmentConfig c;
+        c.file = file_;
+        if (!s.IsMap()) {
+            error(key_line, "`ethercat` must be a map with `interface`, `cycle_us` and `slaves`");
+            return std::nullopt;
+        }
+        check_keys(s, {"interface", "cycle_us", "slaves"}, "`ethercat`");
+        if (s["interface"] && s["interface"].IsScalar()) {
+            c.iface = s["interface"].as<std::string>();
+        } else {
+            error(key_line, "`ethercat` needs `interface: IFACE` (the Ethernet port of the "
+                            "segment)");
+        }
+        if (s["cycle_us"]) {
+            const auto v = number(s["cycle_us"]);
+            if (!v || *v < 100 || *v > 1000000) {
+                error(line_of(s["cycle_us"]),
+                      "`ethercat.cycle_us` must be a number of microseconds, 100..1000000");
+            } else {
+                c.cycle_us = static_cast<std::uint32_t>(*v);
+            }
+        }
+        const YAML::Node slaves = s["slaves"];
+        if (!slaves || !slaves.IsSequence()) {
+            error(key_line, "`ethercat` needs `slaves:`, a list (each item starts with "
+                            "`- position: N`)");
+        } else {
+            std::set<unsigned> seen;
+            for (const auto& n : slaves) {
+                auto e = parse_slave(n);
+                if (e && !seen.insert(e->position).second) {
+                    error(e->line,
+                          fmt::format("slave position {} is configured twice", e->position));
+                }
+                if (e) {
+                    c.slaves.push_back(std::move(*e));
+                }
+            }
+        }
+        if (errors_.size() != errors_at_start_) {
+            return std::nullopt;
+        }
+        return c;
+    }
+
+private:
+    void error(int line, const std::string& msg) {
+        errors_.push_back(fmt::format("{}:{}: {}", file_, line, msg));
+    }
+
+    void check_keys(const YAML::Node& map, std::initializer_list<const char*> known,
+                    const std::string& where) {
+        for (const auto& kv : map) {
+            const auto key = kv.first.as<std::string>("");
+            bool ok = false;
+            for (const char* k : known) {
+                ok = ok || key == k;
+            }
+            if (!ok) {
+                std::string list;
+                for (const char* k : known) {
+                    list += list.empty() ? std::string(k) : std::string(", ") + k;
+                }
+                error(line_of(kv.first),
+                      fmt::format("unknown key `{}` in {} (known: {})", key, where, list));
+            }
+        }
+    }
+
+    static std::optional<long long> number(const YAML::Node& n) {
+        if (!n.IsScalar()) {
+            return std::nullopt;
+        }
+        try {
+            std::size_t used = 0;
+            const std::string t = n.as<std::string>();
+            const long long v = std::stoll(t, &used, 0);
+            if (used != t.size()) {
+                return std::nullopt;
+            }
+            return v;
+        } catch (const std::exception&) {
+            return std::nullopt;
+        }
+    }
+
+    std::optional<EcatSlaveEntry> parse_slave(const YAML::Node& n) {
+        EcatSlaveEntry e;
+        e.line = line_of(n);
+        if (!n.IsMap()) {
+            error(e.line, "an EtherCAT slave must be a map with `position` and `profile`");
+            return std::nullopt;
+        }
+        check_keys(n, {"position", "name", "profile", "axes"}, "an EtherCAT slave");
+        const auto pos = n["position"] ? number(n["position"]) : std::nullopt;
+        if (!pos || *pos < 0 || *pos > 65535) {
+            error(e.line, "an EtherCAT slave needs `position: N` (0 = first slave after the "
+                          "master)");
+            return std::nullopt;
+        }
+        e.position = static_cast<unsigned>(*pos);
+        if (n["name"]) {
+            e.name = n["name"].as<std::string>("");
+        }
+        const drives::Profile* profile = nullptr;
+        if (n["profile"]) {
+            e.profile = n["profile"].as<std::string>("");
+            profile = drives::find_profile(e.profile);
+            if (profile == nullptr) {
+                error(line_of(n["profile"]),
+                      fmt::format("slave {}: unknown profile `{}` (known: akd2g, ds-bvs, fio, "
+                                  "generic)",
+                                  e.position, e.profile));
+            }
+        } else {
+            error(e.line, fmt::format("slave {}: `profile` is required (akd2g, ds-bvs, fio, "
+                                      "generic)",
+                                      e.position));
+        }
+        if (n["axes"]) {
+            if (!n["axes"].IsSequence()) {
+                error(line_of(n["axes"]), fmt::format("slave {}: `axes` must be a list of "
+                                                      "`{{axis: N, mode: M}}`",
+                                                      e.position));
+            } else {
+                for (const auto& a : n["axes"]) {
+                    parse_axis(a, e, profile);
+                }
+            }
+        }
+        return e;
+    }
+
+    void parse_axis(const YAML::Node& a, EcatSlaveEntry& e, const drives::Profile* profile) {
+        if (!a.IsMap()) {
+            error(line_of(a), fmt::format("slave {}: an axis must be a map `{{axis: N, mode: M}}`",
+                                          e.position));
+            return;
+        }
+        check_keys(a, {"axis", "mode"}, fmt::format("slave {} axis", e.position));
+        EcatAxisEntry ax;
+        if (a["axis"]) {
+            const auto v = number(a["axis"]);
+            const unsigned max_axes = profile != nullptr ? profile->max_axes : 8U;
+            if (!v || *v < 1 || *v > static_cast<long long>(max_axes)) {
+                error(line_of(a["axis"]),
+                      fmt::format("slave {}: axis must be 1..{}", e.position, max_axes));
+                return;
+            }
+            ax.axis = static_cast<unsigned>(*v);
+        }
+        if (a["mode"]) {
+            const auto text = a["mode"].as<std::string>("");
+            ax.mode = master::parse_mode_name(text);
+            if (!ax.mode) {
+                error(line_of(a["mode"]),
+                      fmt::format("slave {} axis {}: unknown mode `{}` (use pp, pv, pt, hm, ip, "
+                                  "csp, csv, cst or a number)",
+                                  e.position, ax.axis, text));
+                return;
+            }
+            if (profile != nullptr && !profile->supports_mode(*ax.mode)) {
+                error(line_of(a["mode"]), fmt::format("slave {} axis {}: the {} does not support "
+                                                      "mode `{}`",
+                                                      e.position, ax.axis, profile->title, text));
+                return;
+            }
+        }
+        e.axes.push_back(ax);
+    }
+
+    std::string file_;
+    std::vector<std::string>& errors_;
+    std::size_t errors_at_start_ = errors_.size();
+};
+
+} // namespace
+
+BusFileSections split_bus_file(const std::string& text, const std::string& file) {
+    BusFileSections out;
+    // Blank the `ethercat:` block line by line (a comment keeps the line numbers of the CAN
+    // part, so the master's loader reports the same lines the user sees).
+    std::istringstream in(text);
+    std::string line;
+    bool inside = false;
+    int line_no = 0;
+    int ethercat_line = 1;
+    while (std::getline(in, line)) {
+        ++line_no;
+        if (starts_top_level_key(line)) {
+            inside = line.rfind("ethercat:", 0) == 0;
+            if (inside) {
+                ethercat_line = line_no;
+            }
+            if (line.rfind("bus:", 0) == 0) {
+                out.has_can = true;
+            }
+        }
+        out.can_text += inside ? "#" + line : line;
+        out.can_text += '\n';
+    }
+    YAML::Node root;
+    try {
+        root = YAML::Load(text);
+    } catch (const YAML::ParserException& e) {
+        out.errors.push_back(
+            fmt::format("{}:{}: not valid YAML: {}", file, e.mark.line + 1, e.msg));
+        return out;
+    }
+    if (root.IsMap() && root["ethercat"]) {
+        SectionParser p(file, out.errors);
+        out.ethercat = p.parse(root["ethercat"], ethercat_line);
+    }
+    if (!out.has_can && !(root.IsMap() && root["ethercat"])) {
+        out.errors.push_back(fmt::format("{}:1: the file has neither a `bus:` (CAN) nor an "
+                                         "`ethercat:` section",
+                                         file));
+    }
+    return out;
+}
+
+} // namespace codrive::controller

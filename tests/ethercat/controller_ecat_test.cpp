@@ -1,0 +1,263 @@
+// SPDX-License-Identifier: Apache-2.0
+// The Controller with an EtherCAT segment from its bus file, against codrive-ecat-sim on veth:
+// bring-up to OP with the FIO profile's PDO layout, enable and CSP move over CoE, the demo
+// program, resource discipline and stop latency.
+#include "veth_segment.hpp"
+
+#include <codrive/controller/controller.hpp>
+#include <codrive/testing/soak.hpp>
+
+#include <fmt/format.h>
+
+#include <atomic>
+#include <cstdio>
+#include <fstream>
+#include <thread>
+#include <unistd.h>
+
+namespace codrive::testing {
+namespace {
+
+using namespace std::chrono_literals;
+
+std::string write_bus_file(const std::string& iface, unsigned cycle_us) {
+    const std::string path = fmt::format("/tmp/codrive-ecat-ctl-{}-{}.yml", ::getpid(), iface);
+    std::ofstream(path) << fmt::format("# written by controller_ecat_test\n"
+                                       "ethercat:\n"
+                                       "  interface: {}\n"
+                                       "  cycle_us: {}\n"
+                                       "  slaves:\n"
+                                       "    - position: 0\n"
+                                       "      name: table\n"
+                                       "      profile: fio\n"
+                                       "      axes:\n"
+                                       "        - {{axis: 1, mode: csp}}\n",
+                                       iface, cycle_us);
+    return path;
+}
+
+int open_fds() {
+    return count_dir_entries("/proc/self/fd") - 1; // minus opendir()'s own
+}
+int threads() {
+    return count_dir_entries("/proc/self/task");
+}
+
+class ControllerOverEthercat : public EcatVethTest {
+protected:
+    void SetUp() override {
+        start({"--slave", "fio"});
+        // The controller opens its own socket; the fixture's master stays out of the way.
+        master_.reset();
+        link_.reset();
+    }
+    std::unique_ptr<controller::Controller>
+    make(std::string& events, controller::Threading mode = controller::Threading::Single) {
+        path_ = write_bus_file(veth_->master_if(), 2000);
+        controller::ControllerOptions o;
+        o.threading = mode;
+        auto c = controller::Controller::from_file(path_, o);
+        EXPECT_TRUE(c) << (c ? "" : c.error());
+        if (!c) {
+            return nullptr;
+        }
+        (*c)->set_event_callback([&events](const std::string& t) { events += t + "\n"; });
+        return std::move(*c);
+    }
+    void TearDown() override {
+        if (!path_.empty()) {
+            std::remove(path_.c_str());
+        }
+        EcatVethTest::TearDown();
+    }
+    std::string path_;
+};
+
+TEST_F(ControllerOverEthercat, BringsTheFioToOpEnablesItAndMovesInCsp) {
+    if (IsSkipped() || HasFatalFailure()) {
+        return;
+    }
+    std::string events;
+    auto c = make(events);
+    ASSERT_TRUE(c);
+    auto started = c->start();
+    ASSERT_TRUE(started) << started.error() << events;
+    EXPECT_EQ(c->can_bus_count(), 0U);
+    EXPECT_EQ(c->ethercat_segment_count(), 1U);
+    auto* axis = c->axis(0, 1, 0); // slave position 0, axis 1, bus 0 = the first segment
+    ASSERT_NE(axis, nullptr);
+    EXPECT_EQ(axis->name(), "slave 0 axis 1 (table)");
+    ASSERT_TRUE(c->run_until([&] { return axis->has_statusword(); }, 2s)) << events;
+    std::optional<drives::DriveVoid> enabled;
+    axis->enable([&](drives::DriveVoid r) { enabled = r; });
+    ASSERT_TRUE(c->run_until([&] { return enabled.has_value(); }, 3s)) << events;
+    ASSERT_TRUE(*enabled) << enabled->error().message << events;
+    // The enable completes on the statusword of OPERATION ENABLED; the state must stay there.
+    c->run_until([&] { return axis->state() == drives::cia402::State::OperationEnabled; }, 500ms);
+    EXPECT_EQ(axis->state(), drives::cia402::State::OperationEnabled)
+        << "statusword " << axis->statusword() << "\n"
+        << events;
+
+    const std::int32_t start = axis->position_actual().value_or(0);
+    std::int32_t offset = 0;
+    std::size_t bus_seen = 99;
+    c->set_cycle_callback([&](const controller::CycleInfo& info) {
+        bus_seen = info.bus;
+        offset = std::min(offset + 40, 20000);
+        axis->set_target_position(start + offset);
+    });
+    ASSERT_TRUE(c->run_until([&] { return offset == 20000; }, 10s)) << events;
+    c->run_for(200ms);
+    EXPECT_EQ(bus_seen, 0U);
+    EXPECT_NEAR(axis->position_actual().value_or(0), start + 20000, 100) << events;
+    const auto stats = c->stats();
+    std::printf("EtherCAT segment, single-thread mode, 2 ms cycle: %s\n",
+                stats.to_string().c_str());
+    EXPECT_GT(stats.cycles, 400U);
+    // A loaded CI host may delay the simulator past a frame timeout now and then.
+    EXPECT_LE(stats.ecat_frame_errors, stats.cycles / 100) << events;
+    c->set_cycle_callback(nullptr);
+    c->shutdown();
+    EXPECT_EQ(axis->state(), drives::cia402::State::SwitchOnDisabled) << events;
+}
+
+TEST_F(ControllerOverEthercat, DestroyedControllerLeavesNoFdsOrThreadsAndStopsWithinOneSecond) {
+    if (IsSkipped() || HasFatalFailure()) {
+        return;
+    }
+    const int fds_before = open_fds();
+    const int threads_before = threads();
+    {
+        std::string events;
+        auto c = make(events);
+        ASSERT_TRUE(c);
+        auto started = c->start();
+        ASSERT_TRUE(started) << started.error() << events;
+        auto* axis = c->axis(0, 1, 0);
+        ASSERT_NE(axis, nullptr);
+        bool enabled = false;
+        ASSERT_TRUE(c->run_until([&] { return axis->has_statusword(); }, 2s)) << events;
+        axis->enable([&](drives::DriveVoid r) { enabled = r.has_value(); });
+        ASSERT_TRUE(c->run_until([&] { return enabled; }, 3s)) << events;
+        std::atomic<std::int64_t> requested_ns{0};
+        std::thread stopper([&] {
+            std::this_thread::sleep_for(100ms);
+            requested_ns = SteadyClock::now().time_since_epoch().count();
+            c->request_stop();
+        });
+        c->run();
+        const auto returned = SteadyClock::now().time_since_epoch().count();
+        stopper.join();
+        const double ms = static_cast<double>(returned - requested_ns.load()) / 1e6;
+        std::printf("EtherCAT: stop request to run() returning: %.1f ms\n", ms);
+        EXPECT_LT(ms, 1000.0);
+        EXPECT_EQ(axis->state(), drives::cia402::State::SwitchOnDisabled) << events;
+    }
+    EXPECT_EQ(open_fds(), fds_before);
+    EXPECT_EQ(threads(), threads_before);
+}
+
+TEST_F(ControllerOverEthercat, DedicatedCyclicThreadEnablesMovesAndStopsWithinOneSecond) {
+    if (IsSkipped() || HasFatalFailure()) {
+        return;
+    }
+    const int fds_before = open_fds();
+    const int threads_before = threads();
+    {
+        std::string events;
+        auto c = make(events, controller::Threading::DedicatedCyclic);
+        ASSERT_TRUE(c);
+        auto started = c->start();
+        ASSERT_TRUE(started) << started.error() << events;
+        EXPECT_EQ(threads(), threads_before + 1) << "one cyclic thread";
+        auto* axis = c->axis(0, 1, 0);
+        ASSERT_NE(axis, nullptr);
+        // The axis belongs to the cyclic thread: everything starts from the cycle callback.
+        std::atomic<int> phase{0}; // 0 wait, 1 enabling, 2 moving, 3 done, -1 failed
+        std::string failure;
+        std::atomic<std::int32_t> position{0};
+        std::int32_t start = 0;
+        std::int32_t offset = 0;
+        c->set_cycle_callback([&](const controller::CycleInfo&) {
+            const int p = phase.load(std::memory_order_acquire);
+            if (p == 0 && axis->has_statusword()) {
+                phase.store(1);
+                axis->enable([&](drives::DriveVoid r) {
+                    if (!r) {
+                        failure = r.error().message;
+                        phase.store(-1, std::memory_order_release);
+                        return;
+                    }
+                    start = axis->position_actual().value_or(0);
+                    phase.store(2, std::memory_order_release);
+                });
+            } else if (p == 2) {
+                offset = std::min(offset + 40, 20000);
+                axis->set_target_position(start + offset);
+                if (offset == 20000) {
+                    phase.store(3, std::memory_order_release);
+                }
+            }
+            position.store(axis->position_actual().value_or(0), std::memory_order_relaxed);
+        });
+        ASSERT_TRUE(c->run_until([&] { return phase.load() == 3 || phase.load() == -1; }, 15s))
+            << "phase " << phase.load() << "\n"
+            << events;
+        ASSERT_EQ(phase.load(std::memory_order_acquire), 3) << failure << events;
+        c->run_for(200ms);
+        EXPECT_NEAR(position.load(), start + 20000, 100) << events;
+        std::atomic<std::int64_t> requested_ns{0};
+        std::thread stopper([&] {
+            std::this_thread::sleep_for(100ms);
+            requested_ns = SteadyClock::now().time_since_epoch().count();
+            c->request_stop();
+        });
+        c->run();
+        const auto returned = SteadyClock::now().time_since_epoch().count();
+        stopper.join();
+        const double ms = static_cast<double>(returned - requested_ns.load()) / 1e6;
+        const auto stats = c->stats();
+        std::printf("EtherCAT segment, dedicated cyclic thread, 2 ms cycle: %s; stop request to "
+                    "run() returning %.1f ms\n",
+                    stats.to_string().c_str(), ms);
+        EXPECT_LT(ms, 1000.0);
+        EXPECT_EQ(axis->state(), drives::cia402::State::SwitchOnDisabled) << events;
+        // A loaded CI host may delay the simulator past a frame timeout now and then.
+        EXPECT_LE(stats.ecat_frame_errors, stats.cycles / 100) << events;
+    }
+    EXPECT_EQ(open_fds(), fds_before);
+    EXPECT_EQ(threads(), threads_before);
+}
+
+TEST_F(ControllerOverEthercat, TheEcatDemoProgramEnablesMovesAndEndsOk) {
+    if (IsSkipped() || HasFatalFailure()) {
+        return;
+    }
+    path_ = write_bus_file(veth_->master_if(), 2000);
+    const std::string demo = std::string(CODRIVE_BUILD_DIR) + "/examples/codrive-ecat_demo";
+    auto r = run({demo, path_, "20000"}, 60s);
+    std::printf("%s", r.output.c_str());
+    EXPECT_EQ(r.status, 0) << r.output;
+    EXPECT_NE(r.output.find("slave 0 axis 1 (table) is OPERATION ENABLED"), std::string::npos)
+        << r.output;
+    EXPECT_NE(r.output.find("demo finished: OK"), std::string::npos) << r.output;
+}
+
+TEST(EcatDemoScript, CreatesTheVethPairRunsTheDemoAndCleansUp) {
+    const std::string script = std::string(CODRIVE_SOURCE_DIR) + "/vcan-scripts/demo-ecat.sh";
+    auto r = run({"/bin/bash", script, "--build-dir", CODRIVE_BUILD_DIR}, 90s);
+    if (r.status != 0 && ethercat_skip_requested()) {
+        GTEST_SKIP() << "demo-ecat.sh failed and CODRIVE_SKIP_ETHERCAT=1: " << r.output;
+    }
+    std::printf("%s", r.output.c_str());
+    EXPECT_EQ(r.status, 0) << r.output;
+    EXPECT_NE(r.output.find("codrive-ecat-sim: 1 slave(s) on ecs-demo ready"), std::string::npos)
+        << r.output;
+    EXPECT_NE(r.output.find("demo finished: OK"), std::string::npos) << r.output;
+    // The script removed its veth pair.
+    auto link = run({"/usr/sbin/ip", "link", "show", "ecm-demo"}, 5s);
+    EXPECT_NE(link.status, 0) << link.output;
+}
+
+} // namespace
+} // namespace codrive::testing

@@ -1,0 +1,542 @@
+// SPDX-License-Identifier: Apache-2.0
+// The vcan soak: a Controller drives simulated CiA 402 drives in CSP for N SYNC cycles while a
+// second socket counts every SYNC and PDO on the wire; heap, fds and threads are sampled.
+//
+// Shared by bench/soak.cpp (long runs) and tests/vcan/soak_test.cpp (the short CI run). Header
+// only: the support library links codrive::core alone, the soak needs the controller.
+#pragma once
+
+#include <codrive/controller/controller.hpp>
+#include <codrive/core/socket_can_bus.hpp>
+#include <codrive/master/master.hpp>
+
+#include <fmt/format.h>
+
+#include <array>
+#include <chrono>
+#include <cstdint>
+#include <cstdio>
+#include <cstdlib>
+#include <dirent.h>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <malloc.h>
+#include <string>
+#include <unistd.h>
+#include <vector>
+
+namespace codrive::testing {
+
+/// One simulated node as codrive-sim hosts it (`--node ID:PROFILE:1`).
+struct SoakNode {
+    NodeId id = 1;
+    std::string profile = "akd2g";
+    /// csp: a position triangle; csv: velocity 0; off: in CSV, booted but never enabled.
+    std::string mode = "csp";
+};
+
+/// An SDO write the soak makes to every node of a profile (all if empty) after boot-up.
+struct SoakWrite {
+    std::string profile;
+    std::uint16_t index = 0;
+    std::uint8_t subindex = 0;
+    std::vector<std::uint8_t> data; ///< little-endian value
+};
+
+struct SoakOptions {
+    std::string iface = "vcan0";
+    std::uint64_t cycles = 20'000;
+    std::uint64_t sample_at = 10'000; ///< first resource sample (the second is at the end)
+    std::uint32_t sync_period_us = 2000;
+    std::vector<SoakNode> nodes = {{1, "akd2g"}, {2, "akd2g"}, {3, "akd2g"}, {4, "akd2g"}};
+    /// Master heartbeat (1017h of the master) in ms.
+    std::uint16_t master_heartbeat_ms = 100;
+    /// Written by SDO once every node booted, before the axes are enabled (e.g. 1016h:01 so
+    /// the nodes supervise the master's heartbeat). By SDO rather than as bus-file `writes:`
+    /// because the master-side profile dictionaries do not list 1016h/1029h.
+    std::vector<SoakWrite> writes;
+    /// Called with every controller event (master, PDO, boot), outside the cyclic path.
+    std::function<void(const std::string&)> on_event;
+    /// Called once the axes are enabled and the counting window is open.
+    std::function<void()> on_running;
+    /// Every `progress_every` cycles (0: never), outside the cyclic path: a line with the
+    /// cycle, heap, fds and the PDO frames counted so far, so a run cut short still has figures.
+    std::uint64_t progress_every = 0;
+    std::function<void(const std::string&)> on_progress;
+    /// Stop early when this returns true (checked between cycles' run slices).
+    std::function<bool()> stop;
+};
+
+/// Process resources at one moment.
+struct ResourceSample {
+    std::uint64_t cycle = 0;
+    std::size_t heap_in_use = 0; ///< mallinfo2().uordblks: bytes handed out by malloc
+    std::size_t heap_mapped = 0; ///< mallinfo2().hblkhd: bytes in mmap'ed blocks
+    int fds = 0;                 ///< entries of /proc/self/fd
+    int threads = 0;             ///< entries of /proc/self/task
+};
+
+struct SoakPdo {
+    std::uint32_t cob_id = 0;
+    bool tpdo = false; ///< sent by the node (TPDO), else by the master (RPDO)
+    std::uint64_t frames = 0;
+    std::uint64_t lost = 0;        ///< window SYNCs minus frames, if positive
+    std::uint64_t extra = 0;       ///< frames minus window SYNCs, if positive
+    std::uint64_t late_cycles = 0; ///< SYNC intervals in which this PDO did not appear
+    std::uint64_t in_flight = 0;   ///< answers to the last SYNCs not yet seen at the end
+};
+
+struct SoakReport {
+    std::string error;       ///< empty when the run completed (figures below are valid)
+    std::uint64_t syncs = 0; ///< SYNCs counted on the wire in the window
+    std::vector<SoakPdo> pdos;
+    std::uint64_t lost = 0; ///< sum of SoakPdo::lost
+    std::uint64_t monitor_rx_dropped = 0;
+    controller::ControllerStats stats;
+    std::uint64_t master_rx_dropped = 0;
+    std::uint64_t events = 0;
+    std::vector<std::string> first_events;
+    ResourceSample first;
+    ResourceSample last;
+    double wall_s = 0;
+    double period_us = 0; ///< mean SYNC interval on the wire
+    std::string bus_file;
+
+    [[nodiscard]] std::string to_string() const;
+    /// Empty when the soak passed: it ran, no PDO lost, heap within kHeapSlack bytes of the
+    /// first sample, the same fds and threads; else one sentence per failed criterion.
+    [[nodiscard]] std::string verdict() const;
+    /// Heap growth tolerated between the samples: the controller keeps the first event
+    /// sentences (a few hundred bytes each); anything per cycle would grow by megabytes.
+    static constexpr long long kHeapSlack = 4096;
+};
+
+/// In the throw-away User-Mode-Linux guest only (CODRIVE_VCAN=uml): raises the default socket
+/// receive buffer to 4 MiB for the processes started after it, so a simulator process starved
+/// of the guest's single CPU for a few hundred ms does not overflow its socket and miss SYNCs
+/// (codrive-sim does not set SO_RCVBUF itself). Returns what it did, for the log.
+inline std::string widen_guest_receive_buffers() {
+    const char* mode = std::getenv("CODRIVE_VCAN");
+    if (mode == nullptr || std::string(mode) != "uml") {
+        return "socket receive buffers unchanged (not in the UML guest)";
+    }
+    for (const char* path : {"/proc/sys/net/core/rmem_max", "/proc/sys/net/core/rmem_default"}) {
+        std::ofstream(path) << 4194304;
+    }
+    return "guest net.core.rmem_default = 4 MiB";
+}
+
+/// "1:akd2g,3:ds-bvs:csv" (ID:PROFILE[:MODE]) → nodes; false on a malformed item.
+inline bool parse_soak_nodes(const std::string& text, std::vector<SoakNode>& out) {
+    out.clear();
+    for (std::string rest = text; !rest.empty();) {
+        const auto comma = rest.find(',');
+        const std::string item = rest.substr(0, comma);
+        rest = comma == std::string::npos ? "" : rest.substr(comma + 1);
+        const auto colon = item.find(':');
+        if (colon == std::string::npos || colon == 0) {
+            return false;
+        }
+        const unsigned long id = std::strtoul(item.c_str(), nullptr, 10);
+        if (id < 1 || id > 127) {
+            return false;
+        }
+        std::string profile = item.substr(colon + 1);
+        std::string mode = "csp";
+        if (const auto second = profile.find(':'); second != std::string::npos) {
+            mode = profile.substr(second + 1);
+            profile.resize(second);
+        }
+        if (mode != "csp" && mode != "csv" && mode != "off") {
+            return false;
+        }
+        out.push_back({static_cast<NodeId>(id), profile, mode});
+    }
+    return !out.empty();
+}
+
+/// Entries of a /proc directory other than "." and "..".
+inline int count_dir_entries(const char* path) {
+    int n = 0;
+    if (DIR* d = ::opendir(path)) {
+        while (const dirent* e = ::readdir(d)) {
+            n += e->d_name[0] != '.' ? 1 : 0;
+        }
+        ::closedir(d);
+    }
+    return n;
+}
+
+/// Current process resources (reads /proc; not for the cyclic path).
+inline ResourceSample sample_resources(std::uint64_t cycle) {
+    ResourceSample s;
+    s.cycle = cycle;
+    const struct mallinfo2 mi = ::mallinfo2();
+    s.heap_in_use = mi.uordblks + mi.hblkhd;
+    s.heap_mapped = mi.hblkhd;
+    s.fds = count_dir_entries("/proc/self/fd") - 1; // minus the one opendir() holds
+    s.threads = count_dir_entries("/proc/self/task");
+    return s;
+}
+
+/// The bus file the soak runs: every node in CSP with the profile's default PDO mapping.
+inline std::string soak_bus_yaml(const SoakOptions& o) {
+    std::string y = fmt::format("# generated by codrive::testing soak\nbus:\n  interface: {}\n"
+                                "  sync_period_us: {}\n  master: {{node_id: 127, heartbeat_ms: "
+                                "{}}}\nnodes:\n",
+                                o.iface, o.sync_period_us, o.master_heartbeat_ms);
+    for (const auto& n : o.nodes) {
+        y += fmt::format("  - id: {}\n    profile: {}\n    heartbeat_ms: 100\n"
+                         "    axes:\n      - {{axis: 1, mode: {}}}\n",
+                         n.id, n.profile, n.mode == "off" ? "csv" : n.mode);
+    }
+    return y;
+}
+
+namespace soak_detail {
+
+/// Counts SYNCs and PDO frames per COB-ID on a second socket. The frame handler only
+/// increments fixed arrays (no allocation, so it cannot disturb the heap figures).
+struct WireCounter {
+    static constexpr std::size_t kIds = 0x800;
+    std::array<std::uint64_t, kIds> total{};
+    std::array<std::uint64_t, kIds> in_cycle{};
+    std::array<std::uint64_t, kIds> late{};
+    /// Intervals at the end of the window in which the stream was missing: its answers to the
+    /// last SYNCs are still in flight when the window closes (late, not lost).
+    std::array<std::uint64_t, kIds> trailing_missing{};
+    /// Frames beyond one in the first interval: answers to the SYNC before the window.
+    std::array<std::uint64_t, kIds> leading_extra{};
+    std::uint64_t syncs = 0; ///< SYNCs that opened a counted interval
+    bool open = false;
+    bool closed = false;
+    std::uint64_t limit = 0;
+    TimePoint first_sync{};
+    TimePoint last_sync{};
+
+    static bool is_pdo(std::uint32_t id) { return id >= 0x180 && id < 0x580; }
+
+    void on_frame(const Frame& f, TimePoint t) {
+        if (f.error() || f.extended() || closed) {
+            return;
+        }
+        const std::uint32_t id = f.id & 0x7FF;
+        if (id == 0x080) {
+            if (open) {
+                // An interval ends: a PDO seen 0 times in it was late (or lost).
+                for (std::uint32_t i = 0x180; i < 0x580; ++i) {
+                    if (syncs == 1 && in_cycle[i] > 1) {
+                        leading_extra[i] = in_cycle[i] - 1;
+                    }
+                    if (total[i] != 0 && in_cycle[i] == 0) {
+                        ++late[i];
+                        ++trailing_missing[i];
+                    } else {
+                        trailing_missing[i] = 0;
+                    }
+                    in_cycle[i] = 0;
+                }
+                if (syncs >= limit) {
+                    closed = true;
+                    last_sync = t;
+                    return;
+                }
+            } else {
+                open = true;
+                first_sync = t;
+            }
+            ++syncs;
+            last_sync = t;
+            return;
+        }
+        if (open && is_pdo(id)) {
+            ++total[id];
+            ++in_cycle[id];
+        }
+    }
+};
+
+} // namespace soak_detail
+
+/// Runs the soak against nodes already simulated on o.iface (codrive-sim). Never throws; the
+/// report's `error` says what went wrong before the figures could be taken.
+inline SoakReport run_soak(const SoakOptions& o) {
+    SoakReport rep;
+    const auto wall_start = std::chrono::steady_clock::now();
+    rep.bus_file = fmt::format("{}/codrive-soak-{}.yml",
+                               std::filesystem::temp_directory_path().string(), ::getpid());
+    {
+        std::ofstream out(rep.bus_file);
+        out << soak_bus_yaml(o);
+    }
+    controller::ControllerOptions copt;
+    copt.boot_timeout = seconds(20);
+    auto created = controller::Controller::from_file(rep.bus_file, copt);
+    std::filesystem::remove(rep.bus_file);
+    if (!created) {
+        rep.error = "bus file: " + created.error();
+        return rep;
+    }
+    controller::Controller& c = **created;
+    rep.first_events.reserve(16);
+    c.set_event_callback([&](const std::string& text) {
+        ++rep.events;
+        if (rep.first_events.size() < 16) {
+            rep.first_events.push_back(text);
+        }
+        if (o.on_event) {
+            o.on_event(text);
+        }
+    });
+    if (auto r = c.start(); !r) {
+        rep.error = "start: " + r.error();
+        return rep;
+    }
+    std::size_t writes_done = 0;
+    std::size_t writes_sent = 0;
+    std::string write_error;
+    for (const auto& w : o.writes) {
+        for (const auto& n : o.nodes) {
+            if (!w.profile.empty() && w.profile != n.profile) {
+                continue;
+            }
+            ++writes_sent;
+            c.master().sdo().client(n.id).download(
+                w.index, w.subindex, w.data, [&, id = n.id](sdo::SdoResult<void> r) {
+                    ++writes_done;
+                    if (!r) {
+                        write_error += fmt::format("node {} 0x{:04X}:{:02X}: {}; ", id, w.index,
+                                                   w.subindex, r.error().to_string());
+                    }
+                });
+        }
+    }
+    c.run_until([&] { return writes_done == writes_sent; }, seconds(5));
+    if (writes_done != writes_sent || !write_error.empty()) {
+        rep.error = "SDO writes failed: " + write_error;
+        return rep;
+    }
+    // The axes to drive, with their node's mode ("off": booted, never enabled).
+    struct Driven {
+        drives::Axis* axis = nullptr;
+        std::string mode;
+        std::int32_t origin = 0;
+    };
+    std::vector<Driven> axes;
+    for (const auto& ref : c.axes()) {
+        for (const auto& n : o.nodes) {
+            if (n.id == ref.node && n.mode != "off") {
+                axes.push_back({ref.axis, n.mode, 0});
+            }
+        }
+    }
+    const auto all_have_status = [&] {
+        for (const auto& d : axes) {
+            if (!d.axis->has_statusword()) {
+                return false;
+            }
+        }
+        return true;
+    };
+    if (!c.run_until(all_have_status, seconds(5))) {
+        rep.error = "not every axis has a cyclic statusword 5 s after boot-up";
+        return rep;
+    }
+    std::size_t enabled = 0;
+    std::string enable_error;
+    for (const auto& d : axes) {
+        d.axis->enable([&, a = d.axis](drives::DriveVoid r) {
+            ++enabled;
+            if (!r) {
+                enable_error += a->name() + ": " + r.error().message + "; ";
+            }
+        });
+    }
+    c.run_until([&] { return enabled == axes.size(); }, seconds(10));
+    if (enabled != axes.size() || !enable_error.empty()) {
+        rep.error = "enable failed: " + enable_error;
+        return rep;
+    }
+
+    // CSP: every axis follows a triangle around where it stands, one set-point per SYNC
+    // (about 10 increments per ms; CiA 402 CSP, the drive interpolates nothing itself).
+    for (auto& d : axes) {
+        d.origin = d.axis->position_actual().value_or(0);
+    }
+    std::uint64_t cycle = 0;
+    c.set_cycle_callback([&](const controller::CycleInfo&) {
+        ++cycle;
+        const auto phase = static_cast<std::int64_t>(cycle % 20'000);
+        const std::int64_t tri = phase < 10'000 ? phase : 20'000 - phase;
+        const auto step = static_cast<std::int64_t>(o.sync_period_us) / 100;
+        for (const auto& d : axes) {
+            if (d.mode == "csv") {
+                d.axis->set_target_velocity(0);
+            } else {
+                d.axis->set_target_position(static_cast<std::int32_t>(d.origin + tri * step));
+            }
+        }
+    });
+
+    auto monitor_bus = SocketCanBus::open(o.iface);
+    if (!monitor_bus) {
+        rep.error = "monitor socket: " + monitor_bus.error().message();
+        return rep;
+    }
+    soak_detail::WireCounter wire;
+    wire.limit = o.cycles;
+    (*monitor_bus)->set_frame_handler([&wire](const Frame& f, TimePoint t) {
+        wire.on_frame(f, t);
+    });
+    if (auto r = (*monitor_bus)->attach(c.loop()); !r) {
+        rep.error = "monitor attach: " + r.error().message();
+        return rep;
+    }
+    if (o.on_running) {
+        o.on_running();
+    }
+    const auto stopped = [&] { return o.stop && o.stop(); };
+    // Long runs in slices so a hung bus ends the run instead of blocking forever.
+    const Duration slice = seconds(10);
+    const auto run_to = [&](std::uint64_t n) {
+        std::uint64_t before = wire.syncs;
+        while (wire.syncs < n && !wire.closed && !stopped()) {
+            c.run_until([&] { return wire.syncs >= n || wire.closed || stopped(); }, slice);
+            if (wire.syncs == before) {
+                return false; // no SYNC for 10 s
+            }
+            before = wire.syncs;
+        }
+        return true;
+    };
+    bool ok = run_to(std::min(o.sample_at, o.cycles));
+    rep.first = sample_resources(wire.syncs);
+    const auto progress = [&] {
+        std::uint64_t min_frames = ~std::uint64_t{0};
+        for (std::uint32_t id = 0x180; id < 0x580; ++id) {
+            if (wire.total[id] != 0) {
+                min_frames = std::min(min_frames, wire.total[id]);
+            }
+        }
+        const ResourceSample r = sample_resources(wire.syncs);
+        o.on_progress(fmt::format(
+            "soak: progress: {} SYNCs, fewest frames of a PDO stream {}, "
+            "heap {} B, fds {}, threads {}, {:.0f} s",
+            wire.syncs, min_frames, r.heap_in_use, r.fds, r.threads,
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count()));
+    };
+    if (o.progress_every != 0 && o.on_progress) {
+        progress();
+        for (std::uint64_t next = wire.syncs + o.progress_every;
+             ok && next < o.cycles && !stopped(); next += o.progress_every) {
+            ok = run_to(next);
+            progress();
+        }
+    }
+    ok = ok && run_to(o.cycles);
+    if (ok && !stopped()) {
+        c.run_until([&] { return wire.closed; }, seconds(5));
+    }
+    rep.last = sample_resources(wire.syncs);
+    rep.stats = c.stats();
+    rep.master_rx_dropped = 0;
+    (*monitor_bus)->detach();
+    rep.monitor_rx_dropped = (*monitor_bus)->stats().rx_dropped;
+    c.shutdown();
+    rep.syncs = wire.syncs;
+    for (std::uint32_t id = 0x180; id < 0x580; ++id) {
+        if (wire.total[id] == 0) {
+            continue;
+        }
+        SoakPdo p;
+        p.cob_id = id;
+        // Predefined connection set: TPDOn at 180h/280h/380h/480h + node, RPDOn 80h above.
+        p.tpdo = ((id >> 7) & 1U) == 1U;
+        p.frames = wire.total[id];
+        // Answers to SYNCs of the window: minus those to the SYNC before it, plus those still
+        // in flight at the end.
+        const std::uint64_t answered =
+            p.frames - wire.leading_extra[id] + wire.trailing_missing[id];
+        p.in_flight = wire.trailing_missing[id];
+        p.lost = answered < rep.syncs ? rep.syncs - answered : 0;
+        p.extra = answered > rep.syncs ? answered - rep.syncs : 0;
+        p.late_cycles = wire.late[id];
+        rep.lost += p.lost;
+        rep.pdos.push_back(p);
+    }
+    if (rep.syncs > 1) {
+        rep.period_us =
+            std::chrono::duration<double, std::micro>(wire.last_sync - wire.first_sync).count() /
+            static_cast<double>(rep.syncs);
+    }
+    rep.wall_s =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
+    if (!ok) {
+        rep.error = fmt::format("SYNC stopped on the wire after {} cycles", wire.syncs);
+    } else if (rep.syncs < o.cycles && !stopped()) {
+        rep.error = fmt::format("only {} of {} cycles ran", rep.syncs, o.cycles);
+    }
+    return rep;
+}
+
+inline std::string SoakReport::to_string() const {
+    std::string s;
+    if (!error.empty()) {
+        s += "soak: ERROR: " + error + "\n";
+    }
+    s += fmt::format("soak: {} SYNC cycles, mean period {:.1f} us, wall {:.1f} s\n", syncs,
+                     period_us, wall_s);
+    std::uint64_t rx = 0;
+    std::uint64_t tx = 0;
+    for (const auto& p : pdos) {
+        (p.tpdo ? rx : tx) += p.frames;
+        s += fmt::format("soak:   {} 0x{:03X}: {} frames, lost {}, extra {}, late in {} cycles, "
+                         "{} in flight at the end\n",
+                         p.tpdo ? "TPDO" : "RPDO", p.cob_id, p.frames, p.lost, p.extra,
+                         p.late_cycles, p.in_flight);
+    }
+    s += fmt::format("soak: PDOs on the wire: {} RPDO + {} TPDO frames in {} PDO streams; "
+                     "lost (not injected) {}; monitor socket drops {}\n",
+                     tx, rx, pdos.size(), lost, monitor_rx_dropped);
+    s += fmt::format("soak: controller: {}\n", stats.to_string());
+    const auto diff = [](std::size_t a, std::size_t b) {
+        return static_cast<long long>(b) - static_cast<long long>(a);
+    };
+    s += fmt::format("soak: heap in use {} B at cycle {}, {} B at cycle {} ({:+d} B); "
+                     "fds {} -> {}; threads {} -> {}\n",
+                     first.heap_in_use, first.cycle, last.heap_in_use, last.cycle,
+                     diff(first.heap_in_use, last.heap_in_use), first.fds, last.fds, first.threads,
+                     last.threads);
+    s += fmt::format("soak: {} controller events\n", events);
+    for (const auto& e : first_events) {
+        s += "soak:   event: " + e + "\n";
+    }
+    return s;
+}
+
+inline std::string SoakReport::verdict() const {
+    std::string v = error.empty() ? "" : error + ". ";
+    if (lost != 0) {
+        v += fmt::format("{} PDO frames lost (no loss was injected). ", lost);
+    }
+    if (monitor_rx_dropped != 0) {
+        v += fmt::format("the monitor socket dropped {} frames, so the counts are incomplete. ",
+                         monitor_rx_dropped);
+    }
+    const long long growth =
+        static_cast<long long>(last.heap_in_use) - static_cast<long long>(first.heap_in_use);
+    if (growth > kHeapSlack) {
+        v += fmt::format("the heap grew by {} B between cycle {} and cycle {}. ", growth,
+                         first.cycle, last.cycle);
+    }
+    if (last.fds != first.fds) {
+        v += fmt::format("open file descriptors went from {} to {}. ", first.fds, last.fds);
+    }
+    if (last.threads != first.threads) {
+        v += fmt::format("threads went from {} to {}. ", first.threads, last.threads);
+    }
+    return v;
+}
+
+} // namespace codrive::testing

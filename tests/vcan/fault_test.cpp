@@ -1,0 +1,273 @@
+// SPDX-License-Identifier: Apache-2.0
+// Faults with real processes on vcan: the master process is killed while the drives run CSP
+// (their heartbeat consumers must bring them to the manual's fault reaction), a node reboots
+// in the middle of CSP motion, and error frames put the bus error-passive and bus-off.
+//
+// The master is this binary running SoakVcanMaster.DISABLED_Run (soak_test.cpp); the drives
+// are codrive-sim processes; the test watches the wire on its own socket.
+#include <codrive/core/endian.hpp>
+#include <codrive/core/event_loop.hpp>
+#include <codrive/core/socket_can_bus.hpp>
+#include <codrive/sdo/client.hpp>
+#include <codrive/testing/process.hpp>
+#include <codrive/testing/vcan.hpp>
+
+#include <gtest/gtest.h>
+#include <linux/can/error.h>
+
+#include <array>
+#include <climits>
+#include <csignal>
+#include <cstdlib>
+#include <memory>
+#include <optional>
+#include <unistd.h>
+
+using namespace codrive;
+using namespace std::chrono_literals;
+using codrive::testing::Process;
+using codrive::testing::tool_path;
+
+namespace {
+
+/// This test binary (readlink, not "/proc/self/exe" itself: under valgrind that names valgrind).
+std::string self_exe() {
+    char buf[PATH_MAX];
+    const ssize_t n = ::readlink("/proc/self/exe", buf, sizeof(buf) - 1);
+    return n > 0 ? std::string(buf, static_cast<std::size_t>(n)) : std::string();
+}
+
+/// The master process: SYNC every 4 ms, every axis enabled in CSP.
+std::unique_ptr<Process> start_master(const std::string& nodes, unsigned consumer_ms) {
+    ::setenv("CODRIVE_SOAK_NODES", nodes.c_str(), 1);
+    ::setenv("CODRIVE_SOAK_CONSUMER_MS", std::to_string(consumer_ms).c_str(), 1);
+    auto p = std::make_unique<Process>(
+        std::vector<std::string>{self_exe(), "--gtest_also_run_disabled_tests",
+                                 "--gtest_filter=SoakVcanMaster.DISABLED_Run"});
+    ::unsetenv("CODRIVE_SOAK_NODES");
+    ::unsetenv("CODRIVE_SOAK_CONSUMER_MS");
+    return p;
+}
+
+/// Waits until the master process prints "soak: running"; false at once if it exits first.
+bool wait_running(Process& master) {
+    for (int i = 0; i < 400; ++i) {
+        if (master.wait_for_output("soak: running", 100ms)) {
+            return true;
+        }
+        if (!master.running()) {
+            return false;
+        }
+    }
+    return false;
+}
+
+/// What the test sees on vcan0: EMCY codes, heartbeat states and TPDO frames per node.
+class Wire {
+public:
+    Wire() {
+        auto loop = EventLoop::create();
+        auto bus = SocketCanBus::open("vcan0");
+        if (!loop || !bus) {
+            return;
+        }
+        loop_ = std::move(*loop);
+        bus_ = std::move(*bus);
+        bus_->set_frame_handler([this](const Frame& f, TimePoint t) { on_frame(f, t); });
+        (void)bus_->attach(*loop_);
+    }
+    [[nodiscard]] bool ok() const { return bus_ != nullptr; }
+
+    bool wait(const std::function<bool()>& pred, Duration timeout) {
+        return loop_->run_until(pred, timeout);
+    }
+    void run_for(Duration d) { (void)loop_->run_until(loop_->now() + d); }
+
+    [[nodiscard]] bool emcy_seen(NodeId node, std::uint16_t code) const {
+        for (auto c : emcy_[node]) {
+            if (c == code) {
+                return true;
+            }
+        }
+        return false;
+    }
+    [[nodiscard]] std::optional<std::uint8_t> hb_state(NodeId node) const { return hb_[node]; }
+    [[nodiscard]] std::uint64_t tpdos(NodeId node) const { return tpdo_[node]; }
+    [[nodiscard]] std::uint64_t syncs() const { return syncs_; }
+
+    /// Reads an object of `node` by SDO (expedited); nullopt on failure.
+    std::optional<std::uint16_t> read_u16(NodeId node, std::uint16_t index) {
+        sdo::ClientConfig cc;
+        cc.node = node;
+        cc.timeout = 500ms;
+        client_ = std::make_unique<sdo::SdoClient>(*bus_, RealClock::instance(), cc);
+        loop_->add_timed(client_.get());
+        std::optional<sdo::SdoResult<std::uint16_t>> r;
+        client_->read<std::uint16_t>(index, 0,
+                                     [&](sdo::SdoResult<std::uint16_t> v) { r = std::move(v); });
+        loop_->run_until([&] { return r.has_value(); }, 2s);
+        loop_->remove_timed(client_.get());
+        client_.reset();
+        if (!r || !*r) {
+            return std::nullopt;
+        }
+        return **r;
+    }
+
+    VoidResult send(const Frame& f) { return bus_->send(f); }
+
+private:
+    void on_frame(const Frame& f, TimePoint t) {
+        if (client_) {
+            client_->on_frame(f, t);
+        }
+        if (f.error() || f.extended()) {
+            return;
+        }
+        const std::uint32_t fn = f.id & 0x780;
+        const auto node = static_cast<NodeId>(f.id & 0x7F);
+        if (f.id == 0x80) {
+            ++syncs_;
+        } else if (fn == 0x080 && f.len >= 2) {
+            emcy_[node].push_back(get_le<std::uint16_t>(f.data.data()));
+        } else if (fn == 0x700 && f.len == 1) {
+            hb_[node] = static_cast<std::uint8_t>(f.data[0] & 0x7F);
+        } else if (fn == 0x180 || fn == 0x280 || fn == 0x380 || fn == 0x480) {
+            ++tpdo_[node];
+        }
+    }
+
+    std::unique_ptr<EventLoop> loop_;
+    std::unique_ptr<SocketCanBus> bus_;
+    std::unique_ptr<sdo::SdoClient> client_;
+    std::array<std::vector<std::uint16_t>, 128> emcy_{};
+    std::array<std::optional<std::uint8_t>, 128> hb_{};
+    std::array<std::uint64_t, 128> tpdo_{};
+    std::uint64_t syncs_ = 0;
+};
+
+constexpr std::uint16_t kHeartbeatLostEmcy = 0x8130; // CiA 301 "life guard / heartbeat error"
+constexpr std::uint8_t kPreOperational = 0x7F;
+constexpr std::uint8_t kOperational = 0x05;
+
+} // namespace
+
+TEST(VcanFault, KilledMasterMakesAkd2gFaultF7002AndDsBvsReportItAndGoPreOperational) {
+    CODRIVE_REQUIRE_VCAN("vcan0");
+    Process sim(
+        {tool_path("codrive-sim"), "-i", "vcan0", "--node", "1:akd2g:1", "--node", "3:ds-bvs"});
+    ASSERT_TRUE(sim.wait_for_output("node 3", 10s)) << sim.output();
+    // DS-BVS booted in CSV but not enabled: with the current sim its CSP mapping fails boot-up
+    // and enabling stops at "main voltage not applied" (see docs/reliability.md).
+    auto master = start_master("1:akd2g,3:ds-bvs:off", 300);
+    ASSERT_TRUE(wait_running(*master)) << master->output();
+    Wire wire;
+    ASSERT_TRUE(wire.ok());
+    ASSERT_TRUE(wire.wait([&] { return wire.tpdos(1) > 10 && wire.tpdos(3) > 10; }, 5s))
+        << "the drives are not exchanging PDOs before the kill";
+    EXPECT_FALSE(wire.emcy_seen(1, kHeartbeatLostEmcy));
+
+    master->signal(SIGKILL);
+    master->wait(5s);
+    // Consumer time 300 ms: both nodes must react within a second of the last heartbeat.
+    EXPECT_TRUE(wire.wait(
+        [&] {
+            return wire.emcy_seen(1, kHeartbeatLostEmcy) && wire.emcy_seen(3, kHeartbeatLostEmcy);
+        },
+        2s))
+        << "no EMCY 8130h (heartbeat lost) from node 1 and node 3\n"
+        << sim.output();
+    wire.run_for(300ms); // quick stop ramps, heartbeats report the new NMT state
+    // AKD2G (akd2g.md §4.3.1): F7002 "Fieldbus Heartbeat lost" — a fault: statusword bit 3.
+    const auto sw1 = wire.read_u16(1, 0x6041);
+    ASSERT_TRUE(sw1.has_value()) << "node 1 does not answer SDO";
+    EXPECT_NE(*sw1 & 0x0008, 0) << "node 1 statusword 0x" << std::hex << *sw1;
+    // DS-BVS (ds-bvs.md §2.6): 1029h:01 = 0 → pre-operational; 6007h = 3 → quick stop; the
+    // power stage is off (not "operation enabled") and no fault is latched (6007h 3 is not 1).
+    EXPECT_EQ(wire.hb_state(3), kPreOperational);
+    const auto sw3 = wire.read_u16(3, 0x6041);
+    ASSERT_TRUE(sw3.has_value()) << "node 3 does not answer SDO";
+    EXPECT_NE(*sw3 & 0x006F, 0x0027) << "node 3 still operation enabled: 0x" << std::hex << *sw3;
+    EXPECT_EQ(*sw3 & 0x0008, 0) << "node 3 latched a fault: 0x" << std::hex << *sw3;
+    std::printf("after the kill: node 1 statusword 0x%04X, node 3 statusword 0x%04X, NMT 0x%02X\n",
+                *sw1, *sw3, wire.hb_state(3).value_or(0));
+    EXPECT_TRUE(sim.running()) << sim.output();
+}
+
+TEST(VcanFault, NodeRebootDuringCspMotionIsReportedAndTheNodeIsRecovered) {
+    CODRIVE_REQUIRE_VCAN("vcan0");
+    // Two sim processes, so SIGUSR2 (reset every node of a process) reboots node 2 only.
+    Process sim1({tool_path("codrive-sim"), "-i", "vcan0", "--node", "1:akd2g:1"});
+    Process sim2({tool_path("codrive-sim"), "-i", "vcan0", "--node", "2:akd2g:1"});
+    ASSERT_TRUE(sim1.wait_for_output("ready", 10s)) << sim1.output();
+    ASSERT_TRUE(sim2.wait_for_output("ready", 10s)) << sim2.output();
+    auto master = start_master("1:akd2g,2:akd2g", 0);
+    ASSERT_TRUE(wait_running(*master)) << master->output();
+    Wire wire;
+    ASSERT_TRUE(wire.ok());
+    ASSERT_TRUE(wire.wait([&] { return wire.tpdos(2) > 10; }, 5s));
+
+    sim2.signal(SIGUSR2);
+    EXPECT_TRUE(master->wait_for_output("node 2: rebooted on its own", 5s)) << master->output();
+    EXPECT_TRUE(master->wait_for_output("node 2: recovered after reboot", 15s)) << master->output();
+    // Recovered: operational again with its PDOs configured (TPDOs on SYNC), and node 1 kept
+    // running throughout.
+    const std::uint64_t before = wire.tpdos(2);
+    EXPECT_TRUE(wire.wait([&] { return wire.tpdos(2) > before + 20; }, 5s))
+        << "node 2 sends no TPDOs after recovery\n"
+        << master->output();
+    // Its heartbeat (100 ms) reports operational again; the last one seen may still be the
+    // boot-up message when the first TPDOs arrive.
+    EXPECT_TRUE(wire.wait([&] { return wire.hb_state(2) == kOperational; }, 2s))
+        << "node 2 heartbeat state " << int(wire.hb_state(2).value_or(0xFF));
+    EXPECT_EQ(wire.hb_state(1), kOperational);
+    EXPECT_TRUE(master->running()) << master->output();
+    master->signal(SIGTERM);
+    master->wait(10s);
+    std::printf("%s", master->output().c_str());
+}
+
+TEST(VcanFault, InjectedErrorPassiveAndBusOffFramesAreReportedAndCyclicTrafficContinues) {
+    CODRIVE_REQUIRE_VCAN("vcan0");
+    Process sim({tool_path("codrive-sim"), "-i", "vcan0", "--node", "1:akd2g:1"});
+    ASSERT_TRUE(sim.wait_for_output("ready", 10s)) << sim.output();
+    auto master = start_master("1:akd2g", 0);
+    ASSERT_TRUE(wait_running(*master)) << master->output();
+    Wire wire;
+    ASSERT_TRUE(wire.ok());
+
+    // SocketCAN error frames (linux/can/error.h) as a CAN controller driver reports them.
+    Frame passive;
+    passive.flags = Frame::kError;
+    passive.id = CAN_ERR_CRTL | CAN_ERR_CNT;
+    passive.len = 8;
+    passive.data[1] = CAN_ERR_CRTL_TX_PASSIVE;
+    passive.data[6] = 128;
+    Frame bus_off;
+    bus_off.flags = Frame::kError;
+    bus_off.id = CAN_ERR_BUSOFF;
+    bus_off.len = 8;
+    Frame restarted;
+    restarted.flags = Frame::kError;
+    restarted.id = CAN_ERR_RESTARTED;
+    restarted.len = 8;
+    ASSERT_TRUE(wire.send(passive));
+    EXPECT_TRUE(master->wait_for_output("error-passive", 5s)) << master->output();
+    ASSERT_TRUE(wire.send(bus_off));
+    EXPECT_TRUE(master->wait_for_output("bus-off", 5s)) << master->output();
+    ASSERT_TRUE(wire.send(restarted));
+    EXPECT_TRUE(master->wait_for_output("restarted", 5s)) << master->output();
+
+    const std::uint64_t syncs = wire.syncs();
+    const std::uint64_t tpdos = wire.tpdos(1);
+    EXPECT_TRUE(
+        wire.wait([&] { return wire.syncs() > syncs + 50 && wire.tpdos(1) > tpdos + 50; }, 5s))
+        << "SYNC/PDO traffic stopped after the bus events\n"
+        << master->output();
+    EXPECT_EQ(wire.hb_state(1), kOperational);
+    EXPECT_EQ(master->output().find("heartbeat lost"), std::string::npos) << master->output();
+    EXPECT_TRUE(master->running()) << master->output();
+    master->signal(SIGTERM);
+    master->wait(10s);
+    std::printf("%s", master->output().c_str());
+}

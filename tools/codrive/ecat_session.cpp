@@ -1,0 +1,59 @@
+// SPDX-License-Identifier: Apache-2.0
+// EtherCAT session helpers shared by `codrive ecat`, `scan`, `sdo` and `drive --ethercat`.
+#include "ecat_session.hpp"
+
+#include <fmt/format.h>
+
+namespace codrive::cli {
+
+using namespace codrive::ethercat;
+
+std::optional<EcatSession> open_segment(const std::string& iface, unsigned label_base) {
+    auto link = RawSocketLink::open(iface);
+    if (!link) {
+        fmt::print(stderr, "codrive: {}\n",
+                   RawSocketLink::describe_open_error(iface, link.error()));
+        return std::nullopt;
+    }
+    EcatSession s;
+    s.link = std::move(*link);
+    MasterConfig config;
+    config.slave_label_base = label_base;
+    s.master = std::make_unique<Master>(*s.link, RealClock::instance(), config);
+    if (!s.master->scan()) {
+        fmt::print(stderr, "codrive: {}\n", s.master->last_error());
+        return std::nullopt;
+    }
+    return s;
+}
+
+std::optional<std::size_t> slave_for_coe(Master& master, unsigned position, unsigned base) {
+    const std::size_t count = master.slaves().size();
+    if (position < base || position - base >= count) {
+        fmt::print(stderr,
+                   "codrive: there is no slave at position {} ({} found, numbered from {})\n",
+                   position, count, base);
+        return std::nullopt;
+    }
+    const std::size_t slave = position - base;
+    if (master.slaves()[slave].state == AlState::Init &&
+        !master.request_state(slave, AlState::PreOp)) {
+        fmt::print(stderr, "codrive: {}\n", master.last_error());
+        return std::nullopt;
+    }
+    return slave;
+}
+
+std::string format_slave_table(const Master& master, unsigned base) {
+    std::string out = fmt::format("{:>3}  {:<7} {:<10} {:<10} {:<10} {:<20} {}\n", "pos", "station",
+                                  "vendor", "product", "revision", "name", "state");
+    for (const auto& sl : master.slaves()) {
+        out += fmt::format("{:>3}  0x{:04X}  0x{:08X} 0x{:08X} 0x{:08X} {:<20} {}\n",
+                           sl.position + base, sl.station_address, sl.sii.vendor_id,
+                           sl.sii.product_code, sl.sii.revision, sl.display_name(),
+                           to_string(sl.state));
+    }
+    return out;
+}
+
+} // namespace codrive::cli
