@@ -7,7 +7,7 @@
 # many tests of each suite ran; fails if a suite that exists ran none.
 #   CODRIVE_SKIP_VCAN=1   skip the vcan suite explicitly (it is reported as skipped)
 #   CODRIVE_SKIP_FUZZ=1   skip the fuzz stage explicitly (reported as skipped)
-#   CODRIVE_FUZZ_SECONDS  seconds per fuzz target (default 15)
+#   CODRIVE_FUZZ_SECONDS  seconds per fuzz target (default 10)
 #   CODRIVE_JOBS=N        parallel build jobs (default: nproc)
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -74,7 +74,7 @@ else
     echo "== fuzz stage started in the background (log: $fuzz_log)"
     fuzz_jobs=$((jobs > 1 ? jobs - 1 : 1))
     CODRIVE_FUZZ_BUILD=$root/build-fuzz JOBS=$fuzz_jobs \
-        bash tests/fuzz/run.sh "${CODRIVE_FUZZ_SECONDS:-15}" >"$fuzz_log" 2>&1 &
+        bash tests/fuzz/run.sh "${CODRIVE_FUZZ_SECONDS:-10}" >"$fuzz_log" 2>&1 &
     fuzz_pid=$!
 fi
 
@@ -108,7 +108,7 @@ else
 fi
 
 if [[ -n $fuzz_pid ]]; then
-    echo "== fuzz (libFuzzer, clang 14, ASan+UBSan; ${CODRIVE_FUZZ_SECONDS:-15} s per target)"
+    echo "== fuzz (libFuzzer, clang 14, ASan+UBSan; ${CODRIVE_FUZZ_SECONDS:-10} s per target)"
     set +e
     wait "$fuzz_pid"
     rc=$?

@@ -374,6 +374,7 @@ std::vector<CanFilter> tpdo_filters(const std::vector<std::pair<NodeId, pdo::Pdo
 
 tl::expected<void, std::string> Controller::start() {
     if (!dedicated()) {
+        caller_schedule_.emplace();
         for (const auto& w : apply_realtime(options_.realtime)) {
             emit("warning: " + w);
         }
@@ -731,6 +732,10 @@ void Controller::shutdown() {
     }
     // Let the NMT frames and any queued frames leave.
     (void)loop_->run_until(loop_->now() + milliseconds(20));
+    if (caller_schedule_) {
+        caller_schedule_->restore();
+        caller_schedule_.reset();
+    }
 }
 
 void Controller::run() {

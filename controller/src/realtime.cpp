@@ -56,4 +56,31 @@ std::vector<std::string> apply_realtime(const RealtimeOptions& options) {
     return warnings;
 }
 
+SavedThreadSchedule::SavedThreadSchedule() {
+    sched_param sp{};
+    if (pthread_getschedparam(pthread_self(), &policy_, &sp) == 0) {
+        priority_ = sp.sched_priority;
+        have_policy_ = true;
+    }
+    cpu_set_t set;
+    CPU_ZERO(&set);
+    if (pthread_getaffinity_np(pthread_self(), sizeof(set), &set) == 0) {
+        cpus_.resize(sizeof(set));
+        std::memcpy(cpus_.data(), &set, sizeof(set));
+    }
+}
+
+void SavedThreadSchedule::restore() const {
+    if (have_policy_) {
+        sched_param sp{};
+        sp.sched_priority = priority_;
+        (void)pthread_setschedparam(pthread_self(), policy_, &sp);
+    }
+    if (cpus_.size() == sizeof(cpu_set_t)) {
+        cpu_set_t set;
+        std::memcpy(&set, cpus_.data(), sizeof(set));
+        (void)pthread_setaffinity_np(pthread_self(), sizeof(set), &set);
+    }
+}
+
 } // namespace codrive::controller

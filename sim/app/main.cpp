@@ -9,10 +9,14 @@
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
 
+#include <cerrno>
 #include <csignal>
 #include <cstdio>
+#include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <memory>
+#include <string_view>
 #include <sys/signalfd.h>
 #include <unistd.h>
 #include <vector>
@@ -207,8 +211,43 @@ int run(const Options& o) {
 
 } // namespace
 
+namespace {
+
+// `codrive-sim --ethercat IFACE --slave fio ...` (issue 9's command line) runs the EtherCAT slave
+// simulator, a separate program because it needs a raw socket and no SocketCAN: hand over to
+// codrive-ecat-sim from the same directory with the same arguments.
+[[noreturn]] void exec_ethercat_simulator(char** argv) {
+    std::error_code ec;
+    const auto self = std::filesystem::read_symlink("/proc/self/exe", ec);
+    const std::string ecat_sim =
+        (ec ? std::filesystem::path(argv[0]).parent_path() : self.parent_path()) /
+        "codrive-ecat-sim";
+    argv[0] = const_cast<char*>(ecat_sim.c_str());
+    ::execv(ecat_sim.c_str(), argv);
+    std::fprintf(stderr, "codrive-sim: --ethercat needs %s next to codrive-sim: %s\n",
+                 ecat_sim.c_str(), std::strerror(errno));
+    std::exit(2);
+}
+
+bool wants_ethercat(int argc, char** argv) {
+    for (int i = 1; i < argc; ++i) {
+        const std::string_view arg = argv[i];
+        if (arg == "--ethercat" || arg.starts_with("--ethercat=")) {
+            return true;
+        }
+    }
+    return false;
+}
+
+} // namespace
+
 int main(int argc, char** argv) {
+    if (wants_ethercat(argc, argv)) {
+        exec_ethercat_simulator(argv);
+    }
     CLI::App app{"codrive-sim: simulated CiA 402 drives on a CAN interface.\n"
+                 "With --ethercat IFACE --slave fio|akd2g|ds-bvs ...: simulated EtherCAT "
+                 "slaves (runs codrive-ecat-sim).\n"
                  "Signals: SIGUSR1 toggles STO on every axis, SIGUSR2 resets every node, "
                  "SIGINT/SIGTERM stop."};
     Options o;

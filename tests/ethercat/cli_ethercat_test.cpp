@@ -22,7 +22,8 @@ std::string fmt_control(std::uint16_t index, std::uint8_t sub) {
 class EcatCli : public EcatVethTest {
 protected:
     void SetUp() override {
-        start({"--slave", "fio", "--slave", "akd2g"});
+        // Started as the issue writes it: `codrive-sim --ethercat IFACE --slave fio --slave akd2g`.
+        start({"--slave", "fio", "--slave", "akd2g"}, tool_path("codrive-sim"));
         if (IsSkipped() || HasFatalFailure()) {
             return;
         }

@@ -63,7 +63,7 @@ VethPair::~VethPair() {
     }
 }
 
-void EcatVethTest::start(const std::vector<std::string>& sim_args) {
+void EcatVethTest::start(const std::vector<std::string>& sim_args, const std::string& program) {
     veth_ = std::make_unique<VethPair>();
     if (!veth_->create()) {
         if (ethercat_skip_requested()) {
@@ -74,12 +74,12 @@ void EcatVethTest::start(const std::vector<std::string>& sim_args) {
                   "or set CODRIVE_SKIP_ETHERCAT=1 to skip explicitly): "
                << veth_->error();
     }
-    std::vector<std::string> argv{"/usr/sbin/ip",  "netns",      "exec",           veth_->netns(),
-                                  ecat_sim_path(), "--ethercat", veth_->slave_if()};
+    std::vector<std::string> argv{"/usr/sbin/ip", "netns",      "exec",           veth_->netns(),
+                                  program,        "--ethercat", veth_->slave_if()};
     argv.insert(argv.end(), sim_args.begin(), sim_args.end());
     sim_ = std::make_unique<Process>(argv);
     ASSERT_TRUE(sim_->wait_for_output("ready", std::chrono::milliseconds(10000)))
-        << "codrive-ecat-sim did not start: " << sim_->output();
+        << program << " did not start: " << sim_->output();
     auto link = ethercat::RawSocketLink::open(veth_->master_if());
     ASSERT_TRUE(link) << ethercat::RawSocketLink::describe_open_error(veth_->master_if(),
                                                                       link.error());

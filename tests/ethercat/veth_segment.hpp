@@ -50,7 +50,9 @@ class EcatVethTest : public ::testing::Test {
 protected:
     /// Starts the simulator with `sim_args` and opens the master link. Fails the test (or skips
     /// with CODRIVE_SKIP_ETHERCAT=1) when veth cannot be created.
-    void start(const std::vector<std::string>& sim_args);
+    /// `program` is codrive-ecat-sim, or codrive-sim, which hands `--ethercat` over to it.
+    void start(const std::vector<std::string>& sim_args,
+               const std::string& program = ecat_sim_path());
     void TearDown() override;
 
     std::unique_ptr<VethPair> veth_;

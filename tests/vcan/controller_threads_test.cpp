@@ -11,6 +11,8 @@
 
 #include <atomic>
 #include <cstdio>
+#include <pthread.h>
+#include <sched.h>
 #include <thread>
 
 using namespace std::chrono_literals;
@@ -126,6 +128,13 @@ void enable_move_stop(controller::Threading mode, const char* label) {
     }
     EXPECT_EQ(open_fds(), fds_before);
     EXPECT_EQ(threads(), threads_before);
+    // Threading::Single ran SCHED_FIFO on this (the caller's) thread: the controller gives the
+    // thread back as it found it, or every later process on this CPU would starve.
+    int policy = -1;
+    sched_param sp{};
+    ASSERT_EQ(pthread_getschedparam(pthread_self(), &policy, &sp), 0);
+    EXPECT_EQ(policy, SCHED_OTHER)
+        << label << ": the caller's thread was left at policy " << policy;
 }
 
 } // namespace

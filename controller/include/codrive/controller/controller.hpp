@@ -16,6 +16,7 @@
 #include <atomic>
 #include <functional>
 #include <memory>
+#include <optional>
 #include <string>
 #include <thread>
 #include <vector>
@@ -179,6 +180,9 @@ private:
     std::atomic<bool> axes_safe_{false};           ///< cyclic → acyclic: axes stopped, SYNC off
     std::atomic<bool> cyclic_exit_{false};
     std::vector<std::string> cyclic_warnings_; ///< written before cyclic_ready_
+    /// Threading::Single: the caller's thread settings before apply_realtime(), restored at
+    /// shutdown.
+    std::optional<SavedThreadSchedule> caller_schedule_;
 
     bool started_ = false;
     bool stopped_ = false;

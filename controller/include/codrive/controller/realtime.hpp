@@ -20,4 +20,22 @@ struct RealtimeOptions {
 /// CAP_SYS_NICE, or raise rtprio in /etc/security/limits.conf); running with normal scheduling".
 std::vector<std::string> apply_realtime(const RealtimeOptions& options);
 
+/// The calling thread's scheduling policy, priority and CPU affinity, saved before
+/// apply_realtime() changes them on a thread the controller does not own (Threading::Single runs
+/// on the caller's thread), and restored when the controller stops: a library must not leave
+/// its caller's thread at SCHED_FIFO, where it would starve every other task on the CPU.
+class SavedThreadSchedule {
+public:
+    /// Saves the calling thread's settings.
+    SavedThreadSchedule();
+    /// Restores them on the calling thread (call it on the thread that saved them).
+    void restore() const;
+
+private:
+    int policy_ = 0;
+    int priority_ = 0;
+    bool have_policy_ = false;
+    std::vector<unsigned char> cpus_; ///< cpu_set_t bytes; empty: affinity not saved
+};
+
 } // namespace codrive::controller
