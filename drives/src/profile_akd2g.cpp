@@ -2,6 +2,7 @@
 // Kollmorgen AKD2G profile: identity, dual-axis offsets, modes, CAN PDO layouts, quirks and the
 // complete EMCY ↔ fault/warning table (manual §4.3.1, 185 rows: 123 faults, 62 warnings).
 #include "layouts.hpp"
+#include "object_spec_builders.hpp"
 
 #include <codrive/drives/profile.hpp>
 
@@ -231,26 +232,8 @@ constexpr std::array<std::uint16_t, 14> kAbsent{0x6007, 0x603F, 0x605B, 0x605C, 
                                                 0x605E, 0x6062, 0x6067, 0x6068, 0x607E,
                                                 0x607F, 0x6085, 0x6086, 0x608F};
 
-constexpr ObjectSpec spec(std::uint16_t index, std::uint8_t sub, std::string_view name, DataType t,
-                          Access a, bool pdo, std::int64_t def, bool record = false) {
-    ObjectSpec s;
-    s.index = index;
-    s.subindex = sub;
-    s.name = name;
-    s.type = t;
-    s.access = a;
-    s.pdo = pdo;
-    s.default_value = def;
-    s.record = record;
-    return s;
-}
-
-constexpr ObjectSpec limited(ObjectSpec s, std::int64_t low, std::int64_t high) {
-    s.has_limits = true;
-    s.low = low;
-    s.high = high;
-    return s;
-}
+using builders::limited;
+using builders::spec;
 
 // §5.6 types/defaults that differ from the generic set.
 constexpr std::array kOverrides{

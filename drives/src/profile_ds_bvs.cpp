@@ -2,6 +2,7 @@
 // DS-BVS/BVM profile: modes incl. manufacturer modes, CAN PDO layouts (no predefined mapping),
 // read-only PDO COB-IDs, fixed units and the complete 603Fh/EMCY table (manual §6.2.79, 14 rows).
 #include "layouts.hpp"
+#include "object_spec_builders.hpp"
 
 #include <codrive/drives/profile.hpp>
 
@@ -52,26 +53,8 @@ constexpr std::array kLayouts{layouts::pp,  layouts::pv,  layouts::hm,
 constexpr std::array<std::uint16_t, 9> kAbsent{0x6066, 0x607E, 0x6087, 0x6091, 0x6092,
                                                0x6096, 0x6097, 0x60C1, 0x60C2};
 
-constexpr ObjectSpec spec(std::uint16_t index, std::uint8_t sub, std::string_view name, DataType t,
-                          Access a, bool pdo, std::int64_t def, bool record = false) {
-    ObjectSpec s;
-    s.index = index;
-    s.subindex = sub;
-    s.name = name;
-    s.type = t;
-    s.access = a;
-    s.pdo = pdo;
-    s.default_value = def;
-    s.record = record;
-    return s;
-}
-
-constexpr ObjectSpec limited(ObjectSpec s, std::int64_t low, std::int64_t high) {
-    s.has_limits = true;
-    s.low = low;
-    s.high = high;
-    return s;
-}
+using builders::limited;
+using builders::spec;
 
 // §4.3 defaults, ranges and PDO flags that differ from the generic set.
 constexpr std::array kOverrides{

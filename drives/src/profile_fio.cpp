@@ -2,6 +2,7 @@
 // Kuhnke FIO Drive Control profile (EtherCAT only): identity, modes, SI user units (60A8h/60A9h),
 // the error-number table (1003h bits 31..24, 30 rows) and the error-code table (18 rows).
 #include "layouts.hpp"
+#include "object_spec_builders.hpp"
 
 #include <codrive/drives/profile.hpp>
 
@@ -88,26 +89,8 @@ constexpr std::array kLayouts{layouts::pp,  layouts::pv,  layouts::pt, layouts::
 
 constexpr std::array<std::uint16_t, 1> kAbsent{0x60C1};
 
-constexpr ObjectSpec spec(std::uint16_t index, std::uint8_t sub, std::string_view name, DataType t,
-                          Access a, bool pdo, std::int64_t def, bool record = false) {
-    ObjectSpec s;
-    s.index = index;
-    s.subindex = sub;
-    s.name = name;
-    s.type = t;
-    s.access = a;
-    s.pdo = pdo;
-    s.default_value = def;
-    s.record = record;
-    return s;
-}
-
-constexpr ObjectSpec limited(ObjectSpec s, std::int64_t low, std::int64_t high) {
-    s.has_limits = true;
-    s.low = low;
-    s.high = high;
-    return s;
-}
+using builders::limited;
+using builders::spec;
 
 // §7.13 defaults that differ from the generic set.
 constexpr std::array kOverrides{
