@@ -414,6 +414,22 @@ void SdoClient::server_abort(const FrameInfo& info) {
          AbortOrigin::Server);
 }
 
+bool SdoClient::begin_upload_data(const FrameInfo& info) {
+    Transfer& t = *active_;
+    if (info.size_indicated) {
+        t.total = info.size;
+        if (!t.sink.write) {
+            t.buffer.reserve(std::min<std::size_t>(info.size, kMaxReserve));
+        }
+    }
+    if (t.sink.begin && !t.sink.begin(t.total)) {
+        abort_and_fail(static_cast<std::uint32_t>(SdoAbort::DataTransfer),
+                       "the local data sink refused the size");
+        return false;
+    }
+    return true;
+}
+
 void SdoClient::handle_response(const Frame& frame, TimePoint now) {
     Transfer& t = *active_;
     const FrameInfo info = parse_frame(frame.payload(), Sender::Server);
@@ -451,15 +467,7 @@ void SdoClient::handle_response(const Frame& frame, TimePoint now) {
                 return;
             }
             t.protocol = Protocol::Segmented;
-            if (info.size_indicated) {
-                t.total = info.size;
-                if (!t.sink.write) {
-                    t.buffer.reserve(std::min<std::size_t>(info.size, kMaxReserve));
-                }
-            }
-            if (t.sink.begin && !t.sink.begin(t.total)) {
-                abort_and_fail(static_cast<std::uint32_t>(SdoAbort::DataTransfer),
-                               "the local data sink refused the size");
+            if (!begin_upload_data(info)) {
                 return;
             }
             t.toggle = false;
@@ -473,15 +481,7 @@ void SdoClient::handle_response(const Frame& frame, TimePoint now) {
         }
         // Block upload initiate response.
         t.crc = t.options.crc && info.crc;
-        if (info.size_indicated) {
-            t.total = info.size;
-            if (!t.sink.write) {
-                t.buffer.reserve(std::min<std::size_t>(info.size, kMaxReserve));
-            }
-        }
-        if (t.sink.begin && !t.sink.begin(t.total)) {
-            abort_and_fail(static_cast<std::uint32_t>(SdoAbort::DataTransfer),
-                           "the local data sink refused the size");
+        if (!begin_upload_data(info)) {
             return;
         }
         t.receiver.reset(t.block_size);

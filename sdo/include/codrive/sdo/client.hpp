@@ -124,6 +124,9 @@ private:
     [[nodiscard]] bool is_repeat(const Frame& frame) const;
     [[nodiscard]] bool is_leftover(const FrameInfo& info);
     void server_abort(const FrameInfo& info);
+    /// Segmented or block upload accepted: takes the indicated size (reserving the buffer) and
+    /// opens the sink; false when the sink refused and the transfer was aborted.
+    [[nodiscard]] bool begin_upload_data(const FrameInfo& info);
     void handle_block_upload_segment(const Frame& frame, TimePoint now);
     void on_timeout(TimePoint now);
     bool deliver(std::span<const std::uint8_t> data);
