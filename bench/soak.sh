@@ -5,7 +5,8 @@
 #   vcan-scripts/run-in-vcan.sh --timeout 3600 bench/soak.sh BUILD_DIR [CYCLES] [SYNC_PERIOD_US]
 # BUILD_DIR needs CODRIVE_BUILD_BENCH=ON and no ASan (e.g. build-rel); defaults 1000000 cycles at
 # 2000 us; SOAK_NODES="1:akd2g,2:akd2g,3:akd2g,4:akd2g" picks the drives
-# (ID:PROFILE[:MODE], MODE csp or csv). Exit status: bench_soak's (0 = no PDO lost, heap/fds/threads flat).
+# (ID:PROFILE[:MODE], MODE csp or csv). Exit status: bench_soak's (0 = no PDO lost, heap/fds/threads flat),
+# or 1 if codrive-sim reports frames dropped on its socket.
 set -euo pipefail
 build=${1:?usage: soak.sh BUILD_DIR [CYCLES] [SYNC_PERIOD_US]}
 cycles=${2:-1000000}
@@ -23,12 +24,6 @@ soak_bin=$build/bench/bench_soak
 for b in "$sim_bin" "$soak_bin"; do
     [[ -x $b ]] || { echo "soak: $b not built" >&2; exit 2; }
 done
-if [[ ${CODRIVE_VCAN:-} == uml ]]; then
-    # The guest has one CPU: a starved codrive-sim must not overflow its socket (it does not set
-    # SO_RCVBUF). Only in the throw-away guest; see docs/reliability.md.
-    echo 4194304 >/proc/sys/net/core/rmem_max
-    echo 4194304 >/proc/sys/net/core/rmem_default
-fi
 log=$(mktemp)
 "$sim_bin" -i vcan0 "${sim_args[@]}" >"$log" 2>&1 &
 sim=$!
@@ -45,5 +40,14 @@ if ! kill -0 "$sim" 2>/dev/null; then
     echo "soak: codrive-sim died during the run:" >&2
     cat "$log" >&2
     status=1
+else
+    kill -TERM "$sim"
+    wait "$sim" || true
+    # codrive-sim sets a 4 MiB SO_RCVBUF and reports what the kernel still dropped on its socket.
+    grep -E "dropped by the kernel" "$log" | sed 's/^/soak: /' || true
+    if grep -qE "dropped by the kernel \(" "$log"; then
+        echo "soak: FAILED: the simulator's socket overflowed (see above)" >&2
+        status=1
+    fi
 fi
 exit $status

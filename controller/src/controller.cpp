@@ -233,7 +233,9 @@ tl::expected<void, std::string> Controller::open_bus(Bus& b, std::size_t index) 
         b.bus = options_.buses[index];
         return {};
     }
-    auto s = SocketCanBus::open(b.config.iface);
+    SocketCanOptions so;
+    so.rcvbuf_bytes = options_.rcvbuf_bytes;
+    auto s = SocketCanBus::open(b.config.iface, so);
     if (!s) {
         return tl::unexpected(
             fmt::format("cannot open {}: {}", b.config.iface, s.error().message()));
@@ -398,6 +400,7 @@ tl::expected<void, std::string> Controller::start() {
             so.error_frames = false; // the acyclic socket reports bus errors
             so.timestamps = false;   // no clock reads per frame on the cyclic path
             so.filters = {CanFilter{0, 0x7FF, false, false}}; // until the TPDOs are known
+            so.rcvbuf_bytes = options_.rcvbuf_bytes;
             auto cs = SocketCanBus::open(b.config.iface, so);
             if (!cs) {
                 return tl::unexpected(fmt::format("cannot open {} for the cyclic thread: {}",

@@ -15,6 +15,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
+#include <functional>
 #include <memory>
 #include <string_view>
 #include <sys/signalfd.h>
@@ -33,6 +34,10 @@ struct Options {
     std::string eds_dir;
     unsigned heartbeat_ms = 0;
     unsigned step_us = 1000;
+    /// SO_RCVBUF(FORCE) of the simulator's socket. Generous by default: one process serves
+    /// every simulated node, and a simulator starved of CPU for a while (a loaded machine, a
+    /// one-CPU guest) must not overflow its socket and silently miss SYNCs or RPDOs.
+    int rcvbuf_bytes = 4 << 20;
     bool verbose = false;
 };
 
@@ -94,7 +99,9 @@ int run(const Options& o) {
                      loop.error().message().c_str());
         return 1;
     }
-    auto bus = SocketCanBus::open(o.iface);
+    SocketCanOptions bus_options;
+    bus_options.rcvbuf_bytes = o.rcvbuf_bytes;
+    auto bus = SocketCanBus::open(o.iface, bus_options);
     if (!bus) {
         std::fprintf(stderr, "codrive-sim: cannot open %s: %s\n", o.iface.c_str(),
                      bus.error().message().c_str());
@@ -197,10 +204,26 @@ int run(const Options& o) {
             target->inject(f.axis, f.kind, ev.now());
         });
     }
+    // Frames the kernel dropped because the socket was full never reached any node: say so once
+    // a second while it happens, and in total at exit, so a missed SYNC is never silent.
+    std::uint64_t reported_drops = 0;
+    std::function<void()> report_drops = [&] {
+        const std::uint64_t dropped = (*bus)->stats().rx_dropped;
+        if (dropped != reported_drops) {
+            print(fmt::format("codrive-sim: {} received frames dropped by the kernel (socket "
+                              "receive buffer full; {} in total): the nodes missed them",
+                              dropped - reported_drops, dropped));
+            reported_drops = dropped;
+        }
+        ev.call_at(ev.now() + seconds(1), report_drops);
+    };
+    ev.call_at(start + seconds(1), report_drops);
     if (auto r = ev.run(); !r) {
         std::fprintf(stderr, "codrive-sim: event loop failed: %s\n", r.error().message().c_str());
         exit_code = 1;
     }
+    print(fmt::format("codrive-sim: stopped; {} received frames dropped by the kernel",
+                      (*bus)->stats().rx_dropped));
     for (auto& d : devices) {
         ev.remove_timed(d.get());
     }
@@ -262,6 +285,9 @@ int main(int argc, char** argv) {
                    "producer heartbeat time (1017h) in ms, kept across resets (default 0: off)");
     app.add_option("--step-us", o.step_us, "motion step in microseconds (default 1000)")
         ->check(CLI::Range(100U, 100000U));
+    app.add_option("--rcvbuf", o.rcvbuf_bytes,
+                   "socket receive buffer in bytes (default 4194304; 0: the kernel's default)")
+        ->check(CLI::Range(0, 1 << 30));
     app.add_flag("-v,--verbose", o.verbose, "log NMT changes, faults and EMCY");
     CLI11_PARSE(app, argc, argv);
     return run(o);

@@ -45,6 +45,10 @@ struct ControllerOptions {
     Threading threading = Threading::Single;
     Duration boot_timeout = seconds(15);
     Duration shutdown_timeout = seconds(1);
+    /// Receive buffer of every CAN socket the controller opens (SO_RCVBUFFORCE when privileged,
+    /// else SO_RCVBUF, which the kernel caps at net.core.rmem_max). A thread delayed for a while
+    /// must not lose TPDOs or heartbeats to a full socket; 0 keeps the kernel's default.
+    int rcvbuf_bytes = 1 << 20;
     /// Buses to use instead of opening the bus files' interfaces (tests: VirtualBus), by bus
     /// index. The controller does not own them.
     std::vector<ICanBus*> buses;

@@ -52,6 +52,9 @@ struct SoakOptions {
     std::vector<SoakNode> nodes = {{1, "akd2g"}, {2, "akd2g"}, {3, "akd2g"}, {4, "akd2g"}};
     /// Master heartbeat (1017h of the master) in ms.
     std::uint16_t master_heartbeat_ms = 100;
+    /// Boot-up SDO timeout of every node in ms (bus.sdo_timeout_ms); 0: the master's default.
+    /// Longer under valgrind, where the simulator answers 20-50 times slower.
+    std::uint32_t sdo_timeout_ms = 0;
     /// Written by SDO once every node booted, before the axes are enabled (e.g. 1016h:01 so
     /// the nodes supervise the master's heartbeat). By SDO rather than as bus-file `writes:`
     /// because the master-side profile dictionaries do not list 1016h/1029h.
@@ -112,21 +115,6 @@ struct SoakReport {
     static constexpr long long kHeapSlack = 4096;
 };
 
-/// In the throw-away User-Mode-Linux guest only (CODRIVE_VCAN=uml): raises the default socket
-/// receive buffer to 4 MiB for the processes started after it, so a simulator process starved
-/// of the guest's single CPU for a few hundred ms does not overflow its socket and miss SYNCs
-/// (codrive-sim does not set SO_RCVBUF itself). Returns what it did, for the log.
-inline std::string widen_guest_receive_buffers() {
-    const char* mode = std::getenv("CODRIVE_VCAN");
-    if (mode == nullptr || std::string(mode) != "uml") {
-        return "socket receive buffers unchanged (not in the UML guest)";
-    }
-    for (const char* path : {"/proc/sys/net/core/rmem_max", "/proc/sys/net/core/rmem_default"}) {
-        std::ofstream(path) << 4194304;
-    }
-    return "guest net.core.rmem_default = 4 MiB";
-}
-
 /// "1:akd2g,3:ds-bvs:csv" (ID:PROFILE[:MODE]) → nodes; false on a malformed item.
 inline bool parse_soak_nodes(const std::string& text, std::vector<SoakNode>& out) {
     out.clear();
@@ -186,6 +174,9 @@ inline std::string soak_bus_yaml(const SoakOptions& o) {
                                 "  sync_period_us: {}\n  master: {{node_id: 127, heartbeat_ms: "
                                 "{}}}\nnodes:\n",
                                 o.iface, o.sync_period_us, o.master_heartbeat_ms);
+    if (o.sdo_timeout_ms != 0) {
+        y.insert(y.find("  master:"), fmt::format("  sdo_timeout_ms: {}\n", o.sdo_timeout_ms));
+    }
     for (const auto& n : o.nodes) {
         y += fmt::format("  - id: {}\n    profile: {}\n    heartbeat_ms: 100\n"
                          "    axes:\n      - {{axis: 1, mode: {}}}\n",
@@ -379,7 +370,9 @@ inline SoakReport run_soak(const SoakOptions& o) {
         }
     });
 
-    auto monitor_bus = SocketCanBus::open(o.iface);
+    SocketCanOptions monitor_options;
+    monitor_options.rcvbuf_bytes = 4 << 20; // the counter must not be the one that drops
+    auto monitor_bus = SocketCanBus::open(o.iface, monitor_options);
     if (!monitor_bus) {
         rep.error = "monitor socket: " + monitor_bus.error().message();
         return rep;
