@@ -85,6 +85,9 @@ public:
                                                   "bus.master.node_id or the node's id)",
                                                   e.id));
                     }
+                    if (e.sdo_timeout.count() == 0) {
+                        e.sdo_timeout = cfg.sdo_timeout;
+                    }
                     cfg.nodes.push_back(std::move(e));
                 }
             }
@@ -159,7 +162,8 @@ private:
             error(line(bus), "`bus` must be a map (e.g. `bus: {interface: can0}`)");
             return;
         }
-        check_keys(bus, {"interface", "bitrate", "sync_period_us", "master"}, "`bus`");
+        check_keys(bus, {"interface", "bitrate", "sync_period_us", "sdo_timeout_ms", "master"},
+                   "`bus`");
         if (bus["interface"] && bus["interface"].IsScalar()) {
             cfg.iface = bus["interface"].Scalar();
         } else {
@@ -172,6 +176,11 @@ private:
             cfg.sync_period_us =
                 number<std::uint32_t>(bus["sync_period_us"], "bus.sync_period_us", 0, 10'000'000)
                     .value_or(0);
+        }
+        if (bus["sdo_timeout_ms"]) {
+            cfg.sdo_timeout = milliseconds(
+                number<std::uint32_t>(bus["sdo_timeout_ms"], "bus.sdo_timeout_ms", 1, 600'000)
+                    .value_or(0));
         }
         if (const YAML::Node m = bus["master"]) {
             check_keys(m, {"node_id", "heartbeat_ms"}, "`bus.master`");
@@ -196,7 +205,7 @@ private:
         }
         check_keys(n,
                    {"id", "name", "profile", "eds", "identity", "heartbeat_ms", "consumer_ms",
-                    "guarding", "start", "pdos", "writes", "axes"},
+                    "sdo_timeout_ms", "guarding", "start", "pdos", "writes", "axes"},
                    "a node");
         if (n["id"]) {
             e.id = number<NodeId>(n["id"], "node id", 1, 127).value_or(0);
@@ -241,6 +250,11 @@ private:
             e.consumer =
                 milliseconds(number<std::uint16_t>(n["consumer_ms"], who + " consumer_ms", 0, 65535)
                                  .value_or(0));
+        }
+        if (n["sdo_timeout_ms"]) {
+            e.sdo_timeout = milliseconds(
+                number<std::uint32_t>(n["sdo_timeout_ms"], who + " sdo_timeout_ms", 1, 600'000)
+                    .value_or(0));
         }
         if (const YAML::Node g = n["guarding"]) {
             check_keys(g, {"guard_time_ms", "life_time_factor"}, who + " guarding");
@@ -691,6 +705,9 @@ NodeConfig to_node_config(const NodeEntry& n) {
     c.identity = n.identity;
     c.heartbeat_producer = n.heartbeat;
     c.heartbeat_consumer = n.consumer;
+    if (n.sdo_timeout.count() > 0) {
+        c.sdo_timeout = n.sdo_timeout;
+    }
     c.guard_time = n.guard_time;
     c.life_time_factor = n.life_time_factor;
     c.start = n.start;

@@ -61,8 +61,9 @@ if [[ -x $tools/codrive-sim ]]; then
         echo "leak-check: $tools/codrive not built; the CLI is not checked" >&2
         status=1
     fi
+    # Both the master and the simulator run under valgrind: give boot-up SDO requests 5 s.
     CODRIVE_SOAK_NODES=1:akd2g,2:akd2g,3:ds-bvs:off CODRIVE_SOAK_CYCLES=2000 \
-        CODRIVE_SOAK_PERIOD_US=4000 checked "$build/tests/vcan_tests" \
+        CODRIVE_SOAK_PERIOD_US=4000 CODRIVE_SOAK_SDO_TIMEOUT_MS=5000 checked "$build/tests/vcan_tests" \
         --gtest_also_run_disabled_tests --gtest_filter=SoakVcanMaster.DISABLED_Run
     grep -E '^soak: [0-9]+ SYNC|^soak: heap' "$out/out.$n.log" || true
     kill -TERM "$sim_pid"

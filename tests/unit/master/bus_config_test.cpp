@@ -90,6 +90,25 @@ nodes:
     EXPECT_EQ(nc.writes[1].index, 0x6060);
 }
 
+TEST(BusConfig, SdoTimeoutComesFromTheNodeOrTheBusDefault) {
+    const auto r = parse(R"(bus: {interface: can0, sdo_timeout_ms: 2000}
+nodes:
+  - {id: 3, sdo_timeout_ms: 7500}
+  - {id: 4}
+)");
+    ASSERT_TRUE(r.config) << r.to_string();
+    EXPECT_EQ(to_node_config(r.config->nodes[0]).sdo_timeout, std::chrono::milliseconds(7500));
+    EXPECT_EQ(to_node_config(r.config->nodes[1]).sdo_timeout, std::chrono::milliseconds(2000));
+    const auto d = parse("bus: {interface: can0}\nnodes:\n  - {id: 3}\n");
+    ASSERT_TRUE(d.config) << d.to_string();
+    EXPECT_EQ(to_node_config(d.config->nodes[0]).sdo_timeout, NodeConfig{}.sdo_timeout);
+    const auto bad = parse("bus: {interface: can0}\nnodes:\n  - {id: 3, sdo_timeout_ms: 0}\n");
+    ASSERT_FALSE(bad.config);
+    EXPECT_NE(bad.to_string().find("sdo_timeout_ms is 0 but must be between 1 and 600000"),
+              std::string::npos)
+        << bad.to_string();
+}
+
 TEST(BusConfig, MappingInTheWrongDirectionIsExplained) {
     const auto r = parse(R"(bus: {interface: can0}
 nodes:

@@ -74,6 +74,8 @@ struct NodeEntry {
     ExpectedIdentity identity;
     milliseconds heartbeat{0};
     milliseconds consumer{0};
+    /// Boot-up SDO timeout; 0: the bus default (`bus.sdo_timeout_ms`), else NodeConfig's.
+    milliseconds sdo_timeout{0};
     milliseconds guard_time{0};
     std::uint8_t life_time_factor = 0;
     bool start = true;
@@ -90,6 +92,9 @@ struct BusConfig {
     std::uint32_t sync_period_us = 0; ///< 0: no SYNC producer
     NodeId master_id = 0;
     milliseconds master_heartbeat{0};
+    /// Default boot-up SDO timeout of every node (0: NodeConfig's default); already applied to
+    /// the nodes without their own `sdo_timeout_ms` when parsing succeeds.
+    milliseconds sdo_timeout{0};
     std::vector<NodeEntry> nodes;
 };
 
