@@ -162,6 +162,29 @@ VoidResult Master::scan() {
                                      "back with working counter 0",
                                      link_.name()));
     }
+    // Before the reset: the state each slave was left in (by position, all in one frame).
+    std::vector<Datagram> found;
+    for (std::uint16_t i = 0; i < *count; ++i) {
+        found.push_back(Datagram::physical(Command::Aprd, static_cast<std::uint16_t>(0U - i),
+                                           reg::kAlStatus, 6));
+    }
+    std::vector<SlaveInfo> found_info(*count);
+    for (std::size_t off = 0; off < found.size(); off += 64) {
+        std::span<Datagram> chunk(found.data() + off,
+                                  std::min<std::size_t>(64, found.size() - off));
+        if (auto e = exchange(chunk); !e) {
+            return e;
+        }
+        for (std::size_t i = 0; i < chunk.size(); ++i) {
+            if (chunk[i].wkc == 1 && chunk[i].data.size() >= 6) {
+                const auto raw = get_le<std::uint16_t>(chunk[i].data.data());
+                SlaveInfo& f = found_info[off + i];
+                f.found_state = al_state_from_bits(raw).value_or(AlState::None);
+                f.found_error = (raw & kAlErrorFlag) != 0;
+                f.found_code = get_le<std::uint16_t>(chunk[i].data.data() + 4);
+            }
+        }
+    }
     // Reset in one frame: INIT with error acknowledge, FMMUs and SMs cleared, DC SYNC off, EEPROM
     // owned by EtherCAT (ETG.1000.6 §6.4: the master starts every slave from a known INIT).
     const std::array<std::uint8_t, 2> init_ack{static_cast<std::uint8_t>(AlState::Init) | 0x10, 0};
@@ -199,7 +222,7 @@ VoidResult Master::scan() {
         }
     }
     for (std::uint16_t i = 0; i < *count; ++i) {
-        SlaveInfo s;
+        SlaveInfo s = found_info[i];
         s.position = i;
         s.station_address = static_cast<std::uint16_t>(config_.first_station_address + i);
         slaves_.push_back(std::move(s));

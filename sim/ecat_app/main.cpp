@@ -6,6 +6,7 @@
 #include <codrive/ethercat/al_state.hpp>
 #include <codrive/ethercat/pcap_writer.hpp>
 #include <codrive/ethercat/raw_socket_link.hpp>
+#include <codrive/ethercat/registers.hpp>
 
 #include <codrive/core/value.hpp>
 
@@ -130,7 +131,22 @@ int main(int argc, char** argv) {
                 std::fflush(stdout);
             }
         }
-        auto n = (*link)->receive(buf, SteadyClock::now() + milliseconds(100));
+        // The SM watchdog runs on time, not on frames: a master that died sends none.
+        const TimePoint now = SteadyClock::now();
+        for (std::size_t i = 0; i < segment.size(); ++i) {
+            auto& slave = segment.slave(i);
+            if (slave.tick(now)) {
+                std::printf("codrive-ecat-sim: slave %zu (%s): no process data for %.0f ms, SM "
+                            "watchdog expired: SAFE-OP + error 0x%04X, bus-loss reaction "
+                            "applied\n",
+                            i + 1, slave.sii().name.c_str(),
+                            (slave.reg16(reg::kWatchdogDivider) + 2) * 40e-6 *
+                                slave.reg16(reg::kWatchdogProcessData),
+                            slave.al_status_code());
+                std::fflush(stdout);
+            }
+        }
+        auto n = (*link)->receive(buf, SteadyClock::now() + milliseconds(10));
         if (!n) {
             continue;
         }

@@ -409,8 +409,14 @@ void DriveCore::inject(FaultKind kind) {
 }
 
 void DriveCore::abort_connection(std::int16_t option) {
-    // 6007h (CiA 402): 1 fault signal, 2 disable voltage, 3 quick stop.
+    // 6007h (CiA 402): 0 no action, 1 fault signal, 2 disable voltage, 3 quick stop; negative
+    // values are the manufacturer's. FIO -1 ("MFS mode", kuhnke-fio.md §1.7): the PDO values are
+    // cleared, so the controlword reads 0 (disable voltage) and the drive coasts.
     switch (option) {
+    case -1:
+        od_.set<std::uint16_t>(index(obj::kControlword), 0, 0);
+        command(Command::DisableVoltage);
+        break;
     case 1:
         raise_fault(profile_.code_for(FaultKind::HeartbeatLoss));
         break;

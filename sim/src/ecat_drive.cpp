@@ -3,6 +3,8 @@
 // 1C12h/1C13h defaults from the specs) with a small CiA 402 device model behind them.
 #include <codrive/sim/ecat/drive_profiles.hpp>
 
+#include "error_history.hpp"
+
 #include <codrive/sim/drive_core.hpp>
 #include <codrive/sim/profile.hpp>
 #include <codrive/sim/sim_device.hpp>
@@ -148,8 +150,9 @@ public:
     Cia402Device(const DriveDef& def, std::uint32_t serial, const SimProfile* profile) {
         if (profile != nullptr) {
             core_ = std::make_unique<DriveCore>(od_, *profile, 0);
-            core_->set_event_handler([this](const AxisEvent& e) {
+            core_->set_event_handler([this, profile](const AxisEvent& e) {
                 if (e.kind == AxisEvent::Kind::FaultRaised) {
+                    push_error_history(od_, 0x1003, profile->error_history_entry(e.code));
                     emcy::EmcyMessage m;
                     m.error_code = e.code.emcy;
                     m.error_register = e.code.error_register;
@@ -167,6 +170,10 @@ public:
             device_type_ = profile->drive->identity.device_type;
         }
         build(def, serial);
+        if (profile != nullptr && profile->has_error_history_1003) {
+            od_.insert(error_history_object(0x1003, "Pre-defined error field", "Number of errors",
+                                            "Standard error field", DataType::Unsigned32));
+        }
     }
     [[nodiscard]] bool uses_drive_core() const { return core_ != nullptr; }
 
@@ -220,10 +227,13 @@ public:
     }
 
     void on_state_change(AlState from, AlState to) override {
-        // Leaving OP stops the drive: outputs are no longer valid (ETG.1000.6 §6.4.2).
+        // Leaving OP (a master's request or the SM watchdog: the master is gone) means the
+        // outputs are no longer valid (ETG.1000.6 §6.4.2): the drive applies its abort
+        // connection option 6007h (FIO §7.13.77: default -1, clear the PDOs and coast). A
+        // profile without 6007h (AKD2G) disables the voltage.
         if (core_) {
             if (from == AlState::Op) {
-                core_->abort_connection(2); // disable voltage (6007h option 2)
+                core_->abort_connection(od_.get<std::int16_t>(0x6007, 0).value_or(2));
             }
             return;
         }

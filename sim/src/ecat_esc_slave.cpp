@@ -29,6 +29,10 @@ bool overlaps(std::uint32_t a, std::size_t len, std::uint32_t b, std::size_t ble
     return a < b + blen && b < a + len;
 }
 
+// ET1100 datasheet: process data watchdog status (bit 0) and expiry counter.
+constexpr std::uint16_t kWatchdogStatus = 0x0440;
+constexpr std::uint16_t kWatchdogCounter = 0x0442;
+
 } // namespace
 
 EscSlave::EscSlave(SiiInfo sii, std::unique_ptr<EcatApplication> app, bool has_dc)
@@ -42,6 +46,11 @@ EscSlave::EscSlave(SiiInfo sii, std::unique_ptr<EcatApplication> app, bool has_d
     mem_[reg::kPortDescriptor] = 0x0F;
     put_le<std::uint16_t>(mem_.data() + reg::kFeatures, has_dc ? 0x0004 : 0x0000);
     put_le<std::uint16_t>(mem_.data() + reg::kStationAlias, sii_.alias);
+    // Process data watchdog defaults (ET1100 datasheet): divider 2498+2 ticks of 40 ns = 100 µs,
+    // 1000 of those = 100 ms; 0x0440 bit 0 = 1: not expired.
+    put_le<std::uint16_t>(mem_.data() + reg::kWatchdogDivider, 2498);
+    put_le<std::uint16_t>(mem_.data() + reg::kWatchdogProcessData, 1000);
+    mem_[kWatchdogStatus] = 0x01;
     set_al_status(AlState::Init, false, 0);
     // Every simulated clock starts somewhere else, as real free-running ESC clocks do.
     local_base_ns_ = static_cast<std::int64_t>((sii_.serial % 97) + 1) * 1'000'000'007LL;
@@ -521,11 +530,42 @@ void EscSlave::unpack_outputs(TimePoint now) {
     app_->on_outputs(now);
 }
 
+bool EscSlave::tick(TimePoint now) {
+    if (state_ != AlState::Op || faults_.silent) {
+        watchdog_armed_ = false;
+        return false;
+    }
+    const SyncManager s2 = sm(2);
+    const auto divider = reg16(reg::kWatchdogDivider);
+    const auto time = reg16(reg::kWatchdogProcessData);
+    if (!s2.enabled() || (s2.control & SyncManager::kWatchdog) == 0 || time == 0) {
+        return false;
+    }
+    if (!watchdog_armed_) {
+        watchdog_armed_ = true;
+        last_outputs_ = now;
+        return false;
+    }
+    const auto limit = nanoseconds(static_cast<std::int64_t>(divider + 2) * 40 * time);
+    if (now - last_outputs_ <= limit) {
+        return false;
+    }
+    mem_[kWatchdogStatus] = 0x00;
+    ++mem_[kWatchdogCounter];
+    ++watchdog_expiries_;
+    watchdog_armed_ = false;
+    state_ = AlState::SafeOp;
+    set_al_status(state_, true, al_code::kSmWatchdog);
+    app_->on_state_change(AlState::Op, AlState::SafeOp);
+    return true;
+}
+
 void EscSlave::before_frame(TimePoint now) {
     ++frames_seen_;
     if (faults_.silent) {
         return;
     }
+    (void)tick(now);
     app_->step(now);
     if (state_ == AlState::SafeOp || state_ == AlState::Op) {
         pack_inputs();
@@ -574,6 +614,8 @@ void EscSlave::after_frame(TimePoint now) {
     if (outputs_fresh_) {
         outputs_fresh_ = false;
         if (state_ == AlState::Op) {
+            last_outputs_ = now;
+            mem_[kWatchdogStatus] = 0x01;
             unpack_outputs(now);
         }
     }

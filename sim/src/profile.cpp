@@ -98,6 +98,18 @@ FaultCode SimProfile::fault(std::uint16_t code) const {
     return f;
 }
 
+std::uint32_t SimProfile::error_history_entry(const FaultCode& code) const {
+    std::uint8_t number = 0;
+    for (const auto& [c, n] : error_numbers) {
+        if (c == code.emcy) {
+            number = n;
+        }
+    }
+    const auto error_class = static_cast<std::uint8_t>(code.error_register & 0xFEU);
+    return (static_cast<std::uint32_t>(number) << 24) |
+           (static_cast<std::uint32_t>(error_class) << 16) | code.emcy;
+}
+
 FaultCode SimProfile::code_for(FaultKind k) const {
     switch (k) {
     case FaultKind::Sto:
@@ -365,6 +377,11 @@ SimProfile make_fio() {
     p.heartbeat_loss_code = 0x8000;
     p.heartbeat_loss_is_fault = false;
     p.has_error_history_1003 = true;
+    // kuhnke-fio.md §1003h: 04108000h is documented; the other pairs are the spec's [sim] ones.
+    p.error_numbers = {{0x3100, 0x01}, {0x2300, 0x02}, {0x8000, 0x04}, {0x8100, 0x04},
+                       {0x7305, 0x07}, {0x7306, 0x08}, {0x7307, 0x09}, {0x8612, 0x0A},
+                       {0x4200, 0x0C}, {0x8611, 0x0D}, {0x7600, 0x0E}, {0x7212, 0x0F},
+                       {0x6320, 0x16}, {0x6100, 0x19}, {0x8400, 0x1D}, {0x5540, 0x2E}};
     return p;
 }
 

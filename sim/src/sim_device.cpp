@@ -2,6 +2,8 @@
 // A simulated CANopen drive: services around the object dictionary and the CiA 402 axes.
 #include <codrive/sim/sim_device.hpp>
 
+#include "error_history.hpp"
+
 #include <codrive/emcy/producer.hpp>
 #include <codrive/nmt/heartbeat_consumer.hpp>
 #include <codrive/nmt/heartbeat_producer.hpp>
@@ -542,24 +544,12 @@ void SimDevice::raise_error(const FaultCode& code, int axis, bool warning) {
     update_error_register();
     // History: AKD2G 1003h keeps the first four EMCY bytes (AMB-7), DS-BVS 4080h the code.
     const std::uint8_t reg = od_.get<std::uint8_t>(0x1001, 0).value_or(0);
-    const auto push = [this](std::uint16_t index, auto value) {
-        Object* o = od_.find(index);
-        if (o == nullptr) {
-            return;
-        }
-        const std::uint8_t max = 10;
-        for (std::uint8_t i = max; i > 1; --i) {
-            o->subs.at(i).value = o->subs.at(static_cast<std::uint8_t>(i - 1)).value;
-        }
-        od_.set(index, 1, value);
-        const auto n = od_.get<std::uint8_t>(index, 0).value_or(0);
-        od_.set<std::uint8_t>(index, 0,
-                              std::min<std::uint8_t>(max, static_cast<std::uint8_t>(n + 1)));
-    };
     const auto axis_byte = static_cast<std::uint8_t>(axis < 0 ? 0 : axis + 1);
-    push(0x1003, static_cast<std::uint32_t>(code.emcy | (static_cast<std::uint32_t>(reg) << 16) |
-                                            (static_cast<std::uint32_t>(axis_byte) << 24)));
-    push(0x4080, code.emcy);
+    push_error_history(od_, 0x1003,
+                       static_cast<std::uint32_t>(code.emcy |
+                                                  (static_cast<std::uint32_t>(reg) << 16) |
+                                                  (static_cast<std::uint32_t>(axis_byte) << 24)));
+    push_error_history(od_, 0x4080, code.emcy);
     log(fmt::format("node {}: {} 0x{:04X} {}{}", config_.node, warning ? "warning" : "fault",
                     code.emcy, code.text,
                     axis < 0 ? std::string() : fmt::format(" (axis {})", axis + 1)));

@@ -2,6 +2,8 @@
 // The communication objects of a simulated node (CiA 301 §7.5) and its EDS description.
 #include <codrive/sim/sim_device.hpp>
 
+#include "error_history.hpp"
+
 #include <codrive/core/cob_id.hpp>
 #include <codrive/drives/canopen_transport.hpp>
 #include <codrive/pdo/od_objects.hpp>
@@ -54,13 +56,8 @@ void SimDevice::build_objects() {
                 u(DT::Unsigned32, p.device_type()));
     od_.add_var(0x1001, "Error register", DT::Unsigned8, Access::Ro, u(DT::Unsigned8, 0), true);
     if (p.has_error_history_1003) {
-        std::vector<SubObject> subs;
-        for (std::uint8_t i = 1; i <= 10; ++i) {
-            subs.push_back(sub(i, "Standard error field", DT::Unsigned32, Access::Ro, 0));
-        }
-        auto o = record(0x1003, "Pre-defined error field", ObjectCode::Array, std::move(subs));
-        o.subs.at(0) = sub(0, "Number of errors", DT::Unsigned8, Access::Rw, 0);
-        od_.insert(std::move(o));
+        od_.insert(error_history_object(0x1003, "Pre-defined error field", "Number of errors",
+                                        "Standard error field", DT::Unsigned32));
     }
     if (p.has_sync_objects) {
         od_.add_var(0x1005, "COB-ID SYNC", DT::Unsigned32, Access::Rw,
@@ -108,14 +105,8 @@ void SimDevice::build_objects() {
              sub(2, "COB-ID server to client", DT::Unsigned32, Access::Ro, cob::sdo_tx(node))}));
     }
     if (p.has_error_history_4080) {
-        std::vector<SubObject> subs;
-        for (std::uint8_t i = 1; i <= 10; ++i) {
-            subs.push_back(sub(i, "Error code", DT::Unsigned16, Access::Ro, 0));
-        }
-        auto o = record(0x4080, "Error history", ObjectCode::Array, std::move(subs));
-        o.subs.at(0) = sub(0, "Number of entries", DT::Unsigned8, Access::Rw, 0);
-        o.subs.at(0).high_limit = u(DT::Unsigned8, 10);
-        od_.insert(std::move(o));
+        od_.insert(error_history_object(0x4080, "Error history", "Number of entries", "Error code",
+                                        DT::Unsigned16, true));
     }
 
     // PDO communication and mapping objects, shaped by the profile's PDO quirks.

@@ -121,6 +121,53 @@ TEST_F(ControllerOverEthercat, BringsTheFioToOpEnablesItAndMovesInCsp) {
     EXPECT_EQ(axis->state(), drives::cia402::State::SwitchOnDisabled) << events;
 }
 
+// Issue 11: the master process is killed while the FIO is enabled in OP. Nothing sends process
+// data any more, the FIO's SM watchdog (100 ms) expires and it goes to SAFE-OP and applies its
+// abort connection option 6007h (kuhnke-fio.md §1.7); with 6007h = 1 (fault signal) a new master
+// finds the drive in FAULT with 1003h:01 = 04108000h and the AL status code 0x001B.
+TEST_F(ControllerOverEthercat, KilledMasterProcessLeavesTheFioInItsBusLossReaction) {
+    if (IsSkipped() || HasFatalFailure()) {
+        return;
+    }
+    const std::string iface = veth_->master_if();
+    const auto codrive = [&](std::vector<std::string> args) {
+        args.insert(args.begin(), tool_path("codrive"));
+        return run(args);
+    };
+    auto option =
+        codrive({"sdo", "write", "--ethercat", iface, "-n", "1", "0x6007:0", "1", "--type", "i16"});
+    ASSERT_EQ(option.status, 0) << option.output;
+    path_ = write_bus_file(iface, 2000);
+    Process master({tool_path("codrive"), "run", path_, "--enable", "--refresh", "100"});
+    ASSERT_TRUE(master.wait_for_output("OPERATION ENABLED", 20s)) << master.output();
+    ASSERT_TRUE(master.running()) << master.output();
+    const auto killed = SteadyClock::now();
+    master.signal(SIGKILL);
+    ASSERT_TRUE(master.wait(2000ms));
+    ASSERT_TRUE(sim_->wait_for_output("SM watchdog expired", 3s)) << sim_->output();
+    const auto detected = std::chrono::duration<double, std::milli>(SteadyClock::now() - killed);
+    std::printf("bus loss: SM watchdog reported %.0f ms after the master was killed\n",
+                detected.count());
+    EXPECT_TRUE(sim_->output().find("slave 1 (FIO Drive Control): no process data for 100 ms, SM "
+                                    "watchdog expired: SAFE-OP + error 0x001B") !=
+                std::string::npos)
+        << sim_->output();
+    // What a field engineer sees with a fresh master: the slave's state and error, the drive's
+    // statusword and its error history.
+    auto scan = codrive({"scan", "--ethercat", iface});
+    ASSERT_EQ(scan.status, 0) << scan.output;
+    EXPECT_NE(scan.output.find("INIT (found in SAFE-OP + error 0x001B sync manager watchdog)"),
+              std::string::npos)
+        << scan.output;
+    auto sw = codrive({"sdo", "read", "--ethercat", iface, "-n", "1", "0x6041:0", "--type", "u16"});
+    ASSERT_EQ(sw.status, 0) << sw.output;
+    EXPECT_EQ(std::stoi(sw.output) & 0x4F, 0x08) << "FAULT expected, statusword " << sw.output;
+    auto history =
+        codrive({"sdo", "read", "--ethercat", iface, "-n", "1", "0x1003:1", "--type", "u32"});
+    ASSERT_EQ(history.status, 0) << history.output;
+    EXPECT_EQ(history.output, std::to_string(0x04108000) + "\n");
+}
+
 TEST_F(ControllerOverEthercat, DestroyedControllerLeavesNoFdsOrThreadsAndStopsWithinOneSecond) {
     if (IsSkipped() || HasFatalFailure()) {
         return;

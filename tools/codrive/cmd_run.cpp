@@ -26,8 +26,12 @@ std::string status_table(controller::Controller& c) {
     for (const auto& ref : c.axes()) {
         const drives::Axis& a = *ref.axis;
         std::string emcy = "-";
-        if (auto* n = c.master(ref.bus).node(ref.node); n != nullptr && n->last_emcy()) {
-            emcy = n->last_emcy()->text;
+        // CAN buses come first; an EtherCAT segment's axes (bus index after them) have no
+        // CANopen master and report their emergencies as controller events instead.
+        if (ref.bus < c.can_bus_count()) {
+            if (auto* n = c.master(ref.bus).node(ref.node); n != nullptr && n->last_emcy()) {
+                emcy = n->last_emcy()->text;
+            }
         }
         out += fmt::format("{:<28} {:<22} {:<5} {:>12} {:>10} {:>7}  {}\n", ref.name,
                            drives::cia402::to_string(a.state()),

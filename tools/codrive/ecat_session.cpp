@@ -48,10 +48,20 @@ std::string format_slave_table(const Master& master, unsigned base) {
     std::string out = fmt::format("{:>3}  {:<7} {:<10} {:<10} {:<10} {:<20} {}\n", "pos", "station",
                                   "vendor", "product", "revision", "name", "state");
     for (const auto& sl : master.slaves()) {
-        out += fmt::format("{:>3}  0x{:04X}  0x{:08X} 0x{:08X} 0x{:08X} {:<20} {}\n",
+        // What the previous master left behind is what a field engineer needs first: the
+        // state and a pending AL error, in words (the scan itself resets every slave to INIT).
+        std::string found;
+        if (sl.found_state != AlState::None &&
+            (sl.found_state != AlState::Init || sl.found_error)) {
+            found = fmt::format(" (found in {}{})", to_string(sl.found_state),
+                                sl.found_error ? fmt::format(" + error 0x{:04X} {}", sl.found_code,
+                                                             al_status_code_describe(sl.found_code))
+                                               : std::string());
+        }
+        out += fmt::format("{:>3}  0x{:04X}  0x{:08X} 0x{:08X} 0x{:08X} {:<20} {}{}\n",
                            sl.position + base, sl.station_address, sl.sii.vendor_id,
                            sl.sii.product_code, sl.sii.revision, sl.display_name(),
-                           to_string(sl.state));
+                           to_string(sl.state), found);
     }
     return out;
 }

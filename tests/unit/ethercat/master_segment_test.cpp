@@ -55,6 +55,34 @@ TEST_F(EcatMasterSegment, ScanCountsSlavesAssignsAddressesAndReadsIdentityFromSi
     EXPECT_EQ(s[1].state, AlState::Init);
 }
 
+TEST_F(EcatMasterSegment, ScanReportsTheStateThePreviousMasterLeftBeforeResettingToInit) {
+    to_op();
+    ASSERT_TRUE(master_.exchange_process_data()) << master_.last_error();
+    // The previous master stops: after 100 ms without outputs the SM watchdog of every slave
+    // expires (SAFE-OP + 0x001B).
+    clock_.advance(milliseconds(50));
+    for (std::size_t i = 0; i < segment_.size(); ++i) {
+        segment_.slave(i).tick(clock_.now());
+    }
+    clock_.advance(milliseconds(120));
+    for (std::size_t i = 0; i < segment_.size(); ++i) {
+        EXPECT_TRUE(segment_.slave(i).tick(clock_.now())) << i;
+    }
+    Master next{link_, clock_};
+    ASSERT_TRUE(next.scan()) << next.last_error();
+    for (const auto& s : next.slaves()) {
+        EXPECT_EQ(s.found_state, AlState::SafeOp) << s.position;
+        EXPECT_TRUE(s.found_error) << s.position;
+        EXPECT_EQ(s.found_code, 0x001B) << s.position;
+        EXPECT_EQ(s.state, AlState::Init) << "scan resets every slave to INIT";
+    }
+    // A clean segment is found in INIT without an error.
+    Master third{link_, clock_};
+    ASSERT_TRUE(third.scan()) << third.last_error();
+    EXPECT_EQ(third.slaves()[0].found_state, AlState::Init);
+    EXPECT_FALSE(third.slaves()[0].found_error);
+}
+
 TEST_F(EcatMasterSegment, StateMachineReachesOpThroughEveryState) {
     to_op();
     for (std::size_t i = 0; i < segment_.size(); ++i) {

@@ -93,6 +93,82 @@ TEST_F(CoeTransportTest, AxisEnablesOverTheCyclicControlwordOnEtherCat) {
     EXPECT_EQ(t.get<std::uint16_t>(t.input(0x6041, 0)).value_or(0) & 0x6F, 0x27);
 }
 
+/// The FIO's reaction when its master disappears in OP: the SM watchdog (100 ms by default)
+/// drops it to SAFE-OP with AL status code 0x001B and the drive applies 6007h (kuhnke-fio.md
+/// §1.7). Returns the statusword after the expiry.
+class FioBusLossTest : public CoeTransportTest,
+                       public ::testing::WithParamInterface<std::int16_t> {};
+
+TEST_P(FioBusLossTest, WatchdogDropsToSafeOpAndAppliesAbortConnectionOption) {
+    bring_up();
+    CoeTransport t(master_, 1); // FIO
+    std::optional<drives::DriveVoid> option_set;
+    t.write_as<std::int16_t>(0x6007, 0, GetParam(), [&](drives::DriveVoid r) { option_set = r; });
+    t.write_as<std::int8_t>(0x6060, 0, 8, [](drives::DriveVoid) {});
+    t.poll();
+    ASSERT_TRUE(option_set && *option_set);
+    drives::AxisConfig cfg;
+    drives::Axis axis(t, cfg);
+    axis.bind();
+    std::optional<drives::DriveVoid> enabled;
+    axis.enable([&](drives::DriveVoid r) { enabled = r; });
+    for (int i = 0; i < 200 && !enabled; ++i) {
+        cycle(axis, t);
+    }
+    ASSERT_TRUE(enabled && *enabled);
+    auto& fio = segment_.slave(1);
+    // Cycling keeps the watchdog fed: 300 ms of 1 ms cycles, still OP.
+    for (int i = 0; i < 300; ++i) {
+        cycle(axis, t);
+    }
+    EXPECT_EQ(fio.state(), AlState::Op);
+    EXPECT_EQ(fio.watchdog_expiries(), 0U);
+    // The master dies: no frames. 100 ms is not enough, 101 ms is.
+    clock_.advance(milliseconds(99));
+    EXPECT_FALSE(fio.tick(clock_.now()));
+    clock_.advance(milliseconds(2));
+    EXPECT_TRUE(fio.tick(clock_.now()));
+    EXPECT_EQ(fio.state(), AlState::SafeOp);
+    EXPECT_EQ(fio.al_status_code(), 0x001BU); // sync manager watchdog
+    EXPECT_EQ(fio.reg16(0x0130) & 0x10U, 0x10U) << "AL status error flag";
+    EXPECT_EQ(fio.reg8(0x0440) & 0x01U, 0x00U) << "process data watchdog status: expired";
+    ObjectDictionary& od = fio.app().od();
+    fio.before_frame(clock_.now() + milliseconds(1)); // the drive runs one more step
+    const auto sw = od.get<std::uint16_t>(0x6041, 0).value_or(0);
+    switch (GetParam()) {
+    case -1: // clear PDOs, coast: controlword 0 → switch on disabled
+    case 2:  // disable voltage
+        EXPECT_EQ(sw & 0x4F, 0x40) << std::hex << sw;
+        break;
+    case 0: // no action: still operation enabled
+        EXPECT_EQ(sw & 0x6F, 0x27) << std::hex << sw;
+        break;
+    case 1: // fault signal: 1003h entry 04108000h (error number 04, class 10h COM, code 8000h)
+        EXPECT_EQ(sw & 0x4F, 0x08) << std::hex << sw;
+        EXPECT_EQ(od.get<std::uint8_t>(0x1003, 0).value_or(0), 1);
+        EXPECT_EQ(od.get<std::uint32_t>(0x1003, 1).value_or(0), 0x04108000U);
+        EXPECT_EQ(od.get<std::uint16_t>(0x603F, 0).value_or(0), 0x8000U);
+        break;
+    case 3: // quick stop: quick stop active (bit 5 clear) or already switch on disabled
+        EXPECT_TRUE((sw & 0x6F) == 0x07 || (sw & 0x4F) == 0x40) << std::hex << sw;
+        break;
+    default:
+        FAIL();
+    }
+    // Only once: the slave is out of OP now.
+    clock_.advance(milliseconds(500));
+    EXPECT_FALSE(fio.tick(clock_.now()));
+    EXPECT_EQ(fio.watchdog_expiries(), 1U);
+}
+
+INSTANTIATE_TEST_SUITE_P(AbortConnectionOption, FioBusLossTest,
+                         ::testing::Values(std::int16_t{-1}, std::int16_t{0}, std::int16_t{1},
+                                           std::int16_t{2}, std::int16_t{3}),
+                         [](const ::testing::TestParamInfo<std::int16_t>& p) {
+                             return p.param < 0 ? std::string("Minus1")
+                                                : "Option" + std::to_string(p.param);
+                         });
+
 TEST_F(CoeTransportTest, InputCountAdvancesOnlyWithFramesWhoseInputsWereTaken) {
     bring_up();
     CoeTransport t(master_, 0);

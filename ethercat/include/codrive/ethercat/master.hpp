@@ -75,6 +75,12 @@ struct SlaveInfo {
     std::uint16_t station_address = 0; ///< configured address (0x0010)
     SiiInfo sii;
     AlState state = AlState::Init;
+    /// The AL state, error flag and status code the slave was in when scan() found it, before
+    /// scan() reset it to INIT: what the previous master (or a crash) left behind, e.g.
+    /// SAFE-OP + error 0x001B when its SM watchdog expired because process data stopped.
+    AlState found_state = AlState::None;
+    bool found_error = false;
+    std::uint16_t found_code = 0;
     bool has_dc = false;
     // Process data (after map_process_data()).
     std::vector<PdoMapping> rx_pdos; ///< outputs, SM2

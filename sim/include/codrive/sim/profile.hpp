@@ -115,6 +115,11 @@ struct SimProfile {
     bool error_register_generic_only = false; ///< AKD2G: only 1001h bit 0 is used
     bool has_error_history_1003 = true;
     bool has_error_history_4080 = false; ///< DS-BVS
+    /// FIO: 1003h entries carry the vendor's error number in bits 31..24 and the error class in
+    /// 23..16 (kuhnke-fio.md: bus loss with 6007h = 1 is 0x04108000); pairs error code → number.
+    std::vector<std::pair<std::uint16_t, std::uint8_t>> error_numbers;
+    /// The 1003h entry this drive records over EtherCAT for an error (number, class, code).
+    [[nodiscard]] std::uint32_t error_history_entry(const FaultCode& code) const;
 
     // Communication (CAN) defaults of the simulated unit.
     bool tpdo_no_rtr_bit = false; ///< DS-BVS: TPDO COB-IDs carry bit 30

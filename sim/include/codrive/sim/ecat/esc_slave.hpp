@@ -47,6 +47,15 @@ public:
     void before_frame(TimePoint now);
     /// After a frame: consumes a written mailbox (CoE), applies fresh outputs (SM2).
     void after_frame(TimePoint now);
+    /// Runs the process data (SM) watchdog; call it regularly even when no frames arrive (a
+    /// master that died sends none). In OP, when the output sync manager has its watchdog
+    /// enabled and no outputs were written for the time in 0x0400/0x0420 (default 100 ms), the
+    /// slave drops to SAFE-OP with the error flag and AL status code 0x001B, and the
+    /// application applies its bus-loss reaction (ETG.1000.6 §6.4; FIO: 6007h). True if it
+    /// expired now.
+    bool tick(TimePoint now);
+    /// Times the SM watchdog expired.
+    [[nodiscard]] std::uint64_t watchdog_expiries() const { return watchdog_expiries_; }
 
     [[nodiscard]] ethercat::AlState state() const { return state_; }
     [[nodiscard]] std::uint16_t al_status_code() const;
@@ -106,6 +115,9 @@ private:
     std::uint64_t mailbox_repeats_ = 0;
     std::uint64_t duplicate_requests_ = 0;
     bool outputs_fresh_ = false;
+    bool watchdog_armed_ = false;
+    TimePoint last_outputs_{}; ///< last SM2 write, or when OP was entered
+    std::uint64_t watchdog_expiries_ = 0;
     std::uint64_t frames_seen_ = 0;
     std::int64_t local_base_ns_ = 0;
     TimePoint epoch_{};
