@@ -11,6 +11,7 @@
 #include <fmt/format.h>
 
 #include <csignal>
+#include <cstdlib>
 #include <sstream>
 #include <thread>
 #include <unistd.h>
@@ -119,8 +120,17 @@ TEST_F(EcatVethTest, CyclicLrwThousandCyclesWithCorrectWorkingCounter) {
     EXPECT_EQ(master_->stats().lost_frames, 0U);
     EXPECT_EQ(get_le<std::uint16_t>(master_->inputs(1).data()) & 0x6F, 0x27)
         << "AKD2G should be OPERATION ENABLED";
-    // The simulated drive follows CSP targets (real time passes between frames here).
-    EXPECT_NEAR(get_le<std::int32_t>(master_->inputs(1).data() + 2), 999, 50);
+    // The simulated drive follows CSP targets. Real time passes between frames here, as fast as
+    // the host turns them around, so how far the position trails the last target depends on
+    // the load; once the target holds still it must settle on it.
+    const auto position = [&] { return get_le<std::int32_t>(master_->inputs(1).data() + 2); };
+    EXPECT_NEAR(position(), 999, 250) << "the drive does not follow the CSP targets";
+    const auto until = SteadyClock::now() + milliseconds(500);
+    while (std::abs(position() - 999) > 1 && SteadyClock::now() < until) {
+        ASSERT_TRUE(master_->exchange_process_data()) << master_->last_error();
+        std::this_thread::sleep_for(std::chrono::microseconds(500));
+    }
+    EXPECT_NEAR(position(), 999, 1) << "the drive did not settle on the last CSP target";
 }
 
 TEST_F(EcatVethTest, SlaveThatStopsAnsweringIsNamedInASentence) {
