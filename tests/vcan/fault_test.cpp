@@ -152,14 +152,13 @@ constexpr std::uint8_t kOperational = 0x05;
 
 } // namespace
 
-TEST(VcanFault, KilledMasterMakesAkd2gFaultF7002AndDsBvsReportItAndGoPreOperational) {
+TEST(VcanFault, KilledMasterMakesAkd2gFaultF7002AndDsBvsQuickStopAndGoPreOperational) {
     CODRIVE_REQUIRE_VCAN("vcan0");
     Process sim(
         {tool_path("codrive-sim"), "-i", "vcan0", "--node", "1:akd2g:1", "--node", "3:ds-bvs"});
     ASSERT_TRUE(sim.wait_for_output("node 3", 10s)) << sim.output();
-    // DS-BVS booted in CSV but not enabled: with the current sim its CSP mapping fails boot-up
-    // and enabling stops at "main voltage not applied" (see docs/reliability.md).
-    auto master = start_master("1:akd2g,3:ds-bvs:off", 300);
+    // Both drives enabled in CSP and following set-points when the master dies.
+    auto master = start_master("1:akd2g,3:ds-bvs", 300);
     ASSERT_TRUE(wait_running(*master)) << master->output();
     Wire wire;
     ASSERT_TRUE(wire.ok());
@@ -182,12 +181,13 @@ TEST(VcanFault, KilledMasterMakesAkd2gFaultF7002AndDsBvsReportItAndGoPreOperatio
     const auto sw1 = wire.read_u16(1, 0x6041);
     ASSERT_TRUE(sw1.has_value()) << "node 1 does not answer SDO";
     EXPECT_NE(*sw1 & 0x0008, 0) << "node 1 statusword 0x" << std::hex << *sw1;
-    // DS-BVS (ds-bvs.md §2.6): 1029h:01 = 0 → pre-operational; 6007h = 3 → quick stop; the
-    // power stage is off (not "operation enabled") and no fault is latched (6007h 3 is not 1).
+    // DS-BVS (ds-bvs.md §2.6): 1029h:01 = 0 → pre-operational; 6007h = 3 → quick stop, which
+    // with the default 605Ah = 6 ramps down and stays in QUICK STOP ACTIVE (statusword xxx0 0111:
+    // bit 5 clear); no fault is latched (6007h 3 is not 1).
     EXPECT_EQ(wire.hb_state(3), kPreOperational);
     const auto sw3 = wire.read_u16(3, 0x6041);
     ASSERT_TRUE(sw3.has_value()) << "node 3 does not answer SDO";
-    EXPECT_NE(*sw3 & 0x006F, 0x0027) << "node 3 still operation enabled: 0x" << std::hex << *sw3;
+    EXPECT_EQ(*sw3 & 0x006F, 0x0007) << "node 3 not in QUICK STOP ACTIVE: 0x" << std::hex << *sw3;
     EXPECT_EQ(*sw3 & 0x0008, 0) << "node 3 latched a fault: 0x" << std::hex << *sw3;
     std::printf("after the kill: node 1 statusword 0x%04X, node 3 statusword 0x%04X, NMT 0x%02X\n",
                 *sw1, *sw3, wire.hb_state(3).value_or(0));

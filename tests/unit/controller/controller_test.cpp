@@ -20,6 +20,8 @@ using namespace std::chrono_literals;
 namespace {
 
 struct Rig {
+    std::string profile = "akd2g";
+    unsigned axes = 2;
     VirtualNetwork net{RealClock::instance()};
     VirtualBus& ctl_bus = net.endpoint("controller");
     VirtualBus& sim_bus = net.endpoint("akd2g");
@@ -35,9 +37,9 @@ struct Rig {
         master::NodeEntry n;
         n.id = 1;
         n.name = "gantry";
-        n.profile = "akd2g";
+        n.profile = profile;
         n.heartbeat = 100ms;
-        for (unsigned a = 1; a <= 2; ++a) {
+        for (unsigned a = 1; a <= axes; ++a) {
             master::AxisConfig ax;
             ax.axis = a;
             ax.mode = 8; // CSP
@@ -50,7 +52,8 @@ struct Rig {
     bool start() {
         sim::SimDeviceConfig sc;
         sc.node = 1;
-        sc.profile = sim::find_profile("akd2g");
+        sc.profile = sim::find_profile(profile);
+        sc.axes = axes;
         EXPECT_NE(sc.profile, nullptr);
         drive = std::make_unique<sim::SimDevice>(sim_bus, sc);
         sim_bus.set_frame_handler([this](const Frame& f, TimePoint t) { drive->on_frame(f, t); });
@@ -86,6 +89,39 @@ struct Rig {
 };
 
 } // namespace
+
+// The DS-BVS in CSP: its profile's PDO layout is configured at boot (its PDO maps are empty by
+// default, ds-bvs.md §4), the axis enables from SWITCH ON DISABLED (statusword 0x0240: bit 4
+// "voltage enabled" is 0 there, which is not a missing main voltage) and follows a ramp.
+TEST(Controller, BootsADsBvsInCspEnablesItAndFollowsARamp) {
+    Rig rig;
+    rig.profile = "ds-bvs";
+    rig.axes = 1;
+    ASSERT_TRUE(rig.start()) << rig.all_events();
+    ASSERT_EQ(rig.controller->boot_reports().size(), 1U);
+    ASSERT_TRUE(rig.controller->boot_reports()[0].ok)
+        << rig.controller->boot_reports()[0].to_string();
+    auto* a = rig.controller->axis(1, 1);
+    ASSERT_NE(a, nullptr);
+    ASSERT_TRUE(rig.controller->run_until([&] { return a->has_statusword(); }, 2s))
+        << rig.all_events();
+    std::optional<drives::DriveVoid> enabled;
+    a->enable([&](drives::DriveVoid r) { enabled = r; });
+    ASSERT_TRUE(rig.controller->run_until([&] { return enabled.has_value(); }, 3s))
+        << rig.all_events();
+    ASSERT_TRUE(*enabled) << enabled->error().message << "\n" << rig.all_events();
+    const std::int32_t start = a->position_actual().value_or(0);
+    std::int32_t step = 0;
+    rig.controller->set_cycle_callback([&](const CycleInfo&) {
+        step = std::min(step + 1, 200);
+        a->set_target_position(start + step * 100);
+    });
+    rig.controller->run_until([&] { return step >= 200; }, 5s);
+    rig.controller->run_for(100ms);
+    rig.controller->set_cycle_callback(nullptr);
+    EXPECT_NEAR(a->position_actual().value_or(0), start + 20000, 200) << rig.all_events();
+    EXPECT_EQ(a->state(), drives::cia402::State::OperationEnabled);
+}
 
 TEST(Controller, BootsConfiguresPdosAndRunsCspOnBothAxes) {
     Rig rig;
