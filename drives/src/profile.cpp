@@ -260,6 +260,39 @@ void add_u32(ObjectDictionary& od, std::uint16_t index, std::uint8_t subindex, s
                "Identity object");
 }
 
+/// CiA 301 error control objects of a CAN drive, so a bus file can name them in `writes:`:
+/// 1001h, heartbeat consumer 1016h (one entry on the AKD2G and DS-BVS: bits 23..16 the producer,
+/// 15..0 the time in ms), producer 1017h and, where the drive has it, error behaviour 1029h.
+void add_can_error_control_objects(ObjectDictionary& od, const Profile& p) {
+    const auto u = [](DataType t, std::uint64_t v) { return *Value::from_uint(t, v); };
+    od.add_var(0x1001, "Error register", DataType::Unsigned8, Access::Ro,
+               u(DataType::Unsigned8, 0));
+    od.add_sub(0x1016,
+               SubObject::make(0, "Highest sub-index supported", DataType::Unsigned8, Access::Ro,
+                               u(DataType::Unsigned8, 1)),
+               "Consumer heartbeat time");
+    od.add_sub(0x1016, SubObject::make(1, "Consumer heartbeat time", DataType::Unsigned32,
+                                       Access::Rw, u(DataType::Unsigned32, 0)));
+    od.find(0x1016)->code = ObjectCode::Array;
+    od.add_var(0x1017, "Producer heartbeat time", DataType::Unsigned16, Access::Rw,
+               u(DataType::Unsigned16, 0));
+    if (p.quirks.error_behaviour_1029) {
+        od.add_sub(0x1029,
+                   SubObject::make(0, "Highest sub-index supported", DataType::Unsigned8,
+                                   Access::Ro, u(DataType::Unsigned8, 2)),
+                   "Error behaviour");
+        // 0 pre-operational (if operational), 1 no state change, 2 stopped.
+        for (const std::uint8_t sub : {std::uint8_t{1}, std::uint8_t{2}}) {
+            auto e = SubObject::make(sub, sub == 1 ? "Communication error" : "Application error",
+                                     DataType::Unsigned8, Access::Rw, u(DataType::Unsigned8, 1));
+            e.low_limit = u(DataType::Unsigned8, 0);
+            e.high_limit = u(DataType::Unsigned8, 2);
+            od.add_sub(0x1029, std::move(e));
+        }
+        od.find(0x1029)->code = ObjectCode::Array;
+    }
+}
+
 } // namespace
 
 void build_device_dictionary(ObjectDictionary& od, const Profile& p, unsigned axes) {
@@ -281,6 +314,9 @@ void build_device_dictionary(ObjectDictionary& od, const Profile& p, unsigned ax
     add_u32(od, 0x1018, 4, "Serial number", 0);
     if (auto* id = od.find(0x1018)) {
         id->code = ObjectCode::Record;
+    }
+    if (p.quirks.canopen) {
+        add_can_error_control_objects(od, p);
     }
 
     for (unsigned axis = 1; axis <= axes; ++axis) {

@@ -122,6 +122,7 @@ Profile make_ds_bvs() {
     p.quirks.switch_on_needs_bit3_clear = true;
     p.quirks.remote_bit9_always_set = true;
     p.quirks.interpolation_period_object = false;
+    p.quirks.error_behaviour_1029 = true;
     return p;
 }
 

@@ -185,6 +185,32 @@ TEST(Profiles, DeviceDictionaryCarriesProfileData) {
     EXPECT_EQ(fio.get<std::int8_t>(0x6098, 0), 35);
 }
 
+// A bus file names the error control objects in `writes:` (e.g. 1016h:01 so the drive
+// supervises the master's heartbeat): the master-side dictionaries of the CAN drives hold them.
+TEST(Profiles, CanDrivesListTheirErrorControlObjects) {
+    ObjectDictionary ak;
+    build_device_dictionary(ak, akd2g_profile(), 2);
+    ASSERT_NE(ak.find(0x1016, 1), nullptr);
+    EXPECT_EQ(ak.find(0x1016, 1)->type, DataType::Unsigned32);
+    EXPECT_EQ(ak.find(0x1016, 1)->access, Access::Rw);
+    EXPECT_EQ(ak.find(0x1016, 2), nullptr) << "one consumer entry (akd2g.md 1016h)";
+    EXPECT_EQ(ak.find(0x1017, 0)->type, DataType::Unsigned16);
+    EXPECT_EQ(ak.find(0x1029), nullptr) << "AKD2G has no 1029h (akd2g.md AMB-6)";
+
+    ObjectDictionary ds;
+    build_device_dictionary(ds, ds_bvs_profile(), 1);
+    ASSERT_NE(ds.find(0x1029, 1), nullptr);
+    EXPECT_EQ(ds.get<std::uint8_t>(0x1029, 1), 1) << "default: no state change (ds-bvs.md)";
+    const std::uint8_t three = 3;
+    EXPECT_FALSE(ds.check_write(0x1029, 1, {&three, 1}).has_value()) << "0..2 only";
+    const std::uint8_t zero = 0;
+    EXPECT_TRUE(ds.check_write(0x1029, 1, {&zero, 1}).has_value());
+
+    ObjectDictionary fio;
+    build_device_dictionary(fio, fio_profile(), 1);
+    EXPECT_EQ(fio.find(0x1016), nullptr) << "EtherCAT only";
+}
+
 TEST(Profiles, QuirksFromTheSpecs) {
     EXPECT_TRUE(ds_bvs_profile().quirks.pdo_cob_ids_read_only);
     EXPECT_TRUE(ds_bvs_profile().quirks.empty_default_pdo_maps);

@@ -75,6 +75,7 @@ struct ModeLayout {
 /// Behaviour of a drive that a master must respect and a simulator must reproduce.
 struct Quirks {
     bool canopen = true;                ///< has a CAN interface (FIO: EtherCAT only)
+    bool error_behaviour_1029 = false;  ///< 1029h:01/02 exist (DS-BVS; AKD2G: no)
     bool pdo_cob_ids_read_only = false; ///< DS-BVS: 1400h/1800h sub 1 RO, disable via mapping sub 0
     bool pdo_maps_volatile = false; ///< AKD2G: 1600h/1A00h not stored by 1010h, rewrite every boot
     bool pdo_mapping_preop_only = true;      ///< mapping writes only in NMT pre-operational

@@ -55,9 +55,8 @@ struct SoakOptions {
     /// Boot-up SDO timeout of every node in ms (bus.sdo_timeout_ms); 0: the master's default.
     /// Longer under valgrind, where the simulator answers 20-50 times slower.
     std::uint32_t sdo_timeout_ms = 0;
-    /// Written by SDO once every node booted, before the axes are enabled (e.g. 1016h:01 so
-    /// the nodes supervise the master's heartbeat). By SDO rather than as bus-file `writes:`
-    /// because the master-side profile dictionaries do not list 1016h/1029h.
+    /// Bus-file `writes:` of the nodes with a matching profile (all if empty), written during
+    /// boot-up (e.g. 1016h:01 so the nodes supervise the master's heartbeat).
     std::vector<SoakWrite> writes;
     /// Called with every controller event (master, PDO, boot), outside the cyclic path.
     std::function<void(const std::string&)> on_event;
@@ -181,6 +180,21 @@ inline std::string soak_bus_yaml(const SoakOptions& o) {
         y += fmt::format("  - id: {}\n    profile: {}\n    heartbeat_ms: 100\n"
                          "    axes:\n      - {{axis: 1, mode: {}}}\n",
                          n.id, n.profile, n.mode == "off" ? "csv" : n.mode);
+        std::string writes;
+        for (const auto& w : o.writes) {
+            if (!w.profile.empty() && w.profile != n.profile) {
+                continue;
+            }
+            std::uint64_t value = 0;
+            for (std::size_t i = 0; i < w.data.size() && i < 8; ++i) {
+                value |= static_cast<std::uint64_t>(w.data[i]) << (8 * i);
+            }
+            writes += fmt::format("      - {{object: \"0x{:04X}:{:02X}\", value: {}}}\n", w.index,
+                                  w.subindex, value);
+        }
+        if (!writes.empty()) {
+            y += "    writes:\n" + writes;
+        }
     }
     return y;
 }
@@ -282,30 +296,6 @@ inline SoakReport run_soak(const SoakOptions& o) {
     });
     if (auto r = c.start(); !r) {
         rep.error = "start: " + r.error();
-        return rep;
-    }
-    std::size_t writes_done = 0;
-    std::size_t writes_sent = 0;
-    std::string write_error;
-    for (const auto& w : o.writes) {
-        for (const auto& n : o.nodes) {
-            if (!w.profile.empty() && w.profile != n.profile) {
-                continue;
-            }
-            ++writes_sent;
-            c.master().sdo().client(n.id).download(
-                w.index, w.subindex, w.data, [&, id = n.id](sdo::SdoResult<void> r) {
-                    ++writes_done;
-                    if (!r) {
-                        write_error += fmt::format("node {} 0x{:04X}:{:02X}: {}; ", id, w.index,
-                                                   w.subindex, r.error().to_string());
-                    }
-                });
-        }
-    }
-    c.run_until([&] { return writes_done == writes_sent; }, seconds(5));
-    if (writes_done != writes_sent || !write_error.empty()) {
-        rep.error = "SDO writes failed: " + write_error;
         return rep;
     }
     // The axes to drive, with their node's mode ("off": booted, never enabled).
