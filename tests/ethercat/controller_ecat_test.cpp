@@ -5,6 +5,7 @@
 #include "veth_segment.hpp"
 
 #include <codrive/controller/controller.hpp>
+#include <codrive/testing/enable_then_ramp.hpp>
 #include <codrive/testing/soak.hpp>
 
 #include <fmt/format.h>
@@ -220,39 +221,14 @@ TEST_F(ControllerOverEthercat, DedicatedCyclicThreadEnablesMovesAndStopsWithinOn
         auto* axis = c->axis(0, 1, 0);
         ASSERT_NE(axis, nullptr);
         // The axis belongs to the cyclic thread: everything starts from the cycle callback.
-        std::atomic<int> phase{0}; // 0 wait, 1 enabling, 2 moving, 3 done, -1 failed
-        std::string failure;
-        std::atomic<std::int32_t> position{0};
-        std::int32_t start = 0;
-        std::int32_t offset = 0;
-        c->set_cycle_callback([&](const controller::CycleInfo&) {
-            const int p = phase.load(std::memory_order_acquire);
-            if (p == 0 && axis->has_statusword()) {
-                phase.store(1);
-                axis->enable([&](drives::DriveVoid r) {
-                    if (!r) {
-                        failure = r.error().message;
-                        phase.store(-1, std::memory_order_release);
-                        return;
-                    }
-                    start = axis->position_actual().value_or(0);
-                    phase.store(2, std::memory_order_release);
-                });
-            } else if (p == 2) {
-                offset = std::min(offset + 40, 20000);
-                axis->set_target_position(start + offset);
-                if (offset == 20000) {
-                    phase.store(3, std::memory_order_release);
-                }
-            }
-            position.store(axis->position_actual().value_or(0), std::memory_order_relaxed);
-        });
-        ASSERT_TRUE(c->run_until([&] { return phase.load() == 3 || phase.load() == -1; }, 15s))
-            << "phase " << phase.load() << "\n"
+        codrive::testing::EnableThenRamp ramp(*axis, 40, 20000);
+        c->set_cycle_callback([&](const controller::CycleInfo&) { ramp.on_cycle(); });
+        ASSERT_TRUE(c->run_until([&] { return ramp.finished(); }, 15s))
+            << "phase " << ramp.phase() << "\n"
             << events;
-        ASSERT_EQ(phase.load(std::memory_order_acquire), 3) << failure << events;
+        ASSERT_TRUE(ramp.done()) << ramp.failure() << events;
         c->run_for(200ms);
-        EXPECT_NEAR(position.load(), start + 20000, 100) << events;
+        EXPECT_NEAR(ramp.position(), ramp.start() + 20000, 100) << events;
         std::atomic<std::int64_t> requested_ns{0};
         std::thread stopper([&] {
             std::this_thread::sleep_for(100ms);

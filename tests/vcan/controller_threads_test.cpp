@@ -3,6 +3,7 @@
 // ramp driven from the cycle callback, SYNC jitter printed, stop within 1 s, and no descriptor
 // or thread left behind.
 #include <codrive/controller/controller.hpp>
+#include <codrive/testing/enable_then_ramp.hpp>
 #include <codrive/testing/process.hpp>
 #include <codrive/testing/soak.hpp>
 #include <codrive/testing/vcan.hpp>
@@ -71,39 +72,14 @@ void enable_move_stop(controller::Threading mode, const char* label) {
         }
         drives::Axis* axis = c.axis(1, 1);
         ASSERT_NE(axis, nullptr);
-        std::atomic<int> phase{0}; // 0 wait, 1 enabling, 2 moving, 3 done, -1 failed
-        std::string failure;       // written before phase = -1 (release)
-        std::atomic<std::int32_t> position{0};
-        std::int32_t start = 0;
-        std::int32_t offset = 0;
-        c.set_cycle_callback([&](const controller::CycleInfo&) {
-            const int p = phase.load(std::memory_order_acquire);
-            if (p == 0 && axis->has_statusword()) {
-                phase.store(1);
-                axis->enable([&](drives::DriveVoid r) {
-                    if (!r) {
-                        failure = r.error().message;
-                        phase.store(-1, std::memory_order_release);
-                        return;
-                    }
-                    start = axis->position_actual().value_or(0);
-                    phase.store(2, std::memory_order_release);
-                });
-            } else if (p == 2) {
-                offset = std::min(offset + 200, 40000);
-                axis->set_target_position(start + offset);
-                if (offset == 40000) {
-                    phase.store(3, std::memory_order_release);
-                }
-            }
-            position.store(axis->position_actual().value_or(0), std::memory_order_relaxed);
-        });
-        ASSERT_TRUE(c.run_until([&] { return phase.load() == 3 || phase.load() == -1; }, 30s))
-            << "phase " << phase.load() << "\n"
+        codrive::testing::EnableThenRamp ramp(*axis, 200, 40000);
+        c.set_cycle_callback([&](const controller::CycleInfo&) { ramp.on_cycle(); });
+        ASSERT_TRUE(c.run_until([&] { return ramp.finished(); }, 30s))
+            << "phase " << ramp.phase() << "\n"
             << events;
-        ASSERT_EQ(phase.load(std::memory_order_acquire), 3) << failure << events;
+        ASSERT_TRUE(ramp.done()) << ramp.failure() << events;
         c.run_for(300ms);
-        EXPECT_NEAR(position.load(), start + 40000, 1000) << events;
+        EXPECT_NEAR(ramp.position(), ramp.start() + 40000, 1000) << events;
 
         std::atomic<std::int64_t> requested_ns{0};
         std::thread stopper([&] {
