@@ -101,8 +101,10 @@ else
     rc=${PIPESTATUS[0]}
     set -e
     [[ $rc -eq 0 ]] || status=1
-    passed[leak]=$(awk '/^leak-check: [0-9]+ processes clean/ {print $2}' "$log")
-    failed[leak]=$(awk '/^leak-check: [0-9]+ processes clean/ {print $5}' "$log")
+    # Failed: memory errors, and processes that failed their own run (a test, a tool's exit
+    # status) even with clean memory; those are not counted as passed.
+    passed[leak]=$(awk '/^leak-check: [0-9]+ processes clean/ {print $2 - $8}' "$log")
+    failed[leak]=$(awk '/^leak-check: [0-9]+ processes clean/ {print $5 + $8}' "$log")
     [[ -n ${passed[leak]} ]] || failed[leak]=1
     rm -f "$log"
 fi

@@ -35,7 +35,8 @@ void on_term(int) {
 
 // The master process of the fault tests: nodes from CODRIVE_SOAK_NODES ("1:akd2g,3:ds-bvs"),
 // every node supervising the master's heartbeat when CODRIVE_SOAK_CONSUMER_MS is set, boot-up SDO
-// timeout CODRIVE_SOAK_SDO_TIMEOUT_MS (the leak check runs it under valgrind). Prints
+// timeout CODRIVE_SOAK_SDO_TIMEOUT_MS and enable timeout CODRIVE_SOAK_ENABLE_TIMEOUT_MS (the leak
+// check runs it under valgrind). Prints
 // "soak: running" once the axes are enabled in CSP, then every controller event as it happens.
 TEST(SoakVcanMaster, DISABLED_Run) {
     const char* nodes = std::getenv("CODRIVE_SOAK_NODES");
@@ -46,6 +47,7 @@ TEST(SoakVcanMaster, DISABLED_Run) {
     o.sample_at = std::min<std::uint64_t>(o.cycles, 1000);
     o.sync_period_us = static_cast<std::uint32_t>(env_u64("CODRIVE_SOAK_PERIOD_US", 4000));
     o.sdo_timeout_ms = static_cast<std::uint32_t>(env_u64("CODRIVE_SOAK_SDO_TIMEOUT_MS", 0));
+    o.enable_timeout = std::chrono::milliseconds(env_u64("CODRIVE_SOAK_ENABLE_TIMEOUT_MS", 2000));
     if (const auto consumer_ms = env_u64("CODRIVE_SOAK_CONSUMER_MS", 0); consumer_ms != 0) {
         // CiA 301 1016h:01: bits 23..16 the producer (the master, 127), 15..0 the time in ms.
         const auto v = static_cast<std::uint32_t>((127U << 16) | consumer_ms);

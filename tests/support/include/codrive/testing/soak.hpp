@@ -55,6 +55,9 @@ struct SoakOptions {
     /// Boot-up SDO timeout of every node in ms (bus.sdo_timeout_ms); 0: the master's default.
     /// Longer under valgrind, where the simulator answers 20-50 times slower.
     std::uint32_t sdo_timeout_ms = 0;
+    /// Time limit of each axis's enable (the drive model's default is 2 s). Longer under
+    /// valgrind, where a drive can take seconds to follow a controlword.
+    Duration enable_timeout = seconds(2);
     /// Bus-file `writes:` of the nodes with a matching profile (all if empty), written during
     /// boot-up (e.g. 1016h:01 so the nodes supervise the master's heartbeat).
     std::vector<SoakWrite> writes;
@@ -320,21 +323,25 @@ inline SoakReport run_soak(const SoakOptions& o) {
         }
         return true;
     };
-    if (!c.run_until(all_have_status, seconds(5))) {
-        rep.error = "not every axis has a cyclic statusword 5 s after boot-up";
+    const Duration status_wait = std::max<Duration>(seconds(5), o.enable_timeout);
+    if (!c.run_until(all_have_status, status_wait)) {
+        rep.error = fmt::format("not every axis has a cyclic statusword {} s after boot-up",
+                                std::chrono::duration_cast<seconds>(status_wait).count());
         return rep;
     }
     std::size_t enabled = 0;
     std::string enable_error;
     for (const auto& d : axes) {
-        d.axis->enable([&, a = d.axis](drives::DriveVoid r) {
-            ++enabled;
-            if (!r) {
-                enable_error += a->name() + ": " + r.error().message + "; ";
-            }
-        });
+        d.axis->enable(
+            [&, a = d.axis](drives::DriveVoid r) {
+                ++enabled;
+                if (!r) {
+                    enable_error += a->name() + ": " + r.error().message + "; ";
+                }
+            },
+            o.enable_timeout);
     }
-    c.run_until([&] { return enabled == axes.size(); }, seconds(10));
+    c.run_until([&] { return enabled == axes.size(); }, o.enable_timeout + seconds(8));
     if (enabled != axes.size() || !enable_error.empty()) {
         rep.error = "enable failed: " + enable_error;
         return rep;
