@@ -55,10 +55,14 @@ protected:
     }
     void TearDown() override {
         if (server_) {
+            const auto t0 = std::chrono::steady_clock::now();
             server_->signal(15);
             const auto status = server_->wait(5s);
             EXPECT_TRUE(status.has_value()) << "sdo serve did not stop on SIGTERM";
+            EXPECT_LT(std::chrono::steady_clock::now() - t0, 1s) << "stop took over a second";
             EXPECT_EQ(status.value_or(-1), 0) << server_->output();
+            EXPECT_NE(server_->output().find("codrive sdo serve: stopped after"), std::string::npos)
+                << server_->output();
         }
     }
     std::unique_ptr<Process> server_;

@@ -8,12 +8,17 @@
 #include <codrive/core/eds.hpp>
 #include <codrive/sdo/server.hpp>
 
+#include <atomic>
 #include <csignal>
 #include <fmt/format.h>
-#include <sys/signalfd.h>
-#include <unistd.h>
 
 namespace codrive::cli {
+namespace {
+
+std::atomic<EventLoop*> g_serve_loop{nullptr};
+static_assert(std::atomic<EventLoop*>::is_always_lock_free, "used from a signal handler");
+
+} // namespace
 
 ObjectDictionary make_sdo_serve_dictionary(NodeId node) {
     ObjectDictionary od;
@@ -71,27 +76,11 @@ int run_sdo_serve(const std::string& iface, NodeId node, const std::string& eds_
         od = std::move(desc->od);
     }
 
-    // Signals arrive through a signalfd so the loop stops cleanly between frames.
-    sigset_t mask;
-    sigemptyset(&mask);
-    sigaddset(&mask, SIGINT);
-    sigaddset(&mask, SIGTERM);
-    if (sigprocmask(SIG_BLOCK, &mask, nullptr) != 0) {
-        fmt::print(stderr, "codrive: cannot block signals\n");
-        return kExitFailure;
-    }
-    const int sfd = signalfd(-1, &mask, SFD_NONBLOCK | SFD_CLOEXEC);
-    if (sfd < 0) {
-        fmt::print(stderr, "codrive: cannot create signalfd\n");
-        return kExitFailure;
-    }
-
     SocketCanOptions so;
     so.filters = {CanFilter{cob::sdo_rx(node), 0x7FF, false, false}};
     so.error_frames = false;
     auto s = open_bus(iface, so);
     if (!s) {
-        ::close(sfd);
         return kExitNoBus;
     }
     sdo::ServerConfig config;
@@ -101,18 +90,28 @@ int run_sdo_serve(const std::string& iface, NodeId node, const std::string& eds_
         [&server](const Frame& f, TimePoint t) { (void)server.on_frame(f, t); });
     s->loop->add_timed(&server);
     EventLoop& loop = *s->loop;
-    (void)loop.add_fd(sfd, 0x001 /* EPOLLIN */, [&loop, sfd](std::uint32_t) {
-        signalfd_siginfo info{};
-        while (::read(sfd, &info, sizeof info) == static_cast<ssize_t>(sizeof info)) {
+    // SIGINT/SIGTERM stop the loop from a plain handler (EventLoop::stop() is an atomic store and
+    // an eventfd write, both async-signal-safe). A signalfd would be a second watched descriptor
+    // and keep the loop off its one-socket direct-read path (docs/sdo.md, "Speed"); without
+    // SA_RESTART the signal also ends a blocking read at once.
+    g_serve_loop = &loop;
+    struct sigaction sa {};
+    sa.sa_handler = [](int) {
+        if (EventLoop* l = g_serve_loop.load()) {
+            l->stop();
         }
-        loop.stop();
-    });
+    };
+    sigemptyset(&sa.sa_mask);
+    sa.sa_flags = 0;
+    sigaction(SIGINT, &sa, nullptr);
+    sigaction(SIGTERM, &sa, nullptr);
     fmt::print("codrive sdo serve: node {} on {} ready ({} objects)\n", node, iface, od.size());
     std::fflush(stdout);
     const auto r = loop.run();
-    loop.remove_fd(sfd);
+    std::signal(SIGINT, SIG_DFL);
+    std::signal(SIGTERM, SIG_DFL);
+    g_serve_loop = nullptr;
     loop.remove_timed(&server);
-    ::close(sfd);
     const auto& st = server.stats();
     fmt::print("codrive sdo serve: stopped after {} requests, {} transfers, {} aborts sent\n",
                st.requests, st.completed, st.aborts_sent);
