@@ -43,6 +43,7 @@ int main(int argc, char** argv) {
     int mute_on_signal = -1;
     std::vector<int> mailbox_silent;
     std::vector<std::string> refuse;
+    std::string lose_answers;
     std::string pcap;
     bool echo = false;
     app.add_option("--ethercat", iface, "interface to answer on")->required();
@@ -53,6 +54,9 @@ int main(int argc, char** argv) {
                    "this slave consumes mailbox requests but never answers");
     app.add_option("--refuse", refuse,
                    "POS:STATE:CODE — refuse the transition into STATE with AL status CODE");
+    app.add_option("--lose-mailbox-answers", lose_answers,
+                   "POS:N — lose every other frame that carries slave POS's mailbox answer until "
+                   "N are lost (the master must ask for a repeat, ETG.1000.4 §6.7.2)");
     app.add_option("--pcap", pcap, "write every frame received and sent to this pcap file");
     app.add_flag("--echo", echo, "return frames untouched (raw-socket floor for benchmarks)");
     CLI11_PARSE(app, argc, argv);
@@ -98,6 +102,24 @@ int main(int argc, char** argv) {
         segment.slave(*pos).faults().refuse[state] = static_cast<std::uint16_t>(*code);
     }
 
+    std::size_t lose_slave = 0;
+    std::uint64_t lose_left = 0;
+    std::uint64_t lost = 0;
+    bool spare_next = false;
+    if (!lose_answers.empty()) {
+        const auto colon = lose_answers.find(':');
+        const auto pos = parse_uint(lose_answers.substr(0, colon));
+        const auto n =
+            colon == std::string::npos ? std::nullopt : parse_uint(lose_answers.substr(colon + 1));
+        if (!pos || !n || *pos >= segment.size()) {
+            std::fprintf(stderr,
+                         "codrive-ecat-sim: bad --lose-mailbox-answers '%s' (POS:N, e.g. 1:3)\n",
+                         lose_answers.c_str());
+            return 2;
+        }
+        lose_slave = static_cast<std::size_t>(*pos);
+        lose_left = *n;
+    }
     auto link = RawSocketLink::open(iface);
     if (!link) {
         std::fprintf(stderr, "codrive-ecat-sim: %s\n",
@@ -139,7 +161,7 @@ int main(int argc, char** argv) {
                 std::printf("codrive-ecat-sim: slave %zu (%s): no process data for %.0f ms, SM "
                             "watchdog expired: SAFE-OP + error 0x%04X, bus-loss reaction "
                             "applied\n",
-                            i + 1, slave.sii().name.c_str(),
+                            i, slave.sii().name.c_str(),
                             (slave.reg16(reg::kWatchdogDivider) + 2) * 40e-6 *
                                 slave.reg16(reg::kWatchdogProcessData),
                             slave.al_status_code());
@@ -157,9 +179,26 @@ int main(int argc, char** argv) {
         if (echo && frame.size() > 6) {
             frame[6] = static_cast<std::uint8_t>(frame[6] | 0x02);
         }
+        if (lose_left > 0 && segment.carries_mailbox_answer(frame, lose_slave)) {
+            spare_next = !spare_next; // every other one, so the repeat itself gets through
+            if (spare_next) {
+                --lose_left;
+                ++lost;
+                continue; // the frame with the answer never reaches the master
+            }
+        }
         (void)(*link)->send(frame);
     }
     std::printf("codrive-ecat-sim: stopped after %llu frames\n",
                 static_cast<unsigned long long>(segment.frames()));
+    for (std::size_t i = 0; i < segment.size(); ++i) {
+        auto& slave = segment.slave(i);
+        if (slave.mailbox_repeats() != 0 || (i == lose_slave && lost != 0)) {
+            std::printf("codrive-ecat-sim: slave %zu: %llu mailbox answers lost, %llu repeats "
+                        "served\n",
+                        i, static_cast<unsigned long long>(i == lose_slave ? lost : 0),
+                        static_cast<unsigned long long>(slave.mailbox_repeats()));
+        }
+    }
     return 0;
 }

@@ -149,7 +149,7 @@ TEST_F(ControllerOverEthercat, KilledMasterProcessLeavesTheFioInItsBusLossReacti
     const auto detected = std::chrono::duration<double, std::milli>(SteadyClock::now() - killed);
     std::printf("bus loss: SM watchdog reported %.0f ms after the master was killed\n",
                 detected.count());
-    EXPECT_TRUE(sim_->output().find("slave 1 (FIO Drive Control): no process data for 100 ms, SM "
+    EXPECT_TRUE(sim_->output().find("slave 0 (FIO Drive Control): no process data for 100 ms, SM "
                                     "watchdog expired: SAFE-OP + error 0x001B") !=
                 std::string::npos)
         << sim_->output();
