@@ -171,7 +171,10 @@ void EcatSegment::cycle(TimePoint now) {
     next_ns_.store(next_.time_since_epoch().count(), std::memory_order_relaxed);
     if (!master_->exchange_process_data()) {
         frame_errors_.fetch_add(1, std::memory_order_relaxed);
+        last_cycle_ok_.store(false, std::memory_order_relaxed);
         frame_error_pending_.store(true, std::memory_order_release);
+    } else {
+        last_cycle_ok_.store(true, std::memory_order_relaxed);
     }
     ++cycles_;
     if (hook_) {
@@ -205,10 +208,19 @@ void EcatSegment::acyclic(TimePoint now) {
     const bool failing = frame_error_pending_.exchange(false, std::memory_order_acquire);
     if (failing && !frame_error_reported_) {
         frame_error_reported_ = true;
+        failed_at_report_ = frame_errors_.load(std::memory_order_relaxed);
+        // A short working counter: ask every slave (one frame, here outside the cyclic path)
+        // which one does not answer or left OP, and why.
+        const auto wkc = master_->last_wkc_mismatch();
         emit_(fmt::format("EtherCAT segment on {}: cyclic exchange failed: {}", config_.iface,
-                          master_->last_error()));
-    } else if (!failing) {
+                          wkc ? master_->diagnose_wkc(*wkc) : master_->last_error()));
+    } else if (!failing && frame_error_reported_ &&
+               last_cycle_ok_.load(std::memory_order_relaxed)) {
         frame_error_reported_ = false;
+        emit_(fmt::format("EtherCAT segment on {}: cyclic exchange works again ({} failed "
+                          "cycles)",
+                          config_.iface,
+                          frame_errors_.load(std::memory_order_relaxed) - failed_at_report_ + 1));
     }
 }
 

@@ -103,6 +103,8 @@ private:
     std::atomic<std::uint64_t> frame_errors_{0};
     std::atomic<bool> frame_error_pending_{false}; ///< reported by acyclic()
     bool frame_error_reported_ = false;
+    std::atomic<bool> last_cycle_ok_{true};
+    std::uint64_t failed_at_report_ = 0; ///< frame_errors_ when the failure was reported
     TimePoint next_mailbox_poll_{};
     sync::PeriodStats period_error_;
 };

@@ -455,10 +455,14 @@ VoidResult Master::set_state_all(AlState target) {
             }
         }
         if (step == AlState::Op) {
-            // Slaves expect valid outputs before OP (ETG.1000.6 §6.4.2.4: SAFE-OP → OP).
+            // Slaves expect valid outputs before OP (ETG.1000.6 §6.4.2.4: SAFE-OP → OP). In
+            // SAFE-OP they do not take them (the output SM is disabled), so the working counter
+            // is short by 2 per slave with outputs by design: not an error to count.
+            const auto wkc_errors = stats_.wkc_errors;
             for (int i = 0; i < 2; ++i) {
                 (void)exchange_process_data();
             }
+            stats_.wkc_errors = wkc_errors;
         }
         for (std::size_t i = 0; i < slaves_.size(); ++i) {
             if (rank(slaves_[i].state) < rank(step)) {

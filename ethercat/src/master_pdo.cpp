@@ -269,6 +269,7 @@ Result<std::uint16_t> Master::receive_process_data(TimePoint deadline) {
         if (!r) {
             if (r.error() == CoreErrc::Timeout) {
                 ++stats_.lost_frames;
+                last_wkc_mismatch_.reset();
                 cyclic_index_.reset();
                 last_error_ =
                     fmt::format("cyclic LRW frame lost on {}: no answer in time", link_.name());
@@ -287,10 +288,12 @@ Result<std::uint16_t> Master::receive_process_data(TimePoint deadline) {
         const std::uint16_t wkc = cyclic_[0].wkc;
         if (wkc != expected_wkc_) {
             ++stats_.wkc_errors;
+            last_wkc_mismatch_ = wkc;
             last_error_ =
                 fmt::format("cyclic LRW working counter {}, expected {}", wkc, expected_wkc_);
             return fail(EcatErrc::WorkingCounter);
         }
+        last_wkc_mismatch_.reset();
         std::copy(cyclic_[0].data.begin() + static_cast<long>(output_size_), cyclic_[0].data.end(),
                   image_.begin() + static_cast<long>(output_size_));
         return wkc;
@@ -323,11 +326,14 @@ std::string Master::diagnose_wkc(std::uint16_t wkc) {
         const auto status = get_le<std::uint16_t>(probes[i].data.data());
         const auto code = get_le<std::uint16_t>(probes[i].data.data() + 4);
         const auto state = al_state_from_bits(status).value_or(AlState::None);
-        if (state != AlState::Op && state != AlState::SafeOp) {
-            causes.push_back(fmt::format("{} is in {}", slave_label(i), to_string(state)));
-        } else if ((status & kAlErrorFlag) != 0) {
-            causes.push_back(fmt::format("{} reports AL status code 0x{:04X} ({})", slave_label(i),
-                                         code, al_status_code_describe(code)));
+        // The state and, with the error flag, why the slave left OP (0x001B: its SM watchdog
+        // saw no process data in time; 0x001A: synchronisation lost).
+        const std::string why = (status & kAlErrorFlag) != 0
+                                    ? fmt::format(" with AL status code 0x{:04X} ({})", code,
+                                                  al_status_code_describe(code))
+                                    : std::string();
+        if (state != AlState::Op || !why.empty()) {
+            causes.push_back(fmt::format("{} is in {}{}", slave_label(i), to_string(state), why));
         }
     }
     if (causes.empty()) {

@@ -222,7 +222,8 @@ void EscSlave::latch_receive_times(const ChainContext& ctx) {
 }
 
 bool EscSlave::logical(const DatagramRef& dg, bool& read_done, bool& write_done, TimePoint now) {
-    // Process data moves only in SAFE-OP and OP: below, the application keeps SM2/SM3 off.
+    // Process data moves only in SAFE-OP (inputs) and OP: below, the application keeps SM2/SM3
+    // off.
     if (state_ != AlState::SafeOp && state_ != AlState::Op) {
         return false;
     }
@@ -244,7 +245,10 @@ bool EscSlave::logical(const DatagramRef& dg, bool& read_done, bool& write_done,
         if ((fm.type & Fmmu::kRead) != 0 && command_reads(dg.command)) {
             read_done = read_memory(phys, window, false, now) || read_done;
         }
-        if ((fm.type & Fmmu::kWrite) != 0 && command_writes(dg.command)) {
+        // Outputs only in OP: in SAFE-OP the application keeps the output sync manager
+        // disabled (PDI), so writes neither land nor count — a master sees a slave that left OP
+        // (its SM watchdog expired, an error) as a working counter short by 2 per LRW.
+        if ((fm.type & Fmmu::kWrite) != 0 && command_writes(dg.command) && state_ == AlState::Op) {
             write_memory(phys, window, now);
             write_done = true;
         }

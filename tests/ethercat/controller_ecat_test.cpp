@@ -47,7 +47,7 @@ int threads() {
 class ControllerOverEthercat : public EcatVethTest {
 protected:
     void SetUp() override {
-        start({"--slave", "fio"});
+        start({"--slave", "fio", "--mute-on-signal", "0"}); // SIGUSR1 silences the FIO
         // The controller opens its own socket; the fixture's master stays out of the way.
         master_.reset();
         link_.reset();
@@ -120,6 +120,34 @@ TEST_F(ControllerOverEthercat, BringsTheFioToOpEnablesItAndMovesInCsp) {
     c->set_cycle_callback(nullptr);
     c->shutdown();
     EXPECT_EQ(axis->state(), drives::cia402::State::SwitchOnDisabled) << events;
+}
+
+// A slave that stops answering during cyclic operation is named in one event (the controller
+// asks every slave for its AL status outside the cyclic path), and its return is reported.
+TEST_F(ControllerOverEthercat, ASlaveThatStopsAnsweringIsNamedAndItsReturnIsReported) {
+    if (IsSkipped() || HasFatalFailure()) {
+        return;
+    }
+    std::string events;
+    auto c = make(events);
+    ASSERT_TRUE(c);
+    auto started = c->start();
+    ASSERT_TRUE(started) << started.error() << events;
+    c->run_for(200ms);
+    const auto has = [&](const std::string& text) {
+        return events.find(text) != std::string::npos;
+    };
+    EXPECT_FALSE(has("cyclic exchange failed")) << events;
+    sim_->signal(SIGUSR1);
+    ASSERT_TRUE(sim_->wait_for_output("stops answering", 3s)) << sim_->output();
+    ASSERT_TRUE(c->run_until([&] { return has("cyclic exchange failed"); }, 3s)) << events;
+    EXPECT_TRUE(has("cyclic exchange failed: cyclic LRW working counter 0, expected 3: slave 0 "
+                    "(FIO Drive Control) does not answer"))
+        << events;
+    sim_->signal(SIGUSR1);
+    ASSERT_TRUE(sim_->wait_for_output("answers again", 3s)) << sim_->output();
+    ASSERT_TRUE(c->run_until([&] { return has("cyclic exchange works again"); }, 3s)) << events;
+    c->shutdown();
 }
 
 // Issue 11: the master process is killed while the FIO is enabled in OP. Nothing sends process

@@ -68,6 +68,15 @@ TEST_F(EcatMasterSegment, ScanReportsTheStateThePreviousMasterLeftBeforeResettin
     for (std::size_t i = 0; i < segment_.size(); ++i) {
         EXPECT_TRUE(segment_.slave(i).tick(clock_.now())) << i;
     }
+    // The old master, had it come back, would see a short working counter (inputs only) and
+    // the reason in words.
+    auto wkc = master_.exchange_process_data();
+    ASSERT_FALSE(wkc);
+    EXPECT_EQ(master_.diagnose_wkc(3),
+              "cyclic LRW working counter 3, expected 9: slave 0 (FIO Drive Control) is in "
+              "SAFE-OP with AL status code 0x001B (sync manager watchdog); slave 1 (AKD2G) is in "
+              "SAFE-OP with AL status code 0x001B (sync manager watchdog); slave 2 (DS-BVS) is in "
+              "SAFE-OP with AL status code 0x001B (sync manager watchdog)");
     Master next{link_, clock_};
     ASSERT_TRUE(next.scan()) << next.last_error();
     for (const auto& s : next.slaves()) {

@@ -283,8 +283,15 @@ public:
     /// send + receive with the frame timeout.
     Result<std::uint16_t> exchange_process_data();
     [[nodiscard]] const ProcessDataStats& stats() const { return stats_; }
-    /// Finds the slaves that do not answer (FPRD of AL status per slave) and returns the
-    /// sentence: "cyclic LRW working counter 4, expected 7: slave 2 (DS-BVS) does not answer".
+    /// The working counter of the last cyclic frame if it did not match (a frame that came back
+    /// short), nullopt after a good one or a lost frame.
+    [[nodiscard]] std::optional<std::uint16_t> last_wkc_mismatch() const {
+        return last_wkc_mismatch_;
+    }
+    /// Finds the slaves that do not answer or left OP (FPRD of AL status per slave) and returns
+    /// the sentence: "cyclic LRW working counter 4, expected 7: slave 2 (DS-BVS) does not
+    /// answer" or "...: slave 0 (FIO) is in SAFE-OP with AL status code 0x001B (sync manager
+    /// watchdog)". Blocking (one frame): call it outside the cyclic path.
     std::string diagnose_wkc(std::uint16_t wkc);
 
     // ---- Distributed clocks ----------------------------------------------------------------
@@ -342,6 +349,7 @@ private:
     std::vector<std::uint8_t> image_;
     std::size_t output_size_ = 0;
     std::uint16_t expected_wkc_ = 0;
+    std::optional<std::uint16_t> last_wkc_mismatch_;
     std::array<Datagram, 1> cyclic_{};
     std::optional<std::uint8_t> cyclic_index_;
     ProcessDataStats stats_;
