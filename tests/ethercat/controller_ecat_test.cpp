@@ -65,6 +65,14 @@ protected:
         (*c)->set_event_callback([&events](const std::string& t) { events += t + "\n"; });
         return std::move(*c);
     }
+    /// make() and start(); a failure fails the test (check HasFatalFailure() after it).
+    void make_started(std::unique_ptr<controller::Controller>& c, std::string& events,
+                      controller::Threading mode = controller::Threading::Single) {
+        c = make(events, mode);
+        ASSERT_TRUE(c);
+        auto started = c->start();
+        ASSERT_TRUE(started) << started.error() << events;
+    }
     void TearDown() override {
         if (!path_.empty()) {
             std::remove(path_.c_str());
@@ -79,10 +87,11 @@ TEST_F(ControllerOverEthercat, BringsTheFioToOpEnablesItAndMovesInCsp) {
         return;
     }
     std::string events;
-    auto c = make(events);
-    ASSERT_TRUE(c);
-    auto started = c->start();
-    ASSERT_TRUE(started) << started.error() << events;
+    std::unique_ptr<controller::Controller> c;
+    make_started(c, events);
+    if (HasFatalFailure()) {
+        return;
+    }
     EXPECT_EQ(c->can_bus_count(), 0U);
     EXPECT_EQ(c->ethercat_segment_count(), 1U);
     auto* axis = c->axis(0, 1, 0); // slave position 0, axis 1, bus 0 = the first segment
@@ -129,10 +138,11 @@ TEST_F(ControllerOverEthercat, ASlaveThatStopsAnsweringIsNamedAndItsReturnIsRepo
         return;
     }
     std::string events;
-    auto c = make(events);
-    ASSERT_TRUE(c);
-    auto started = c->start();
-    ASSERT_TRUE(started) << started.error() << events;
+    std::unique_ptr<controller::Controller> c;
+    make_started(c, events);
+    if (HasFatalFailure()) {
+        return;
+    }
     c->run_for(200ms);
     const auto has = [&](const std::string& text) {
         return events.find(text) != std::string::npos;
@@ -205,10 +215,11 @@ TEST_F(ControllerOverEthercat, DestroyedControllerLeavesNoFdsOrThreadsAndStopsWi
     const int threads_before = threads();
     {
         std::string events;
-        auto c = make(events);
-        ASSERT_TRUE(c);
-        auto started = c->start();
-        ASSERT_TRUE(started) << started.error() << events;
+        std::unique_ptr<controller::Controller> c;
+        make_started(c, events);
+        if (HasFatalFailure()) {
+            return;
+        }
         auto* axis = c->axis(0, 1, 0);
         ASSERT_NE(axis, nullptr);
         bool enabled = false;
@@ -241,10 +252,11 @@ TEST_F(ControllerOverEthercat, DedicatedCyclicThreadEnablesMovesAndStopsWithinOn
     const int threads_before = threads();
     {
         std::string events;
-        auto c = make(events, controller::Threading::DedicatedCyclic);
-        ASSERT_TRUE(c);
-        auto started = c->start();
-        ASSERT_TRUE(started) << started.error() << events;
+        std::unique_ptr<controller::Controller> c;
+        make_started(c, events, controller::Threading::DedicatedCyclic);
+        if (HasFatalFailure()) {
+            return;
+        }
         EXPECT_EQ(threads(), threads_before + 1) << "one cyclic thread";
         auto* axis = c->axis(0, 1, 0);
         ASSERT_NE(axis, nullptr);
