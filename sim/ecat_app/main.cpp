@@ -6,7 +6,6 @@
 #include <codrive/ethercat/al_state.hpp>
 #include <codrive/ethercat/pcap_writer.hpp>
 #include <codrive/ethercat/raw_socket_link.hpp>
-#include <codrive/ethercat/registers.hpp>
 
 #include <codrive/core/value.hpp>
 
@@ -102,10 +101,7 @@ int main(int argc, char** argv) {
         segment.slave(*pos).faults().refuse[state] = static_cast<std::uint16_t>(*code);
     }
 
-    std::size_t lose_slave = 0;
-    std::uint64_t lose_left = 0;
-    std::uint64_t lost = 0;
-    bool spare_next = false;
+    sim::ecat::MailboxAnswerLoss loss;
     if (!lose_answers.empty()) {
         const auto colon = lose_answers.find(':');
         const auto pos = parse_uint(lose_answers.substr(0, colon));
@@ -117,8 +113,7 @@ int main(int argc, char** argv) {
                          lose_answers.c_str());
             return 2;
         }
-        lose_slave = static_cast<std::size_t>(*pos);
-        lose_left = *n;
+        loss.arm(static_cast<std::size_t>(*pos), *n);
     }
     auto link = RawSocketLink::open(iface);
     if (!link) {
@@ -158,13 +153,13 @@ int main(int argc, char** argv) {
         for (std::size_t i = 0; i < segment.size(); ++i) {
             auto& slave = segment.slave(i);
             if (slave.tick(now)) {
-                std::printf("codrive-ecat-sim: slave %zu (%s): no process data for %.0f ms, SM "
-                            "watchdog expired: SAFE-OP + error 0x%04X, bus-loss reaction "
-                            "applied\n",
-                            i, slave.sii().name.c_str(),
-                            (slave.reg16(reg::kWatchdogDivider) + 2) * 40e-6 *
-                                slave.reg16(reg::kWatchdogProcessData),
-                            slave.al_status_code());
+                std::printf(
+                    "codrive-ecat-sim: slave %zu (%s): no process data for %.0f ms, SM "
+                    "watchdog expired: SAFE-OP + error 0x%04X, bus-loss reaction "
+                    "applied\n",
+                    i, slave.sii().name.c_str(),
+                    std::chrono::duration<double, std::milli>(slave.watchdog_time()).count(),
+                    slave.al_status_code());
                 std::fflush(stdout);
             }
         }
@@ -179,13 +174,8 @@ int main(int argc, char** argv) {
         if (echo && frame.size() > 6) {
             frame[6] = static_cast<std::uint8_t>(frame[6] | 0x02);
         }
-        if (lose_left > 0 && segment.carries_mailbox_answer(frame, lose_slave)) {
-            spare_next = !spare_next; // every other one, so the repeat itself gets through
-            if (spare_next) {
-                --lose_left;
-                ++lost;
-                continue; // the frame with the answer never reaches the master
-            }
+        if (!echo && loss.lose(segment, frame)) {
+            continue; // the frame with the answer never reaches the master
         }
         (void)(*link)->send(frame);
     }
@@ -193,10 +183,11 @@ int main(int argc, char** argv) {
                 static_cast<unsigned long long>(segment.frames()));
     for (std::size_t i = 0; i < segment.size(); ++i) {
         auto& slave = segment.slave(i);
-        if (slave.mailbox_repeats() != 0 || (i == lose_slave && lost != 0)) {
+        const std::uint64_t lost = i == loss.slave() ? loss.lost() : 0;
+        if (slave.mailbox_repeats() != 0 || lost != 0) {
             std::printf("codrive-ecat-sim: slave %zu: %llu mailbox answers lost, %llu repeats "
                         "served\n",
-                        i, static_cast<unsigned long long>(i == lose_slave ? lost : 0),
+                        i, static_cast<unsigned long long>(lost),
                         static_cast<unsigned long long>(slave.mailbox_repeats()));
         }
     }

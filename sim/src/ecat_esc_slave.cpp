@@ -534,15 +534,19 @@ void EscSlave::unpack_outputs(TimePoint now) {
     app_->on_outputs(now);
 }
 
+Duration EscSlave::watchdog_time() const {
+    return nanoseconds(static_cast<std::int64_t>(reg16(reg::kWatchdogDivider) + 2) * 40 *
+                       reg16(reg::kWatchdogProcessData));
+}
+
 bool EscSlave::tick(TimePoint now) {
     if (state_ != AlState::Op || faults_.silent) {
         watchdog_armed_ = false;
         return false;
     }
     const SyncManager s2 = sm(2);
-    const auto divider = reg16(reg::kWatchdogDivider);
-    const auto time = reg16(reg::kWatchdogProcessData);
-    if (!s2.enabled() || (s2.control & SyncManager::kWatchdog) == 0 || time == 0) {
+    const Duration limit = watchdog_time();
+    if (!s2.enabled() || (s2.control & SyncManager::kWatchdog) == 0 || limit == Duration::zero()) {
         return false;
     }
     if (!watchdog_armed_) {
@@ -550,7 +554,6 @@ bool EscSlave::tick(TimePoint now) {
         last_outputs_ = now;
         return false;
     }
-    const auto limit = nanoseconds(static_cast<std::int64_t>(divider + 2) * 40 * time);
     if (now - last_outputs_ <= limit) {
         return false;
     }

@@ -62,14 +62,7 @@ VoidResult SegmentLink::send(std::span<const std::uint8_t> frame) {
         return {};
     }
     std::vector<std::uint8_t> f(frame.begin(), frame.end());
-    if (segment_.process(f, clock_.now())) {
-        if (lose_answers_ > 0 && segment_.carries_mailbox_answer(f, lose_slave_)) {
-            spare_next_ = !spare_next_;
-            if (spare_next_) {
-                --lose_answers_;
-                return {};
-            }
-        }
+    if (segment_.process(f, clock_.now()) && !loss_.lose(segment_, f)) {
         pending_.push_back(std::move(f));
     }
     return {};

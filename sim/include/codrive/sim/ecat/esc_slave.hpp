@@ -54,6 +54,8 @@ public:
     /// application applies its bus-loss reaction (ETG.1000.6 §6.4; FIO: 6007h). True if it
     /// expired now.
     bool tick(TimePoint now);
+    /// The process data watchdog time set in 0x0400 (divider, 40 ns ticks) and 0x0420.
+    [[nodiscard]] Duration watchdog_time() const;
     /// Times the SM watchdog expired.
     [[nodiscard]] std::uint64_t watchdog_expiries() const { return watchdog_expiries_; }
 

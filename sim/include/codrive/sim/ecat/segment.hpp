@@ -37,6 +37,39 @@ private:
     std::uint64_t dropped_ = 0;
 };
 
+/// Loses frames that carry one slave's mailbox answer on their way back to the master: every
+/// other one (so the repeat that follows a loss gets through, ETG.1000.4 §6.7.2), until `count`
+/// are lost. Used by SegmentLink and codrive-ecat-sim --lose-mailbox-answers.
+class MailboxAnswerLoss {
+public:
+    void arm(std::size_t slave, std::uint64_t count) {
+        slave_ = slave;
+        left_ = count;
+        spare_next_ = false;
+    }
+    /// True if `frame`, just processed by `segment`, is to be lost.
+    bool lose(const EcatSegment& segment, std::span<std::uint8_t> frame) {
+        if (left_ == 0 || !segment.carries_mailbox_answer(frame, slave_)) {
+            return false;
+        }
+        spare_next_ = !spare_next_;
+        if (!spare_next_) {
+            return false;
+        }
+        --left_;
+        ++lost_;
+        return true;
+    }
+    [[nodiscard]] std::size_t slave() const { return slave_; }
+    [[nodiscard]] std::uint64_t lost() const { return lost_; }
+
+private:
+    std::size_t slave_ = 0;
+    std::uint64_t left_ = 0;
+    std::uint64_t lost_ = 0;
+    bool spare_next_ = false;
+};
+
 /// An IEcatLink that hands frames to an EcatSegment synchronously, on a FakeClock: receive()
 /// with nothing pending advances the clock to the deadline and times out; idle() advances it.
 class SegmentLink final : public ethercat::IEcatLink {
@@ -53,9 +86,7 @@ public:
     /// (processed by the slaves, never received); after each loss the next answer (the repeated
     /// copy) gets through.
     void lose_mailbox_answers(std::size_t slave, int n) {
-        lose_slave_ = slave;
-        lose_answers_ = n;
-        spare_next_ = false;
+        loss_.arm(slave, static_cast<std::uint64_t>(n));
     }
     [[nodiscard]] const std::vector<std::vector<std::uint8_t>>& sent() const { return sent_; }
     void record(bool on) { record_ = on; }
@@ -68,9 +99,7 @@ private:
     std::deque<std::vector<std::uint8_t>> pending_;
     std::vector<std::vector<std::uint8_t>> sent_;
     int drop_ = 0;
-    std::size_t lose_slave_ = 0;
-    int lose_answers_ = 0;
-    bool spare_next_ = false;
+    MailboxAnswerLoss loss_;
     bool record_ = false;
     Duration latency_ = microseconds(20);
 };
