@@ -222,8 +222,11 @@ int run(const Options& o) {
         std::fprintf(stderr, "codrive-sim: event loop failed: %s\n", r.error().message().c_str());
         exit_code = 1;
     }
-    print(fmt::format("codrive-sim: stopped; {} received frames dropped by the kernel",
-                      (*bus)->stats().rx_dropped));
+    const BusStats& st = (*bus)->stats();
+    print(fmt::format("codrive-sim: stopped; {} received frames dropped by the kernel, {} sends "
+                      "refused (transmit queue full), {} sends delayed; {} frames received, {} "
+                      "sent",
+                      st.rx_dropped, st.tx_queue_full, st.tx_queued, st.rx_frames, st.tx_frames));
     for (auto& d : devices) {
         ev.remove_timed(d.get());
     }

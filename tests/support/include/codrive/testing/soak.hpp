@@ -86,8 +86,8 @@ struct SoakPdo {
     std::uint32_t cob_id = 0;
     bool tpdo = false; ///< sent by the node (TPDO), else by the master (RPDO)
     std::uint64_t frames = 0;
-    std::uint64_t lost = 0;        ///< window SYNCs minus frames, if positive
-    std::uint64_t extra = 0;       ///< frames minus window SYNCs, if positive
+    std::uint64_t lost = 0;        ///< smallest deficit SYNCs − frames, if positive
+    std::uint64_t extra = 0;       ///< frames beyond the SYNCs, if any
     std::uint64_t late_cycles = 0; ///< SYNC intervals in which this PDO did not appear
     std::uint64_t in_flight = 0;   ///< answers to the last SYNCs not yet seen at the end
 };
@@ -98,6 +98,10 @@ struct SoakReport {
     std::vector<SoakPdo> pdos;
     std::uint64_t lost = 0; ///< sum of SoakPdo::lost
     std::uint64_t monitor_rx_dropped = 0;
+    /// Frames the kernel dropped from its per-CPU input backlog during the run (the "dropped"
+    /// column of /proc/net/softnet_stat, net.core.netdev_max_backlog): vcan delivers every frame
+    /// through it, and a drop there reaches no socket, so no SO_RXQ_OVFL counts it.
+    std::uint64_t kernel_backlog_drops = 0;
     controller::ControllerStats stats;
     std::uint64_t master_rx_dropped = 0;
     std::uint64_t events = 0;
@@ -204,64 +208,125 @@ inline std::string soak_bus_yaml(const SoakOptions& o) {
 
 namespace soak_detail {
 
+/// Sum of the "dropped" column (second, hex) of /proc/net/softnet_stat over all CPUs.
+inline std::uint64_t kernel_backlog_drops() {
+    std::ifstream in("/proc/net/softnet_stat");
+    std::uint64_t total = 0;
+    std::string processed;
+    std::string dropped;
+    std::string rest;
+    while (in >> processed >> dropped && std::getline(in, rest)) {
+        total += std::strtoull(dropped.c_str(), nullptr, 16);
+    }
+    return total;
+}
+
 /// Counts SYNCs and PDO frames per COB-ID on a second socket. The frame handler only
 /// increments fixed arrays (no allocation, so it cannot disturb the heap figures).
+///
+/// A TPDO answering SYNC k may arrive after SYNC k+1 (a starved drive is late, not lost), so
+/// losses are judged by the deficit "SYNCs so far − frames so far", taken whenever a SYNC
+/// arrives: every frame seen then answers an earlier SYNC, so the deficit is the frames lost plus
+/// those still in flight. After the window's last SYNC the counter keeps watching for kGrace
+/// more SYNC intervals and takes the smallest deficit seen: a stream that catches up once in
+/// that time shows exactly its losses, even if it trailed by one or more at the window's end.
 struct WireCounter {
     static constexpr std::size_t kIds = 0x800;
-    std::array<std::uint64_t, kIds> total{};
+    static constexpr std::uint64_t kGrace = 50;
+    std::array<std::uint64_t, kIds> total{};     ///< frames since the window opened
+    std::array<std::uint64_t, kIds> in_window{}; ///< frames until the window closed
     std::array<std::uint64_t, kIds> in_cycle{};
     std::array<std::uint64_t, kIds> late{};
-    /// Intervals at the end of the window in which the stream was missing: its answers to the
-    /// last SYNCs are still in flight when the window closes (late, not lost).
-    std::array<std::uint64_t, kIds> trailing_missing{};
     /// Frames beyond one in the first interval: answers to the SYNC before the window.
     std::array<std::uint64_t, kIds> leading_extra{};
-    std::uint64_t syncs = 0; ///< SYNCs that opened a counted interval
+    std::array<std::int64_t, kIds> deficit_at_close{};
+    std::array<std::int64_t, kIds> min_deficit{};
+    std::uint64_t syncs = 0;     ///< SYNCs that opened a counted interval of the window
+    std::uint64_t all_syncs = 0; ///< the same, plus those of the grace intervals
+    std::uint64_t grace_seen = 0;
     bool open = false;
-    bool closed = false;
+    bool closed = false; ///< the window is over (grace intervals may still run)
+    bool done = false;   ///< the grace intervals are over too
     std::uint64_t limit = 0;
     TimePoint first_sync{};
     TimePoint last_sync{};
 
     static bool is_pdo(std::uint32_t id) { return id >= 0x180 && id < 0x580; }
 
+    [[nodiscard]] std::int64_t deficit(std::uint32_t id) const {
+        return static_cast<std::int64_t>(all_syncs) -
+               static_cast<std::int64_t>(total[id] - leading_extra[id]);
+    }
+
     void on_frame(const Frame& f, TimePoint t) {
-        if (f.error() || f.extended() || closed) {
+        if (f.error() || f.extended() || done) {
             return;
         }
         const std::uint32_t id = f.id & 0x7FF;
-        if (id == 0x080) {
-            if (open) {
-                // An interval ends: a PDO seen 0 times in it was late (or lost).
-                for (std::uint32_t i = 0x180; i < 0x580; ++i) {
-                    if (syncs == 1 && in_cycle[i] > 1) {
-                        leading_extra[i] = in_cycle[i] - 1;
-                    }
-                    if (total[i] != 0 && in_cycle[i] == 0) {
-                        ++late[i];
-                        ++trailing_missing[i];
-                    } else {
-                        trailing_missing[i] = 0;
-                    }
-                    in_cycle[i] = 0;
-                }
-                if (syncs >= limit) {
-                    closed = true;
-                    last_sync = t;
-                    return;
-                }
-            } else {
-                open = true;
-                first_sync = t;
+        if (id != 0x080) {
+            if (open && is_pdo(id)) {
+                ++total[id];
+                ++in_cycle[id];
             }
-            ++syncs;
-            last_sync = t;
             return;
         }
-        if (open && is_pdo(id)) {
-            ++total[id];
-            ++in_cycle[id];
+        if (!open) {
+            open = true;
+            first_sync = t;
+            last_sync = t;
+            ++syncs;
+            ++all_syncs;
+            return;
         }
+        // An interval ends.
+        for (std::uint32_t i = 0x180; i < 0x580; ++i) {
+            if (!closed) {
+                if (syncs == 1 && in_cycle[i] > 1) {
+                    leading_extra[i] = in_cycle[i] - 1;
+                }
+                if (total[i] != 0 && in_cycle[i] == 0) {
+                    ++late[i]; // seen 0 times in this interval: late (or lost)
+                }
+            }
+            in_cycle[i] = 0;
+            if (syncs >= limit && total[i] != 0) {
+                const std::int64_t d = deficit(i);
+                if (!closed) {
+                    deficit_at_close[i] = d;
+                    min_deficit[i] = d;
+                    in_window[i] = total[i];
+                } else {
+                    min_deficit[i] = std::min(min_deficit[i], d);
+                }
+            }
+        }
+        if (syncs >= limit) {
+            if (!closed) {
+                closed = true;
+                last_sync = t;
+            } else if (++grace_seen >= kGrace) {
+                done = true;
+            }
+            ++all_syncs;
+            return;
+        }
+        ++syncs;
+        ++all_syncs;
+        last_sync = t;
+    }
+
+    /// A run stopped before its window closed: judge the streams as they stand.
+    void close_now() {
+        if (closed) {
+            return;
+        }
+        for (std::uint32_t i = 0x180; i < 0x580; ++i) {
+            if (total[i] != 0) {
+                deficit_at_close[i] = min_deficit[i] = deficit(i);
+                in_window[i] = total[i];
+            }
+        }
+        closed = true;
     }
 };
 
@@ -272,6 +337,7 @@ struct WireCounter {
 inline SoakReport run_soak(const SoakOptions& o) {
     SoakReport rep;
     const auto wall_start = std::chrono::steady_clock::now();
+    const std::uint64_t backlog_drops_before = soak_detail::kernel_backlog_drops();
     rep.bus_file = fmt::format("{}/codrive-soak-{}.yml",
                                std::filesystem::temp_directory_path().string(), ::getpid());
     {
@@ -426,15 +492,17 @@ inline SoakReport run_soak(const SoakOptions& o) {
     }
     ok = ok && run_to(o.cycles);
     if (ok && !stopped()) {
-        c.run_until([&] { return wire.closed; }, seconds(5));
+        c.run_until([&] { return wire.done; }, seconds(5));
     }
     rep.last = sample_resources(wire.syncs);
     rep.stats = c.stats();
     rep.master_rx_dropped = 0;
     (*monitor_bus)->detach();
     rep.monitor_rx_dropped = (*monitor_bus)->stats().rx_dropped;
+    rep.kernel_backlog_drops = soak_detail::kernel_backlog_drops() - backlog_drops_before;
     c.shutdown();
     rep.syncs = wire.syncs;
+    wire.close_now();
     for (std::uint32_t id = 0x180; id < 0x580; ++id) {
         if (wire.total[id] == 0) {
             continue;
@@ -443,14 +511,13 @@ inline SoakReport run_soak(const SoakOptions& o) {
         p.cob_id = id;
         // Predefined connection set: TPDOn at 180h/280h/380h/480h + node, RPDOn 80h above.
         p.tpdo = ((id >> 7) & 1U) == 1U;
-        p.frames = wire.total[id];
-        // Answers to SYNCs of the window: minus those to the SYNC before it, plus those still
-        // in flight at the end.
-        const std::uint64_t answered =
-            p.frames - wire.leading_extra[id] + wire.trailing_missing[id];
-        p.in_flight = wire.trailing_missing[id];
-        p.lost = answered < rep.syncs ? rep.syncs - answered : 0;
-        p.extra = answered > rep.syncs ? answered - rep.syncs : 0;
+        p.frames = wire.in_window[id];
+        const std::int64_t least = wire.min_deficit[id];
+        p.lost = least > 0 ? static_cast<std::uint64_t>(least) : 0;
+        p.extra = least < 0 ? static_cast<std::uint64_t>(-least) : 0;
+        // Answers to the window's SYNCs that came after it closed.
+        p.in_flight = static_cast<std::uint64_t>(std::max<std::int64_t>(
+            0, wire.deficit_at_close[id] - std::max<std::int64_t>(least, 0)));
         p.late_cycles = wire.late[id];
         rep.lost += p.lost;
         rep.pdos.push_back(p);
@@ -487,8 +554,9 @@ inline std::string SoakReport::to_string() const {
                          p.late_cycles, p.in_flight);
     }
     s += fmt::format("soak: PDOs on the wire: {} RPDO + {} TPDO frames in {} PDO streams; "
-                     "lost (not injected) {}; monitor socket drops {}\n",
-                     tx, rx, pdos.size(), lost, monitor_rx_dropped);
+                     "lost (not injected) {}; monitor socket drops {}; kernel input backlog "
+                     "drops {}\n",
+                     tx, rx, pdos.size(), lost, monitor_rx_dropped, kernel_backlog_drops);
     s += fmt::format("soak: controller: {}\n", stats.to_string());
     const auto diff = [](std::size_t a, std::size_t b) {
         return static_cast<long long>(b) - static_cast<long long>(a);
@@ -508,7 +576,12 @@ inline std::string SoakReport::to_string() const {
 inline std::string SoakReport::verdict() const {
     std::string v = error.empty() ? "" : error + ". ";
     if (lost != 0) {
-        v += fmt::format("{} PDO frames lost (no loss was injected). ", lost);
+        v += fmt::format("{} PDO frames lost (no loss was injected)", lost);
+        v += kernel_backlog_drops != 0
+                 ? fmt::format("; the kernel dropped {} frames from its input backlog "
+                               "(net.core.netdev_max_backlog) before any socket saw them. ",
+                               kernel_backlog_drops)
+                 : ". ";
     }
     if (monitor_rx_dropped != 0) {
         v += fmt::format("the monitor socket dropped {} frames, so the counts are incomplete. ",
