@@ -177,11 +177,11 @@ VoidResult Master::scan() {
         }
         for (std::size_t i = 0; i < chunk.size(); ++i) {
             if (chunk[i].wkc == 1 && chunk[i].data.size() >= 6) {
-                const auto raw = get_le<std::uint16_t>(chunk[i].data.data());
+                const AlStatus st = AlStatus::decode(chunk[i].data);
                 SlaveInfo& f = found_info[off + i];
-                f.found_state = al_state_from_bits(raw).value_or(AlState::None);
-                f.found_error = (raw & kAlErrorFlag) != 0;
-                f.found_code = get_le<std::uint16_t>(chunk[i].data.data() + 4);
+                f.found_state = st.state;
+                f.found_error = st.error;
+                f.found_code = st.code;
             }
         }
     }
@@ -327,12 +327,7 @@ Result<Master::AlStatus> Master::read_al_status(std::size_t slave) {
     if (!d) {
         return fail(d.error());
     }
-    AlStatus st;
-    const auto raw = get_le<std::uint16_t>(d->data());
-    st.state = al_state_from_bits(raw).value_or(AlState::None);
-    st.error = (raw & kAlErrorFlag) != 0;
-    st.code = get_le<std::uint16_t>(d->data() + 4);
-    return st;
+    return AlStatus::decode(*d);
 }
 
 VoidResult Master::setup_mailbox_sms(std::size_t slave) {

@@ -323,17 +323,15 @@ std::string Master::diagnose_wkc(std::uint16_t wkc) {
             causes.push_back(fmt::format("{} does not answer", slave_label(i)));
             continue;
         }
-        const auto status = get_le<std::uint16_t>(probes[i].data.data());
-        const auto code = get_le<std::uint16_t>(probes[i].data.data() + 4);
-        const auto state = al_state_from_bits(status).value_or(AlState::None);
+        const AlStatus st = AlStatus::decode(probes[i].data);
         // The state and, with the error flag, why the slave left OP (0x001B: its SM watchdog
         // saw no process data in time; 0x001A: synchronisation lost).
-        const std::string why = (status & kAlErrorFlag) != 0
-                                    ? fmt::format(" with AL status code 0x{:04X} ({})", code,
-                                                  al_status_code_describe(code))
-                                    : std::string();
-        if (state != AlState::Op || !why.empty()) {
-            causes.push_back(fmt::format("{} is in {}{}", slave_label(i), to_string(state), why));
+        const std::string why = st.error ? fmt::format(" with AL status code 0x{:04X} ({})",
+                                                       st.code, al_status_code_describe(st.code))
+                                         : std::string();
+        if (st.state != AlState::Op || st.error) {
+            causes.push_back(
+                fmt::format("{} is in {}{}", slave_label(i), to_string(st.state), why));
         }
     }
     if (causes.empty()) {

@@ -186,6 +186,15 @@ public:
         AlState state = AlState::None;
         bool error = false;
         std::uint16_t code = 0;
+        /// From the 6 bytes read at 0x0130: AL status, reserved, AL status code.
+        [[nodiscard]] static AlStatus decode(std::span<const std::uint8_t> six) {
+            AlStatus st;
+            const auto raw = get_le<std::uint16_t>(six.data());
+            st.state = al_state_from_bits(raw).value_or(AlState::None);
+            st.error = (raw & kAlErrorFlag) != 0;
+            st.code = get_le<std::uint16_t>(six.data() + 4);
+            return st;
+        }
     };
     Result<AlStatus> read_al_status(std::size_t slave);
     /// One direct transition (ETG.1000.6 §6.4.1). Configures the mailbox sync managers before
