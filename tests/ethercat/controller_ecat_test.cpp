@@ -7,13 +7,12 @@
 #include <codrive/controller/controller.hpp>
 #include <codrive/testing/enable_then_ramp.hpp>
 #include <codrive/testing/soak.hpp>
+#include <codrive/testing/stop_latency.hpp>
 
 #include <fmt/format.h>
 
-#include <atomic>
 #include <cstdio>
 #include <fstream>
-#include <thread>
 #include <unistd.h>
 
 namespace codrive::testing {
@@ -226,16 +225,7 @@ TEST_F(ControllerOverEthercat, DestroyedControllerLeavesNoFdsOrThreadsAndStopsWi
         ASSERT_TRUE(c->run_until([&] { return axis->has_statusword(); }, 2s)) << events;
         axis->enable([&](drives::DriveVoid r) { enabled = r.has_value(); });
         ASSERT_TRUE(c->run_until([&] { return enabled; }, 3s)) << events;
-        std::atomic<std::int64_t> requested_ns{0};
-        std::thread stopper([&] {
-            std::this_thread::sleep_for(100ms);
-            requested_ns = SteadyClock::now().time_since_epoch().count();
-            c->request_stop();
-        });
-        c->run();
-        const auto returned = SteadyClock::now().time_since_epoch().count();
-        stopper.join();
-        const double ms = static_cast<double>(returned - requested_ns.load()) / 1e6;
+        const double ms = codrive::testing::run_and_measure_stop(*c);
         std::printf("EtherCAT: stop request to run() returning: %.1f ms\n", ms);
         EXPECT_LT(ms, 1000.0);
         EXPECT_EQ(axis->state(), drives::cia402::State::SwitchOnDisabled) << events;
@@ -269,16 +259,7 @@ TEST_F(ControllerOverEthercat, DedicatedCyclicThreadEnablesMovesAndStopsWithinOn
         ASSERT_TRUE(ramp.done()) << ramp.failure() << events;
         c->run_for(200ms);
         EXPECT_NEAR(ramp.position(), ramp.start() + 20000, 100) << events;
-        std::atomic<std::int64_t> requested_ns{0};
-        std::thread stopper([&] {
-            std::this_thread::sleep_for(100ms);
-            requested_ns = SteadyClock::now().time_since_epoch().count();
-            c->request_stop();
-        });
-        c->run();
-        const auto returned = SteadyClock::now().time_since_epoch().count();
-        stopper.join();
-        const double ms = static_cast<double>(returned - requested_ns.load()) / 1e6;
+        const double ms = codrive::testing::run_and_measure_stop(*c);
         const auto stats = c->stats();
         std::printf("EtherCAT segment, dedicated cyclic thread, 2 ms cycle: %s; stop request to "
                     "run() returning %.1f ms\n",

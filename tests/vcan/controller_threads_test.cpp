@@ -6,15 +6,14 @@
 #include <codrive/testing/enable_then_ramp.hpp>
 #include <codrive/testing/process.hpp>
 #include <codrive/testing/soak.hpp>
+#include <codrive/testing/stop_latency.hpp>
 #include <codrive/testing/vcan.hpp>
 
 #include <gtest/gtest.h>
 
-#include <atomic>
 #include <cstdio>
 #include <pthread.h>
 #include <sched.h>
-#include <thread>
 
 using namespace std::chrono_literals;
 using namespace codrive;
@@ -81,16 +80,7 @@ void enable_move_stop(controller::Threading mode, const char* label) {
         c.run_for(300ms);
         EXPECT_NEAR(ramp.position(), ramp.start() + 40000, 1000) << events;
 
-        std::atomic<std::int64_t> requested_ns{0};
-        std::thread stopper([&] {
-            std::this_thread::sleep_for(100ms);
-            requested_ns = SteadyClock::now().time_since_epoch().count();
-            c.request_stop();
-        });
-        c.run(); // safe shutdown, then returns
-        const auto returned = SteadyClock::now().time_since_epoch().count();
-        stopper.join();
-        const double stop_ms = static_cast<double>(returned - requested_ns.load()) / 1e6;
+        const double stop_ms = codrive::testing::run_and_measure_stop(c);
         const auto stats = c.stats();
         std::printf("%s: SYNC 4 ms: %s; stop request to run() returning %.1f ms\n", label,
                     stats.to_string().c_str(), stop_ms);
