@@ -8,10 +8,7 @@ HandoffTransport::HandoffTransport(drives::DriveTransport& inner)
     : inner_(inner), name_(inner.name()) {}
 
 void HandoffTransport::read(std::uint16_t index, std::uint8_t subindex, ReadDone done) {
-    Request r;
-    r.index = index;
-    r.subindex = subindex;
-    r.read_done = std::move(done);
+    Request r = Request::read(index, subindex, std::move(done));
     if (!requests_.push(r)) {
         r.read_done(drives::drive_fail(drives::DriveErrc::Transport,
                                        name_ + ": too many object accesses waiting for the "
@@ -21,12 +18,7 @@ void HandoffTransport::read(std::uint16_t index, std::uint8_t subindex, ReadDone
 
 void HandoffTransport::write(std::uint16_t index, std::uint8_t subindex, drives::Bytes data,
                              WriteDone done) {
-    Request r;
-    r.index = index;
-    r.subindex = subindex;
-    r.is_write = true;
-    r.data = std::move(data);
-    r.write_done = std::move(done);
+    Request r = Request::write(index, subindex, std::move(data), std::move(done));
     if (!requests_.push(r)) {
         r.write_done(drives::drive_fail(drives::DriveErrc::Transport,
                                         name_ + ": too many object accesses waiting for the "

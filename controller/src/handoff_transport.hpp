@@ -46,14 +46,7 @@ public:
     std::size_t pump_requests();
 
 private:
-    struct Request {
-        std::uint16_t index = 0;
-        std::uint8_t subindex = 0;
-        bool is_write = false;
-        drives::Bytes data;
-        ReadDone read_done;
-        WriteDone write_done;
-    };
+    using Request = ObjectRequest;
     struct Completion {
         ReadDone read_done;
         WriteDone write_done;

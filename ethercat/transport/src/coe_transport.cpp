@@ -13,22 +13,12 @@ std::string CoeTransport::name() const {
 }
 
 void CoeTransport::read(std::uint16_t index, std::uint8_t subindex, ReadDone done) {
-    Request r;
-    r.index = index;
-    r.subindex = subindex;
-    r.read_done = std::move(done);
-    queue_.push_back(std::move(r));
+    queue_.push_back(Request::read(index, subindex, std::move(done)));
 }
 
 void CoeTransport::write(std::uint16_t index, std::uint8_t subindex, drives::Bytes data,
                          WriteDone done) {
-    Request r;
-    r.index = index;
-    r.subindex = subindex;
-    r.is_write = true;
-    r.data = std::move(data);
-    r.write_done = std::move(done);
-    queue_.push_back(std::move(r));
+    queue_.push_back(Request::write(index, subindex, std::move(data), std::move(done)));
 }
 
 std::size_t CoeTransport::poll() {

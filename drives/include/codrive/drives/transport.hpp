@@ -61,6 +61,35 @@ public:
         return std::nullopt;
     }
 
+    /// One object access as a transport queues it until it can be carried out (the CoE
+    /// transport's mailbox queue, the controller's hand-off between threads).
+    struct ObjectRequest {
+        std::uint16_t index = 0;
+        std::uint8_t subindex = 0;
+        bool is_write = false;
+        Bytes data;
+        ReadDone read_done;
+        WriteDone write_done;
+
+        static ObjectRequest read(std::uint16_t index, std::uint8_t subindex, ReadDone done) {
+            ObjectRequest r;
+            r.index = index;
+            r.subindex = subindex;
+            r.read_done = std::move(done);
+            return r;
+        }
+        static ObjectRequest write(std::uint16_t index, std::uint8_t subindex, Bytes data,
+                                   WriteDone done) {
+            ObjectRequest r;
+            r.index = index;
+            r.subindex = subindex;
+            r.is_write = true;
+            r.data = std::move(data);
+            r.write_done = std::move(done);
+            return r;
+        }
+    };
+
     // ---- typed helpers ------------------------------------------------------------------
 
     template <typename T>

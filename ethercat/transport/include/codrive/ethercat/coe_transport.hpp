@@ -44,14 +44,7 @@ private:
         std::size_t bytes = 0;
         bool output = false;
     };
-    struct Request {
-        std::uint16_t index = 0;
-        std::uint8_t subindex = 0;
-        bool is_write = false;
-        drives::Bytes data;
-        ReadDone read_done;
-        WriteDone write_done;
-    };
+    using Request = ObjectRequest;
     drives::CyclicHandle resolve(std::uint16_t index, std::uint8_t subindex, bool output) const;
 
     Master& master_;
