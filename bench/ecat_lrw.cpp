@@ -1,10 +1,15 @@
 // SPDX-License-Identifier: Apache-2.0
 // EtherCAT LRW round trip over veth against codrive-ecat-sim (3 slaves) next to a raw-socket
-// echo floor measured in the same run; CPU per cycle; the shortest cycle without a lost frame.
+// echo floor measured in the same run (interleaved rounds, spread printed); CPU per cycle; the
+// shortest cycle without a lost frame. Slaves found out of OP before a phase are brought back
+// and reported. A ratio above 1.05 to the floor fails the program (the floor would be wrong).
 // Needs root (veth, network namespace, AF_PACKET). Usage: bench_ecat_lrw [cycles] [fifo|other]
 // [trials per cycle length]
+#include <codrive/ethercat/error.hpp>
 #include <codrive/ethercat/master.hpp>
 #include <codrive/ethercat/raw_socket_link.hpp>
+
+#include "floor_check.hpp"
 
 #include <fmt/format.h>
 
@@ -133,122 +138,62 @@ double thread_cpu_ns() {
     return static_cast<double>(ts.tv_sec) * 1e9 + static_cast<double>(ts.tv_nsec);
 }
 
-struct Stats {
-    double p50_us = 0;
-    double p99_us = 0;
-    double max_us = 0;
-    double cpu_ns_per_cycle = 0;
-    std::size_t lost = 0;
+/// What bring_to_op() found before a phase: slaves that had left OP since the last phase.
+struct OpCheck {
+    std::size_t left_op = 0; ///< slaves found out of OP
+    std::string found;       ///< "slave 1: SAFE-OP, AL status code 0x001B (...)" per slave
+    bool restored = true;    ///< every slave is back in OP
 };
 
-Stats summarize(std::vector<double>& rtt, double cpu_ns, std::size_t cycles, std::size_t lost) {
-    Stats s;
-    std::sort(rtt.begin(), rtt.end());
-    if (!rtt.empty()) {
-        s.p50_us = rtt[rtt.size() / 2];
-        s.p99_us = rtt[std::min(rtt.size() - 1, rtt.size() * 99 / 100)];
-        s.max_us = rtt.back();
-    }
-    s.cpu_ns_per_cycle = cpu_ns / static_cast<double>(cycles);
-    s.lost = lost;
-    return s;
-}
-
-/// Echo floor: the same-size LRW frame through a process that returns it untouched.
-Stats echo_floor(RawSocketLink& link, std::size_t image, std::size_t cycles) {
-    std::vector<Datagram> d{Datagram::logical(Command::Lrw, 0x10000, image)};
-    std::vector<std::uint8_t> tx(kMaxFrameSize);
-    std::vector<std::uint8_t> rx(kMaxFrameSize + 64);
-    std::vector<double> rtt;
-    rtt.reserve(cycles);
-    std::size_t lost = 0;
-    const double cpu0 = thread_cpu_ns();
-    for (std::size_t i = 0; i < cycles; ++i) {
-        d[0].index = static_cast<std::uint8_t>(i);
-        const auto n = *encode_frame(d, tx);
-        const auto t0 = SteadyClock::now();
-        (void)link.send(std::span<const std::uint8_t>(tx).first(n));
-        bool ok = false;
-        while (true) {
-            auto r = link.receive(rx, t0 + milliseconds(20));
-            if (!r) {
-                break;
-            }
-            if (frame_index(std::span<const std::uint8_t>(rx).first(*r)) == d[0].index) {
-                ok = true;
-                break;
-            }
-        }
-        if (!ok) {
-            ++lost;
+/// Reads every slave's AL status; slaves found out of OP (an SM watchdog expiry while the bench
+/// ran the echo floor, for instance: ETG.1000.6 §6.4.1, AL status code 0x001B) are brought back
+/// to OP and reported, so that no phase measures slaves that stopped taking part.
+OpCheck bring_to_op(Master& m) {
+    OpCheck c;
+    for (std::size_t i = 0; i < m.slaves().size(); ++i) {
+        auto st = m.read_al_status(i);
+        if (!st) {
+            c.found +=
+                fmt::format(" slave {}: AL status unreadable ({});", i + 1, st.error().message());
+            c.restored = false;
             continue;
         }
-        rtt.push_back(std::chrono::duration<double, std::micro>(SteadyClock::now() - t0).count());
-    }
-    return summarize(rtt, thread_cpu_ns() - cpu0, cycles, lost);
-}
-
-Stats lrw_run(Master& m, std::size_t cycles) {
-    std::vector<double> rtt;
-    rtt.reserve(cycles);
-    std::size_t lost = 0;
-    const double cpu0 = thread_cpu_ns();
-    for (std::size_t i = 0; i < cycles; ++i) {
-        const auto t0 = SteadyClock::now();
-        auto w = m.exchange_process_data();
-        if (!w) {
-            ++lost;
+        if (st->state == AlState::Op && !st->error) {
             continue;
         }
-        rtt.push_back(std::chrono::duration<double, std::micro>(SteadyClock::now() - t0).count());
+        ++c.left_op;
+        c.found += fmt::format(" slave {}: {}{}, AL status code 0x{:04X} ({});", i + 1,
+                               to_string(st->state), st->error ? " + error" : "", st->code,
+                               al_status_code_describe(st->code));
+        // The master keeps the state it last set; it must start from what the slave reports.
+        m.slaves()[i].state = st->state;
     }
-    return summarize(rtt, thread_cpu_ns() - cpu0, cycles, lost);
+    if (c.left_op > 0 && !m.set_state_all(AlState::Op)) {
+        c.restored = false;
+        c.found += " back to OP failed: " + m.last_error();
+    }
+    return c;
 }
 
-/// Runs `cycles` cycles at `period`: a frame is lost when its answer is not back within one
-/// period of sending it. Wake-ups later than half a period are counted apart (overruns): they are
-/// the scheduler's, not the wire's.
-struct PeriodResult {
-    std::size_t lost = 0;
-    std::size_t overruns = 0;
-};
-
-/// `exchange(deadline)`: sends one frame and waits for its answer until `deadline`.
-PeriodResult periodic_run(const std::function<bool(TimePoint)>& exchange, Duration period,
-                          std::size_t cycles) {
-    PeriodResult res;
-    auto next = SteadyClock::now() + period;
-    for (std::size_t i = 0; i < cycles; ++i) {
-        const auto t0 = SteadyClock::now();
-        if (!exchange(t0 + period)) {
-            ++res.lost;
-        }
-        std::this_thread::sleep_until(next);
-        if (SteadyClock::now() - next > period / 2) {
-            ++res.overruns;
-            next = SteadyClock::now(); // re-phase instead of a burst of catch-up cycles
-        }
-        next += period;
-    }
-    return res;
-}
+/// What one exchange came to.
+enum class Outcome { Ok, Lost, WkcShort };
 
 /// One echo exchange of an LRW-sized frame (the floor: no EtherCAT processing at all).
 class EchoExchange {
 public:
     EchoExchange(RawSocketLink& link, std::size_t image)
         : link_(link), d_{Datagram::logical(Command::Lrw, 0x10000, image)} {}
-    bool operator()(TimePoint deadline) {
+    Outcome operator()(TimePoint deadline) {
         d_[0].index = index_++;
         const auto n = *encode_frame(d_, tx_);
         (void)link_.send(std::span<const std::uint8_t>(tx_).first(n));
         while (true) {
             auto r = link_.receive(rx_, deadline);
             if (!r) {
-                return false;
+                return Outcome::Lost;
             }
             if (frame_index(std::span<const std::uint8_t>(rx_).first(*r)) == d_[0].index) {
-                return true;
+                return Outcome::Ok;
             }
         }
     }
@@ -261,16 +206,89 @@ private:
     std::uint8_t index_ = 0;
 };
 
-/// The sweep of one path: per period, every trial's lost frames and overruns.
+/// One LRW exchange through the master: a WKC short of the expected one (a slave not in OP)
+/// is told apart from a frame that never came back.
+Outcome lrw_exchange(Master& m, TimePoint deadline) {
+    if (!m.send_process_data()) {
+        return Outcome::Lost;
+    }
+    auto r = m.receive_process_data(deadline);
+    if (r) {
+        return Outcome::Ok;
+    }
+    return r.error() == make_error_code(EcatErrc::WorkingCounter) ? Outcome::WkcShort
+                                                                  : Outcome::Lost;
+}
+
+/// Round-trip figures of one path over interleaved rounds.
+struct RoundTrips {
+    std::vector<double> rtt_us;    ///< every answered exchange
+    std::vector<double> round_p50; ///< per round (the spread)
+    std::vector<double> round_cpu; ///< master-thread CPU ns per cycle, per round
+    std::size_t lost = 0;
+    std::size_t wkc_short = 0;
+
+    /// `cycles` back-to-back exchanges, each waiting up to 20 ms (the master's frame timeout).
+    void round(const std::function<Outcome(TimePoint)>& exchange, std::size_t cycles) {
+        std::vector<double> r;
+        r.reserve(cycles);
+        const double cpu0 = thread_cpu_ns();
+        for (std::size_t i = 0; i < cycles; ++i) {
+            const auto t0 = SteadyClock::now();
+            const Outcome o = exchange(t0 + milliseconds(20));
+            if (o != Outcome::Ok) {
+                ++(o == Outcome::Lost ? lost : wkc_short);
+                continue;
+            }
+            r.push_back(std::chrono::duration<double, std::micro>(SteadyClock::now() - t0).count());
+        }
+        round_cpu.push_back((thread_cpu_ns() - cpu0) / static_cast<double>(cycles));
+        round_p50.push_back(bench::percentile(r, 0.5));
+        rtt_us.insert(rtt_us.end(), r.begin(), r.end());
+    }
+};
+
+/// Runs `cycles` cycles at `period`: a frame is lost when its answer is not back within one
+/// period of sending it. Wake-ups later than half a period are counted apart (overruns): they are
+/// the scheduler's, not the wire's.
+struct PeriodResult {
+    std::size_t lost = 0;
+    std::size_t wkc_short = 0;
+    std::size_t overruns = 0;
+    std::size_t left_op = 0; ///< slaves found out of OP before this run (and brought back)
+};
+
+PeriodResult periodic_run(const std::function<Outcome(TimePoint)>& exchange, Duration period,
+                          std::size_t cycles) {
+    PeriodResult res;
+    auto next = SteadyClock::now() + period;
+    for (std::size_t i = 0; i < cycles; ++i) {
+        const auto t0 = SteadyClock::now();
+        const Outcome o = exchange(t0 + period);
+        if (o != Outcome::Ok) {
+            ++(o == Outcome::Lost ? res.lost : res.wkc_short);
+        }
+        std::this_thread::sleep_until(next);
+        if (SteadyClock::now() - next > period / 2) {
+            ++res.overruns;
+            next = SteadyClock::now(); // re-phase instead of a burst of catch-up cycles
+        }
+        next += period;
+    }
+    return res;
+}
+
+/// The sweep of one path: per period, every trial's result.
 struct Sweep {
     std::vector<std::vector<PeriodResult>> trials; ///< [period][trial]
-    /// The shortest period at which this and every longer period ran every trial with no lost
-    /// frame (a single clean run below a failing one is luck, not a figure).
+    /// The shortest period at which this and every longer period ran every trial with every
+    /// frame back in time with its full working counter (a single clean run below a failing one
+    /// is luck, not a figure).
     [[nodiscard]] std::optional<std::size_t> shortest_clean() const {
         std::optional<std::size_t> best;
         for (std::size_t p = 0; p < trials.size(); ++p) {
             for (const auto& t : trials[p]) {
-                if (t.lost != 0) {
+                if (t.lost != 0 || t.wkc_short != 0) {
                     return best;
                 }
             }
@@ -279,6 +297,13 @@ struct Sweep {
         return best;
     }
 };
+
+void print_path(const char* name, const RoundTrips& r, double sim_cpu_ns) {
+    fmt::print("{:<28} {:>9.1f} {:>9.1f} {:>9.1f} {:>14.0f} {:>14.0f} {:>6} {:>6}\n", name,
+               bench::percentile(r.rtt_us, 0.5), bench::percentile(r.rtt_us, 0.99),
+               bench::percentile(r.rtt_us, 1.0), bench::spread_of(r.round_cpu).median, sim_cpu_ns,
+               r.lost, r.wkc_short);
+}
 
 } // namespace
 
@@ -310,8 +335,8 @@ int main(int argc, char** argv) {
             RawSocketLink::describe_open_error(g_echo_master_if, echo_link.error()).c_str());
         return 1;
     }
-    // 1. The real thing: 3 simulated slaves, LRW of the whole process image; beside it on its
-    // own veth pair the echo process that is the floor, both up for the whole run.
+    // 3 simulated slaves, LRW of the whole process image; beside it on its own veth pair the
+    // echo process that is the floor, both up for the whole run.
     const pid_t sim =
         spawn_sim(g_slave_if, {"--slave", "fio", "--slave", "akd2g", "--slave", "ds-bvs"});
     const pid_t echo = spawn_sim(g_echo_slave_if, {"--echo"});
@@ -323,29 +348,55 @@ int main(int argc, char** argv) {
         return 1;
     }
     const std::size_t image = master.process_image().size();
-    const double sim_cpu0 = sim_cpu_seconds(sim);
-    const Stats lrw = lrw_run(master, cycles);
-    const double sim_cpu = (sim_cpu_seconds(sim) - sim_cpu0) / static_cast<double>(cycles) * 1e9;
-    const double echo_cpu0 = sim_cpu_seconds(echo);
-    const Stats floor = echo_floor(**echo_link, image, cycles);
-    const double echo_cpu = (sim_cpu_seconds(echo) - echo_cpu0) / static_cast<double>(cycles) * 1e9;
+    EchoExchange echo_exchange(**echo_link, image);
+    const auto lrw = [&master](TimePoint deadline) { return lrw_exchange(master, deadline); };
+    // Slaves found out of OP before a phase, over the whole run (each one brought back).
+    std::size_t left_op_total = 0;
+    bool op_restored = true;
+    const auto check_op = [&](const std::string& phase) {
+        const OpCheck c = bring_to_op(master);
+        if (c.left_op > 0 || !c.restored) {
+            fmt::print("before {}:{}\n", phase, c.found);
+        }
+        left_op_total += c.left_op;
+        op_restored = op_restored && c.restored;
+        return c.left_op;
+    };
+
+    // 1. Round trips: `rounds` rounds of LRW then echo, so both see the same machine.
+    const std::size_t rounds = 10;
+    const std::size_t per_round = std::max<std::size_t>(1, cycles / rounds);
+    RoundTrips lrw_rt;
+    RoundTrips echo_rt;
+    double sim_cpu_s = 0;
+    double echo_cpu_s = 0;
+    for (std::size_t r = 0; r < rounds; ++r) {
+        check_op(fmt::format("round-trip round {}", r + 1));
+        double c0 = sim_cpu_seconds(sim);
+        lrw_rt.round(lrw, per_round);
+        sim_cpu_s += sim_cpu_seconds(sim) - c0;
+        c0 = sim_cpu_seconds(echo);
+        echo_rt.round(std::ref(echo_exchange), per_round);
+        echo_cpu_s += sim_cpu_seconds(echo) - c0;
+    }
+    const double n_rt = static_cast<double>(per_round * rounds);
     // 2. Shortest cycle with no lost frame: every period, `trials` runs of `cycles` cycles, the
-    // LRW and the echo floor interleaved (LRW, echo, LRW, echo...) so both see the same machine.
+    // LRW and the echo floor interleaved (LRW, echo, LRW, echo...). The slaves' SM watchdog
+    // (100 ms by default) expires during every echo run, so they are brought back to OP first.
     const std::vector<Duration> periods{microseconds(1000), microseconds(500), microseconds(250),
                                         microseconds(125),  microseconds(100), microseconds(75),
                                         microseconds(50)};
     const int trials = argc > 3 ? std::stoi(argv[3]) : 2;
-    EchoExchange echo_exchange(**echo_link, image);
-    const auto lrw_exchange = [&master](TimePoint deadline) {
-        return master.send_process_data() && master.receive_process_data(deadline).has_value();
-    };
+    const auto us = [](Duration d) { return std::chrono::duration<double, std::micro>(d).count(); };
     Sweep lrw_sweep;
     Sweep echo_sweep;
     for (Duration p : periods) {
         lrw_sweep.trials.emplace_back();
         echo_sweep.trials.emplace_back();
         for (int t = 0; t < trials; ++t) {
-            lrw_sweep.trials.back().push_back(periodic_run(lrw_exchange, p, cycles));
+            const std::size_t left = check_op(fmt::format("the {:.0f} us run {}", us(p), t + 1));
+            lrw_sweep.trials.back().push_back(periodic_run(lrw, p, cycles));
+            lrw_sweep.trials.back().back().left_op = left;
             echo_sweep.trials.back().push_back(periodic_run(std::ref(echo_exchange), p, cycles));
         }
     }
@@ -359,26 +410,43 @@ int main(int argc, char** argv) {
                g_realtime ? "SCHED_FIFO 50 for master and simulator" : "SCHED_OTHER");
     fmt::print("late answers to timed-out cycles (stale frames): {}\n",
                master.stats().stale_frames);
-    fmt::print("{:<28} {:>9} {:>9} {:>9} {:>14} {:>14} {:>6}\n", "", "p50 us", "p99 us", "max us",
-               "master CPU ns", "sim CPU ns", "lost");
-    fmt::print("{:<28} {:>9.1f} {:>9.1f} {:>9.1f} {:>14.0f} {:>14.0f} {:>6}\n",
-               "LRW round trip (codrive)", lrw.p50_us, lrw.p99_us, lrw.max_us, lrw.cpu_ns_per_cycle,
-               sim_cpu, lrw.lost);
-    fmt::print("{:<28} {:>9.1f} {:>9.1f} {:>9.1f} {:>14.0f} {:>14.0f} {:>6}\n",
-               "raw-socket echo floor", floor.p50_us, floor.p99_us, floor.max_us,
-               floor.cpu_ns_per_cycle, echo_cpu, floor.lost);
-    const auto us = [](Duration d) { return std::chrono::duration<double, std::micro>(d).count(); };
+    fmt::print("round trips: {} interleaved rounds of {} cycles per path\n", rounds, per_round);
+    fmt::print("{:<28} {:>9} {:>9} {:>9} {:>14} {:>14} {:>6} {:>6}\n", "", "p50 us", "p99 us",
+               "max us", "master CPU ns", "sim CPU ns", "lost", "WKC<");
+    print_path("LRW round trip (codrive)", lrw_rt, sim_cpu_s / n_rt * 1e9);
+    print_path("raw-socket echo floor", echo_rt, echo_cpu_s / n_rt * 1e9);
+    fmt::print("per-round p50, LRW:  {} us\n",
+               bench::describe(bench::spread_of(lrw_rt.round_p50), 1));
+    fmt::print("per-round p50, echo: {} us\n",
+               bench::describe(bench::spread_of(echo_rt.round_p50), 1));
+    std::vector<double> latency_ratio;
+    std::vector<double> cpu_ratio;
+    for (std::size_t r = 0; r < rounds; ++r) {
+        latency_ratio.push_back(lrw_rt.round_p50[r] > 0 ? echo_rt.round_p50[r] / lrw_rt.round_p50[r]
+                                                        : 0);
+        cpu_ratio.push_back(lrw_rt.round_cpu[r] > 0 ? echo_rt.round_cpu[r] / lrw_rt.round_cpu[r]
+                                                    : 0);
+    }
+    const bench::Spread lat = bench::spread_of(latency_ratio);
+    const bench::Spread cpu = bench::spread_of(cpu_ratio);
+    fmt::print("echo p50 / LRW p50 per round: {} (1 = as fast as the floor)\n",
+               bench::describe(lat));
+    fmt::print("echo CPU / LRW CPU per round: {}\n", bench::describe(cpu));
+
     for (std::size_t p = 0; p < periods.size(); ++p) {
         std::string l;
         std::string e;
+        std::size_t left = 0;
         for (int t = 0; t < trials; ++t) {
             const auto& a = lrw_sweep.trials[p][static_cast<std::size_t>(t)];
             const auto& b = echo_sweep.trials[p][static_cast<std::size_t>(t)];
-            l += fmt::format(" {}/{}", a.lost, a.overruns);
+            l += fmt::format(" {}/{}/{}", a.lost, a.wkc_short, a.overruns);
             e += fmt::format(" {}/{}", b.lost, b.overruns);
+            left += a.left_op;
         }
-        fmt::print("cycle {:>6.0f} us, lost/overruns per run of {}: LRW{}   echo floor{}\n",
-                   us(periods[p]), cycles, l, e);
+        fmt::print("cycle {:>6.0f} us, per run of {}: LRW lost/WKC short/overruns{}   echo floor "
+                   "lost/overruns{}   (slaves brought back to OP before the LRW runs: {})\n",
+                   us(periods[p]), cycles, l, e, left);
     }
     const auto report = [&](const char* what, const Sweep& sw) {
         if (const auto best = sw.shortest_clean()) {
@@ -389,8 +457,21 @@ int main(int argc, char** argv) {
             fmt::print("shortest cycle without a lost frame, {}: none of the tested cycles\n",
                        what);
         }
+        return sw.shortest_clean();
     };
-    report("LRW (codrive)", lrw_sweep);
-    report("echo floor", echo_sweep);
-    return 0;
+    const auto lrw_best = report("LRW (codrive)", lrw_sweep);
+    const auto echo_best = report("echo floor", echo_sweep);
+    fmt::print("slaves found out of OP before a phase and brought back: {}{}\n", left_op_total,
+               op_restored ? "" : " (bringing some back FAILED)");
+
+    bool ok = op_restored;
+    ok = bench::floor_holds("the LRW round trip (p50, inverted)", lat.median) && ok;
+    ok = bench::floor_holds("the master's CPU per LRW cycle (inverted)", cpu.median) && ok;
+    // A shorter clean cycle than the floor's is a floor that loses frames it should not.
+    if (lrw_best && (!echo_best || *lrw_best > *echo_best)) {
+        fmt::print(stderr, "floor check failed: the LRW ran clean at a shorter cycle than the echo "
+                           "floor, so the floor is not the best this machine can do\n");
+        ok = false;
+    }
+    return ok ? 0 : 1;
 }

@@ -1,10 +1,19 @@
 #!/usr/bin/env bash
 # SPDX-License-Identifier: Apache-2.0
-# Long fuzzing campaign: every libFuzzer target for SECONDS (default 300 s) each, with the same
-# per-target table as tests/fuzz/run.sh. The corpus grows in <build>/fuzz-corpus/ across runs.
-# Usage: bench/fuzz_long.sh [SECONDS_PER_TARGET] [TARGET...]
+# Long fuzzing campaign for the record: every libFuzzer target, one at a time, to RUNS executions
+# (default 10,000,000) at the lowest CPU priority, with tests/fuzz/run.sh's per-target table
+# (executions, exec/s, cov, ft, corpus size, result) and its "fuzz: N passed, M failed" line.
+# The corpus grows in <build>/fuzz-corpus/ across runs.
+# Usage: bench/fuzz_long.sh [TARGET...]
+# Environment: RUNS (executions per target), DEADLINE (a time `date -d` understands, e.g. 11:30
+#              UTC: the running target is stopped then and counted as failed, no new one starts),
+#              plus tests/fuzz/run.sh's (CODRIVE_FUZZ_BUILD, JOBS, ...).
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
-seconds=${1:-300}
-shift || true
-exec "$root/tests/fuzz/run.sh" "$seconds" "$@"
+export FUZZ_RUNS=${RUNS:-10000000}
+if [[ -n ${DEADLINE:-} ]]; then
+    FUZZ_DEADLINE=$(date -d "$DEADLINE" +%s)
+    export FUZZ_DEADLINE
+fi
+# The seconds argument is unused when FUZZ_RUNS is set.
+exec nice -n 19 "$root/tests/fuzz/run.sh" 0 "$@"

@@ -9,22 +9,31 @@
 // process, so the floor (a plain request/response loop over raw sockets) pays the same process
 // switches. The round-trip figures are measured in interleaved 0.25 s slices (floor, state
 // machines, full stack, floor, ...) so a load change on a shared machine hits all of them alike;
-// each ratio is the median of the per-slice ratios to the floor slice next to it.
+// each ratio is the median of the per-slice ratios to the floor slice next to it, printed with the
+// slices' extremes. The block figures alternate the same way: a 0.5 s floor slice (127-frame
+// sendmmsg() bursts, each acknowledged; only acknowledged bursts count), then a 64 KiB block
+// download and upload. A ratio above 1.05 to its floor fails the program: such a floor is wrong.
 #include <codrive/core/event_loop.hpp>
 #include <codrive/core/object_dictionary.hpp>
 #include <codrive/core/socket_can_bus.hpp>
 #include <codrive/sdo/client.hpp>
+#include <codrive/sdo/protocol.hpp>
 #include <codrive/sdo/server.hpp>
 
 #include <fmt/format.h>
+
+#include "floor_check.hpp"
+
 #include <linux/can.h>
 #include <linux/can/raw.h>
 #include <net/if.h>
 #include <sys/socket.h>
+#include <sys/uio.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
 #include <algorithm>
+#include <array>
 #include <csignal>
 #include <cstdlib>
 #include <cstring>
@@ -39,24 +48,17 @@ using Clock = std::chrono::steady_clock;
 namespace {
 
 // One node-ID per server so that all servers can run at once.
-constexpr NodeId kFullNode = 100;  ///< codrive server on EventLoop + SocketCanBus
-constexpr NodeId kFloorNode = 101; ///< raw echo server
-constexpr NodeId kSmNode = 102;    ///< codrive SdoServer driven by blocking read()
-constexpr NodeId kEpollNode = 103; ///< codrive server, EventLoop direct-read fast path off
-constexpr double kSlice = 0.25;    ///< seconds per interleaved slice
-constexpr int kClockEvery = 64;    ///< round trips between clock reads in every client loop
+constexpr NodeId kFullNode = 100;       ///< codrive server on EventLoop + SocketCanBus
+constexpr NodeId kFloorNode = 101;      ///< raw echo server
+constexpr NodeId kSmNode = 102;         ///< codrive SdoServer driven by blocking read()
+constexpr NodeId kEpollNode = 103;      ///< codrive server, EventLoop direct-read fast path off
+constexpr NodeId kBlockFloorNode = 104; ///< raw block-floor server (acks each 127-frame burst)
+constexpr int kBlockSize = sdo::kMaxBlockSize; ///< segments per block, as codrive asks for
+constexpr double kSlice = 0.25;                ///< seconds per interleaved slice
+constexpr int kClockEvery = 64; ///< round trips between clock reads in every client loop
 
 double seconds_since(Clock::time_point t0) {
     return std::chrono::duration<double>(Clock::now() - t0).count();
-}
-
-double median(std::vector<double> v) {
-    if (v.empty()) {
-        return 0;
-    }
-    std::sort(v.begin(), v.end());
-    const std::size_t m = v.size() / 2;
-    return v.size() % 2 == 1 ? v[m] : (v[m - 1] + v[m]) / 2;
 }
 
 // ---- server processes ------------------------------------------------------------------------
@@ -141,19 +143,44 @@ bool raw_read(int fd) {
     return ::read(fd, &f, sizeof f) == static_cast<ssize_t>(sizeof f);
 }
 
-/// Serves raw frames on `node`'s SDO identifiers: answers every request (ack_every 1, the
-/// expedited floor) or every 127th (the block floor).
-void raw_server(const std::string& ifname, NodeId node, unsigned ack_every,
-                const std::function<void()>& ready) {
+/// Answers every request on `node`'s SDO identifiers (the expedited floor).
+void raw_server(const std::string& ifname, NodeId node, const std::function<void()>& ready) {
     const int server = raw_socket(ifname, cob::sdo_rx(node));
     if (server < 0) {
         return;
     }
     ready();
-    unsigned n = 0;
     while (raw_read(server)) {
-        if (++n % ack_every == 0) {
-            raw_write(server, cob::sdo_tx(node), 0x60);
+        raw_write(server, cob::sdo_tx(node), 0x60);
+    }
+}
+
+/// The block floor's receiver: takes frames in recvmmsg() batches (as SocketCanBus does) and
+/// acknowledges a burst when its last frame (sequence number kBlockSize) arrives, like a block
+/// download server; a burst that lost a frame still ends with that frame's ack.
+void raw_block_server(const std::string& ifname, const std::function<void()>& ready) {
+    const int server = raw_socket(ifname, cob::sdo_rx(kBlockFloorNode));
+    if (server < 0) {
+        return;
+    }
+    std::array<can_frame, kBlockSize> in{};
+    std::array<iovec, kBlockSize> iov{};
+    std::array<mmsghdr, kBlockSize> msg{};
+    for (std::size_t k = 0; k < in.size(); ++k) {
+        iov[k] = {&in[k], sizeof(can_frame)};
+        msg[k].msg_hdr.msg_iov = &iov[k];
+        msg[k].msg_hdr.msg_iovlen = 1;
+    }
+    ready();
+    while (true) {
+        const int n = ::recvmmsg(server, msg.data(), kBlockSize, MSG_WAITFORONE, nullptr);
+        if (n <= 0 && errno != EINTR) {
+            return;
+        }
+        for (int k = 0; k < n; ++k) {
+            if (in[static_cast<std::size_t>(k)].data[0] == kBlockSize) {
+                raw_write(server, cob::sdo_tx(kBlockFloorNode), 0xA2);
+            }
         }
     }
 }
@@ -172,25 +199,41 @@ double raw_round_trips(int client, double seconds) {
     return static_cast<double>(rt) / seconds_since(t0);
 }
 
-/// One-way frames per second in bursts of 127, each acknowledged by one frame.
-double raw_block_frames(const std::string& ifname, double seconds) {
-    const ServerProcess srv([&](const auto& ready) { raw_server(ifname, kFloorNode, 127, ready); });
-    const int client = raw_socket(ifname, cob::sdo_tx(kFloorNode));
-    if (client < 0 || !srv.ready()) {
-        return 0;
+/// One-way frames per second in bursts of kBlockSize, each sent with one sendmmsg() and
+/// acknowledged by one frame; only bursts whose acknowledgement came back count. `client` has a
+/// receive timeout, so a lost ack costs its burst, never a hang.
+double raw_block_frames(int client, double seconds) {
+    std::array<can_frame, kBlockSize> out{};
+    std::array<iovec, kBlockSize> iov{};
+    std::array<mmsghdr, kBlockSize> msg{};
+    for (std::size_t k = 0; k < out.size(); ++k) {
+        out[k].can_id = cob::sdo_rx(kBlockFloorNode);
+        out[k].len = 8;
+        out[k].data[0] = static_cast<std::uint8_t>(k + 1);
+        iov[k] = {&out[k], sizeof(can_frame)};
+        msg[k].msg_hdr.msg_iov = &iov[k];
+        msg[k].msg_hdr.msg_iovlen = 1;
     }
     const auto t0 = Clock::now();
     std::uint64_t frames = 0;
     while (seconds_since(t0) < seconds) {
-        for (int i = 0; i < 127; ++i) {
-            raw_write(client, cob::sdo_rx(kFloorNode), static_cast<std::uint8_t>(i + 1));
+        std::size_t sent = 0;
+        while (sent < out.size()) {
+            const int n =
+                ::sendmmsg(client, &msg[sent], static_cast<unsigned>(out.size() - sent), 0);
+            if (n > 0) {
+                sent += static_cast<std::size_t>(n);
+            } else if (errno != ENOBUFS && errno != EAGAIN && errno != EINTR) {
+                return 0;
+            } else {
+                std::this_thread::yield();
+            }
         }
-        raw_read(client);
-        frames += 127;
+        if (raw_read(client)) {
+            frames += kBlockSize;
+        }
     }
-    const double rate = static_cast<double>(frames) / seconds_since(t0);
-    ::close(client);
-    return rate;
+    return static_cast<double>(frames) / seconds_since(t0);
 }
 
 // ---- codrive state machines over raw sockets --------------------------------------------------
@@ -449,11 +492,13 @@ int main(int argc, char** argv) {
     const auto want = [&only](const char* figure) { return only == "all" || only == figure; };
     fmt::print("SDO on {} ({} s per figure, servers in child processes)\n", ifname, seconds);
 
-    // All servers at once (each on its own node-ID), so the round-trip figures can interleave.
+    // All servers at once (each on its own node-ID), so the figures can interleave. The
+    // expedited floor runs with every round-trip figure (the ratios need it).
+    const bool want_floor = only != "block";
     std::vector<std::unique_ptr<ServerProcess>> servers;
-    if (want("floor")) {
+    if (want_floor) {
         servers.push_back(std::make_unique<ServerProcess>(
-            [&](const auto& ready) { raw_server(ifname, kFloorNode, 1, ready); }));
+            [&](const auto& ready) { raw_server(ifname, kFloorNode, ready); }));
     }
     if (want("raw-sm")) {
         servers.push_back(std::make_unique<ServerProcess>(
@@ -467,6 +512,10 @@ int main(int argc, char** argv) {
         servers.push_back(std::make_unique<ServerProcess>(
             [&](const auto& ready) { codrive_server(ifname, kEpollNode, false, ready); }));
     }
+    if (want("block")) {
+        servers.push_back(std::make_unique<ServerProcess>(
+            [&](const auto& ready) { raw_block_server(ifname, ready); }));
+    }
     for (const auto& s : servers) {
         if (!s->ready()) {
             fmt::print(stderr, "bench_sdo_vcan: a server could not open {}\n", ifname);
@@ -475,12 +524,15 @@ int main(int argc, char** argv) {
     }
     const int floor_fd = raw_socket(ifname, cob::sdo_tx(kFloorNode));
     const int sm_fd = raw_socket(ifname, cob::sdo_tx(kSmNode));
+    const int block_fd = raw_socket(ifname, cob::sdo_tx(kBlockFloorNode));
     auto client = open_client(ifname, kFullNode, true);
     auto epoll_client = open_client(ifname, kEpollNode, false);
-    if (floor_fd < 0 || sm_fd < 0 || !client || !epoll_client) {
+    if (floor_fd < 0 || sm_fd < 0 || block_fd < 0 || !client || !epoll_client) {
         fmt::print(stderr, "bench_sdo_vcan: cannot open client sockets on {}\n", ifname);
         return 2;
     }
+    const timeval ack_timeout{0, 200000}; // a lost block ack costs its burst, not a hang
+    ::setsockopt(block_fd, SOL_SOCKET, SO_RCVTIMEO, &ack_timeout, sizeof ack_timeout);
     RawSmClient sm(sm_fd);
 
     std::vector<double> floor_rates;
@@ -488,10 +540,8 @@ int main(int argc, char** argv) {
     std::vector<double> full_rates;
     std::vector<double> epoll_rates;
     const int slices = std::max(1, static_cast<int>(seconds / kSlice + 0.5));
-    for (int i = 0; i < slices; ++i) {
-        if (want("floor")) {
-            floor_rates.push_back(raw_round_trips(floor_fd, kSlice));
-        }
+    for (int i = 0; i < slices && only != "block"; ++i) {
+        floor_rates.push_back(raw_round_trips(floor_fd, kSlice));
         if (want("raw-sm")) {
             sm_rates.push_back(raw_sm_round_trips(sm, kSlice));
         }
@@ -502,52 +552,79 @@ int main(int argc, char** argv) {
             epoll_rates.push_back(expedited_round_trips(*epoll_client, kSlice));
         }
     }
+    bool floors_hold = true;
     // Each slice against the floor slice measured just before it.
     const auto ratio = [&floor_rates](const std::vector<double>& rates) {
         std::vector<double> r;
         for (std::size_t i = 0; i < rates.size() && i < floor_rates.size(); ++i) {
             r.push_back(floor_rates[i] > 0 ? rates[i] / floor_rates[i] : 0);
         }
-        return median(r);
+        return bench::spread_of(r);
     };
-    if (want("floor")) {
-        fmt::print("  floor: raw request/response        {:>10.0f} round trips/s (median of {} "
-                   "slices)\n",
-                   median(floor_rates), floor_rates.size());
+    const auto row = [&](const char* name, const char* what, const std::vector<double>& rates) {
+        const bench::Spread r = ratio(rates);
+        fmt::print("  {:<36} {:>8.0f} round trips/s, ratio to floor {}\n", name,
+                   bench::spread_of(rates).median, bench::describe(r));
+        floors_hold = bench::floor_holds(what, r.median) && floors_hold;
+    };
+    if (want_floor) {
+        fmt::print("  {:<36} {} round trips/s\n", "floor: raw request/response",
+                   bench::describe(bench::spread_of(floor_rates), 0));
     }
     if (want("raw-sm")) {
-        fmt::print("  codrive SDO state machines, raw I/O {:>9.0f} round trips/s   ratio {:.2f}\n",
-                   median(sm_rates), ratio(sm_rates));
+        row("codrive SDO state machines, raw I/O", "the SDO state machines over raw I/O", sm_rates);
     }
     if (want("full")) {
-        fmt::print("  codrive full stack (EventLoop)     {:>10.0f} round trips/s   ratio {:.2f} "
-                   "(target >= 0.90)\n",
-                   median(full_rates), ratio(full_rates));
+        row("codrive full stack (EventLoop)", "the full SDO stack", full_rates);
+        fmt::print("  (target for the full stack: ratio >= 0.90)\n");
     }
     if (want("full-epoll")) {
-        fmt::print("  codrive full stack, epoll path     {:>10.0f} round trips/s   ratio {:.2f}\n",
-                   median(epoll_rates), ratio(epoll_rates));
+        row("codrive full stack, epoll path", "the full SDO stack on the epoll path", epoll_rates);
     }
     if (want("block")) {
-        const double block_floor = raw_block_frames(ifname, seconds);
-        constexpr std::size_t kBlockBytes = 1024 * 1024;
-        const auto [down, up] = block_kib_s(*client, kBlockBytes);
+        // Rounds of: floor for kBlockFloorSlice s, then one block download and one block upload
+        // of kRoundBytes; each efficiency against the floor of its own round.
+        constexpr std::size_t kRoundBytes = 64 * 1024;
+        constexpr double kBlockFloorSlice = 0.5;
+        const int rounds = std::max(3, static_cast<int>(seconds * 2 + 0.5));
         // A block transfer of N bytes moves ceil(N / 7) segment frames one way.
         const auto frames_per_s = [](double kib_s) { return kib_s * 1024.0 / 7.0; };
-        const auto efficiency = [&](double kib_s) {
-            return block_floor > 0 ? frames_per_s(kib_s) / block_floor : 0.0;
-        };
-        fmt::print("  floor: raw 127-frame bursts + ack  {:>10.0f} frames/s ({:.0f} KiB/s of "
-                   "7-byte payload)\n",
-                   block_floor, block_floor * 7.0 / 1024.0);
-        fmt::print("  codrive block download (1 MiB)    {:>10.0f} KiB/s  {:>8.0f} frames/s   "
-                   "efficiency {:.2f}\n",
-                   down, frames_per_s(down), efficiency(down));
-        fmt::print("  codrive block upload (1 MiB)       {:>10.0f} KiB/s  {:>8.0f} frames/s   "
-                   "efficiency {:.2f}\n",
-                   up, frames_per_s(up), efficiency(up));
+        std::vector<double> floor_frames;
+        std::vector<double> down_kib;
+        std::vector<double> up_kib;
+        std::vector<double> down_eff;
+        std::vector<double> up_eff;
+        for (int i = 0; i < rounds; ++i) {
+            const double f = raw_block_frames(block_fd, kBlockFloorSlice);
+            const auto [down, up] = block_kib_s(*client, kRoundBytes);
+            if (f <= 0 || down <= 0 || up <= 0) {
+                fmt::print(stderr,
+                           "bench_sdo_vcan: block round {} failed (floor {:.0f} frames/s)"
+                           "\n",
+                           i, f);
+                return 1;
+            }
+            floor_frames.push_back(f);
+            down_kib.push_back(down);
+            up_kib.push_back(up);
+            down_eff.push_back(frames_per_s(down) / f);
+            up_eff.push_back(frames_per_s(up) / f);
+        }
+        fmt::print("  floor: raw {}-frame sendmmsg() bursts + ack  {} frames/s\n", kBlockSize,
+                   bench::describe(bench::spread_of(floor_frames), 0));
+        const bench::Spread de = bench::spread_of(down_eff);
+        const bench::Spread ue = bench::spread_of(up_eff);
+        fmt::print("  codrive block download ({} KiB per round) {} KiB/s, efficiency {}\n",
+                   kRoundBytes / 1024, bench::describe(bench::spread_of(down_kib), 0),
+                   bench::describe(de));
+        fmt::print("  codrive block upload ({} KiB per round)   {} KiB/s, efficiency {}\n",
+                   kRoundBytes / 1024, bench::describe(bench::spread_of(up_kib), 0),
+                   bench::describe(ue));
+        floors_hold = bench::floor_holds("the block download", de.median) && floors_hold;
+        floors_hold = bench::floor_holds("the block upload", ue.median) && floors_hold;
     }
     ::close(floor_fd);
     ::close(sm_fd);
-    return 0;
+    ::close(block_fd);
+    return floors_hold ? 0 : 1;
 }

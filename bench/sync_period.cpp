@@ -1,30 +1,31 @@
 // SPDX-License-Identifier: Apache-2.0
-// SYNC period error: the codrive producer (EventLoop, timerfd absolute deadlines) next to a
-// naive sleep_for(period) loop, measured in the same run on vcan0 if present, else in-process.
+// SYNC period error: the codrive producer (EventLoop, timerfd absolute deadlines) next to the
+// loop a careful user writes (clock_nanosleep(TIMER_ABSTIME) to start + k·period, then send),
+// interleaved block by block in the same run on vcan0 if present, else in-process.
 #include <codrive/core/event_loop.hpp>
 #include <codrive/core/socket_can_bus.hpp>
 #include <codrive/core/virtual_bus.hpp>
-#include <codrive/sync/period_stats.hpp>
 #include <codrive/sync/producer.hpp>
 
 #include <fmt/format.h>
 
+#include "floor_check.hpp"
+
 #include <cstdlib>
-#include <cstring>
+#include <ctime>
 #include <memory>
 #include <string>
-#include <thread>
+#include <sys/prctl.h>
 #include <vector>
 
 namespace {
 
 using namespace codrive;
-using sync::PeriodStats;
-using sync::to_us;
 
 struct Options {
     std::uint64_t cycles = 10000;
     std::int64_t period_us = 1000;
+    std::uint64_t rounds = 10;
     std::string iface = "vcan0";
 };
 
@@ -36,42 +37,100 @@ bool parse_args(int argc, char** argv, Options& o) {
             o.cycles = std::strtoull(argv[++i], nullptr, 10);
         } else if (a == "--period-us" && has_value) {
             o.period_us = std::strtoll(argv[++i], nullptr, 10);
+        } else if (a == "--rounds" && has_value) {
+            o.rounds = std::strtoull(argv[++i], nullptr, 10);
         } else if ((a == "--iface" || a == "-i") && has_value) {
             o.iface = argv[++i];
         } else {
-            fmt::print(stderr,
-                       "usage: bench_sync_period [--cycles N] [--period-us US] [--iface IFACE]\n");
+            fmt::print(stderr, "usage: bench_sync_period [--cycles N] [--period-us US] "
+                               "[--rounds N] [--iface IFACE]\n");
             return false;
         }
     }
-    return o.cycles >= 2 && o.period_us > 0;
+    return o.cycles / std::max<std::uint64_t>(o.rounds, 1) >= 2 && o.period_us > 0;
 }
 
-/// Interval and drift figures from a series of send times.
-struct Series {
-    PeriodStats interval_error{microseconds(1)}; ///< |t[k] - t[k-1] - T|
-    Duration drift{0}; ///< t[last] - (origin + slot[last]·T): how far the cycle slid
+double us(Duration d) {
+    return std::chrono::duration<double, std::micro>(d).count();
+}
+
+/// One block of sends: the time each SYNC had been handed to the bus and its slot on the grid.
+struct Block {
+    std::vector<TimePoint> sent;
+    std::vector<std::uint64_t> slot;
+    TimePoint origin{};
+    std::uint64_t skipped = 0;
+    std::uint64_t send_errors = 0;
 };
 
-/// `slot[k]` is the cycle index of send k (consecutive unless a producer skipped slots); only
-/// consecutive slots give an interval, and drift compares with the slot's place on the grid.
-Series analyse(const std::vector<TimePoint>& t, const std::vector<std::uint64_t>& slot,
-               TimePoint origin, Duration period) {
-    Series s;
-    for (std::size_t k = 1; k < t.size(); ++k) {
-        if (slot[k] != slot[k - 1] + 1) {
-            continue;
+/// Everything one producer showed over all its blocks.
+struct Side {
+    std::vector<double> interval_error_us; ///< |t[k] - t[k-1] - T|, skipped slots included
+    std::vector<double> lateness_us;       ///< t[k] - (origin + slot[k]·T)
+    std::vector<double> round_p99_us;      ///< interval-error p99 per block (the spread)
+    std::uint64_t sends = 0;
+    std::uint64_t skipped = 0;
+    std::uint64_t send_errors = 0;
+
+    void add(const Block& b, Duration period) {
+        std::vector<double> errors;
+        for (std::size_t k = 0; k < b.sent.size(); ++k) {
+            lateness_us.push_back(
+                us(b.sent[k] - (b.origin + period * static_cast<std::int64_t>(b.slot[k]))));
+            if (k > 0) {
+                // A skipped slot stays in: its interval is n·T, its error (n-1)·T or more.
+                const Duration e = (b.sent[k] - b.sent[k - 1]) - period;
+                errors.push_back(us(e < Duration{0} ? -e : e));
+            }
         }
-        const Duration e = (t[k] - t[k - 1]) - period;
-        s.interval_error.add(e < Duration{0} ? -e : e);
+        round_p99_us.push_back(bench::percentile(errors, 0.99));
+        interval_error_us.insert(interval_error_us.end(), errors.begin(), errors.end());
+        sends += b.sent.size();
+        skipped += b.skipped;
+        send_errors += b.send_errors;
     }
-    s.drift = t.back() - (origin + period * static_cast<std::int64_t>(slot.back()));
-    return s;
+};
+
+void print_row(const char* name, const Side& s) {
+    fmt::print("{:<36} {:>8.1f} {:>8.1f} {:>8.1f} {:>10.1f} {:>10.1f} {:>8} {:>7}\n", name,
+               bench::percentile(s.interval_error_us, 0.50),
+               bench::percentile(s.interval_error_us, 0.99),
+               bench::percentile(s.interval_error_us, 1.0), bench::percentile(s.lateness_us, 0.50),
+               bench::percentile(s.lateness_us, 0.99), s.sends, s.skipped);
 }
 
-void print_row(const char* name, const Series& s) {
-    fmt::print("{:<34} {:>9.1f} {:>9.1f} {:>9.1f} {:>14.1f}\n", name, to_us(s.interval_error.p50()),
-               to_us(s.interval_error.p99()), to_us(s.interval_error.max()), to_us(s.drift));
+/// The careful user's loop: sleep to the absolute slot time, send, note the time after the send.
+/// A wake-up later than a whole period sends once and skips the missed slots, as the producer.
+Block floor_block(ICanBus& bus, VirtualNetwork* net, Duration period, std::uint64_t cycles) {
+    Block b;
+    b.origin = SteadyClock::now() + milliseconds(10);
+    Frame sync_frame;
+    sync_frame.id = 0x080;
+    std::uint64_t slot = 0;
+    while (b.sent.size() < cycles) {
+        const TimePoint due = b.origin + period * static_cast<std::int64_t>(slot);
+        const auto ns =
+            std::chrono::duration_cast<std::chrono::nanoseconds>(due.time_since_epoch());
+        timespec ts{};
+        ts.tv_sec = static_cast<time_t>(ns.count() / 1'000'000'000);
+        ts.tv_nsec = static_cast<long>(ns.count() % 1'000'000'000);
+        while (::clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &ts, nullptr) != 0) {
+        }
+        const TimePoint woke = SteadyClock::now();
+        const auto behind = static_cast<std::uint64_t>((woke - due) / period);
+        slot += behind;
+        b.skipped += behind;
+        if (!bus.send(sync_frame)) {
+            ++b.send_errors;
+        }
+        b.sent.push_back(SteadyClock::now());
+        b.slot.push_back(slot);
+        if (net != nullptr) {
+            net->deliver();
+        }
+        ++slot;
+    }
+    return b;
 }
 
 } // namespace
@@ -82,6 +141,10 @@ int main(int argc, char** argv) {
         return 2;
     }
     const Duration period = microseconds(o.period_us);
+    const std::uint64_t per_block = o.cycles / o.rounds;
+    // What a careful user does for a periodic loop on a normal-priority thread: no timer slack
+    // (Linux otherwise lets a SCHED_OTHER sleep end up to 50 us late). It applies to both sides.
+    ::prctl(PR_SET_TIMERSLACK, 1UL, 0UL, 0UL, 0UL);
 
     auto loop_r = EventLoop::create();
     if (!loop_r) {
@@ -117,76 +180,71 @@ int main(int argc, char** argv) {
         loop.add_timed(net.get());
         bus_name = "virtual network (no SocketCAN / no " + o.iface + ")";
     }
+    fmt::print("SYNC period error over {} cycles at {} us on {}: {} interleaved rounds of {} "
+               "cycles per producer\n",
+               per_block * o.rounds, o.period_us, bus_name, o.rounds, per_block);
 
-    fmt::print("SYNC period error over {} cycles at {} us on {}\n", o.cycles, o.period_us,
-               bus_name);
-
-    // 1. codrive SyncProducer on the event loop (timerfd armed at start + k·period).
     sync::SyncProducer producer(*bus);
     if (auto r = producer.configure({period, 0, 0x080}); !r) {
         fmt::print(stderr, "bench_sync_period: bad SYNC configuration: {}\n", r.error().message());
         return 1;
     }
-    std::vector<TimePoint> codrive_times;
-    std::vector<std::uint64_t> codrive_slots;
-    codrive_times.reserve(o.cycles);
-    codrive_slots.reserve(o.cycles);
+    Block current;
+    // Timed like the floor: after the SYNC was handed to the bus (the hook runs after send()).
     producer.set_hook([&](const sync::SyncInfo& info) {
-        codrive_times.push_back(info.actual);
-        codrive_slots.push_back(info.cycle);
-        if (codrive_times.size() >= o.cycles) {
+        current.sent.push_back(SteadyClock::now());
+        current.slot.push_back(info.cycle);
+        if (current.sent.size() >= per_block) {
             producer.stop();
             loop.stop();
         }
     });
     loop.add_timed(&producer);
-    const TimePoint codrive_origin = loop.now() + milliseconds(10);
-    producer.start(codrive_origin);
-    if (auto r = loop.run(); !r) {
-        fmt::print(stderr, "bench_sync_period: event loop failed: {}\n", r.error().message());
-        return 1;
+
+    Side codrive_side;
+    Side floor_side;
+    std::vector<double> ratios; ///< floor p99 / codrive p99 per round (above 1: codrive better)
+    for (std::uint64_t r = 0; r < o.rounds; ++r) {
+        current = Block{};
+        current.sent.reserve(per_block);
+        current.slot.reserve(per_block);
+        const std::uint64_t skipped0 = producer.skipped();
+        const std::uint64_t errors0 = producer.send_errors();
+        current.origin = loop.now() + milliseconds(10);
+        producer.start(current.origin);
+        if (auto run = loop.run(); !run) {
+            fmt::print(stderr, "bench_sync_period: event loop failed: {}\n", run.error().message());
+            return 1;
+        }
+        current.skipped = producer.skipped() - skipped0;
+        current.send_errors = producer.send_errors() - errors0;
+        codrive_side.add(current, period);
+        floor_side.add(floor_block(*bus, net.get(), period, per_block), period);
+        if (can) {
+            can->drain(seconds(2));
+        }
+        const double c = codrive_side.round_p99_us.back();
+        ratios.push_back(c > 0 ? floor_side.round_p99_us.back() / c : 1.0);
     }
     loop.remove_timed(&producer);
 
-    // 2. The naive producer: send, then sleep_for(period), on the same bus.
-    std::vector<TimePoint> naive_times;
-    naive_times.reserve(o.cycles);
-    Frame sync_frame;
-    sync_frame.id = 0x080;
-    std::uint64_t naive_send_errors = 0;
-    for (std::uint64_t k = 0; k < o.cycles; ++k) {
-        if (!bus->send(sync_frame)) {
-            ++naive_send_errors;
-        }
-        naive_times.push_back(SteadyClock::now());
-        if (net) {
-            net->deliver();
-        }
-        std::this_thread::sleep_for(period);
-    }
-    if (can) {
-        can->drain(seconds(2));
-    }
-
-    std::vector<std::uint64_t> naive_slots(naive_times.size());
-    for (std::size_t k = 0; k < naive_slots.size(); ++k) {
-        naive_slots[k] = k;
-    }
-    const Series c = analyse(codrive_times, codrive_slots, codrive_origin, period);
-    const Series n = analyse(naive_times, naive_slots, naive_times.front(), period);
-    fmt::print(
-        "\nperiod error = |t[k] - t[k-1] - period| over consecutive slots; drift = "
-        "t[last] - (origin + slot[last]*period), origin = the producer's start time (naive: its "
-        "first send)\n");
-    fmt::print("{:<34} {:>9} {:>9} {:>9} {:>14}\n", "producer", "p50 us", "p99 us", "max us",
-               "drift us");
-    print_row("codrive SyncProducer (timerfd)", c);
-    print_row("naive sleep_for loop", n);
-    const auto& own = producer.period_error();
-    fmt::print("\ncodrive producer's own statistics (send time - ideal time start + k*period):\n"
-               "  {}\n",
-               own.summary());
-    fmt::print("  SYNC sent {}, slots skipped {}, send errors {}; naive send errors {}\n",
-               producer.sent(), producer.skipped(), producer.send_errors(), naive_send_errors);
-    return 0;
+    fmt::print("\nperiod error = |t[k] - t[k-1] - period| between consecutive sends (a skipped "
+               "slot counts as a long interval); lateness = t[k] - (origin + slot[k]*period); "
+               "t = after send()\n");
+    fmt::print("{:<36} {:>8} {:>8} {:>8} {:>10} {:>10} {:>8} {:>7}\n", "producer", "p50 us",
+               "p99 us", "max us", "late p50", "late p99", "sends", "skipped");
+    print_row("codrive SyncProducer (timerfd)", codrive_side);
+    print_row("floor: clock_nanosleep(TIMER_ABSTIME)", floor_side);
+    fmt::print("per-round p99 period error, codrive: {} us\n",
+               bench::describe(bench::spread_of(codrive_side.round_p99_us), 1));
+    fmt::print("per-round p99 period error, floor:   {} us\n",
+               bench::describe(bench::spread_of(floor_side.round_p99_us), 1));
+    const bench::Spread ratio = bench::spread_of(ratios);
+    fmt::print("floor p99 / codrive p99 per round: {} (1 = as good as the floor; below 1: "
+               "codrive is worse)\n",
+               bench::describe(ratio));
+    fmt::print("send errors: codrive {}, floor {}\n", codrive_side.send_errors,
+               floor_side.send_errors);
+    return bench::floor_holds("the codrive SYNC period error (p99, inverted)", ratio.median) ? 0
+                                                                                             : 1;
 }

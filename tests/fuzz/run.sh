@@ -6,7 +6,11 @@
 #
 # Usage: tests/fuzz/run.sh [SECONDS_PER_TARGET] [TARGET...]     (default 20 s, every target)
 # Environment: CODRIVE_FUZZ_BUILD (build dir, default build-fuzz), CXX_FUZZ (clang++-14),
-#              JOBS (build parallelism, default 2), FUZZ_MAX_LEN (default 4096).
+#              JOBS (build parallelism, default 2), FUZZ_MAX_LEN (default 4096),
+#              FUZZ_RUNS (run each target to this many executions instead of for SECONDS),
+#              FUZZ_DEADLINE (epoch seconds: a target still running then is stopped and counted
+#              as failed, "stopped at the deadline"; no target starts after it).
+# The table's executions and cov/ft are libFuzzer's final figures (the "DONE" stats line).
 # A crash leaves its input in <build>/fuzz-artifacts/<target>/; copy it to
 # tests/data/fuzz/regressions/<target>/ and add a test that replays it.
 set -euo pipefail
@@ -18,6 +22,8 @@ build=${CODRIVE_FUZZ_BUILD:-$root/build-fuzz}
 cxx=${CXX_FUZZ:-clang++-14}
 jobs=${JOBS:-2}
 max_len=${FUZZ_MAX_LEN:-4096}
+runs=${FUZZ_RUNS:-}
+deadline=${FUZZ_DEADLINE:-}
 
 if ! command -v "$cxx" >/dev/null; then
     echo "fuzz: $cxx not found (libFuzzer needs clang)" >&2
@@ -62,18 +68,37 @@ for target in "${targets[@]}"; do
     log=$build/fuzz-logs/$target.log
     mkdir -p "$(dirname "$log")"
     status=0
-    # Wall-clock guard in case a single input hangs past libFuzzer's own -timeout.
-    timeout --signal=INT $((seconds + 60)) "$exe" "$corpus" -max_total_time="$seconds" \
+    if [[ -n $runs ]]; then
+        budget=(-runs="$runs")
+        guard=$((7 * 24 * 3600))
+    else
+        budget=(-max_total_time="$seconds")
+        guard=$((seconds + 60)) # in case a single input hangs past libFuzzer's own -timeout
+    fi
+    if [[ -n $deadline ]]; then
+        left=$((deadline - $(date +%s)))
+        if [[ $left -le 0 ]]; then
+            printf '%-26s %12s %9s %7s %8s %7s  %s\n' "$target" - - - - - "FAILED (not started: deadline)"
+            failed=$((failed + 1))
+            continue
+        fi
+        [[ $left -lt $guard ]] && guard=$left
+    fi
+    timeout --signal=INT "$guard" "$exe" "$corpus" "${budget[@]}" \
         -max_len="$max_len" -timeout=10 -rss_limit_mb=2048 -print_final_stats=1 \
         -artifact_prefix="$artifacts/" >"$log" 2>&1 || status=$?
     execs=$(awk '/stat::number_of_executed_units:/ {v=$2} END {print v+0}' "$log")
     rate=$(awk '/stat::average_exec_per_sec:/ {v=$2} END {print v+0}' "$log")
+    # Coverage from libFuzzer's last status line (the "DONE" line of a finished run).
     cov=$(grep -o 'cov: [0-9]*' "$log" | tail -1 | awk '{print $2}')
     ft=$(grep -o 'ft: [0-9]*' "$log" | tail -1 | awk '{print $2}')
     units=$(find "$corpus" -type f | wc -l)
     if [[ $status -eq 0 ]]; then
         result=ok
         passed=$((passed + 1))
+    elif grep -q 'libFuzzer: run interrupted' "$log"; then
+        result="FAILED (stopped at the deadline after $execs executions; log $log)"
+        failed=$((failed + 1))
     else
         crash=$(grep -o "Test unit written to [^ ]*" "$log" | tail -1 | sed 's/Test unit written to //')
         result="FAILED (exit $status${crash:+, input $crash}; log $log)"
