@@ -72,8 +72,24 @@ count_gtest() {
     skipped[$suite]=$((${skipped[$suite]:-0} + s))
 }
 
-# run_gtest SUITE EXE [ARGS...]: runs one gtest binary on the host, prints its log on failure
-# (and its PASSED line otherwise), counts it into SUITE.
+# report_gtest SUITE NAME LOG RC: prints a gtest binary's log on failure (its PASSED/SKIPPED
+# lines otherwise) and counts it into SUITE; a binary that crashed before its summary counts as
+# one failure.
+report_gtest() {
+    local suite=$1 name=$2 log=$3 rc=$4
+    if [[ $rc -ne 0 ]]; then
+        cat "$log"
+        status=1
+    else
+        grep -E '^\[  (PASSED|SKIPPED) \]' "$log" | sed "s|^|$name: |" || true
+    fi
+    count_gtest "$suite" "$log"
+    if [[ $rc -ne 0 ]] && ! grep -qE '^\[  FAILED  \] [0-9]+ test' "$log"; then
+        failed[$suite]=$((${failed[$suite]:-0} + 1))
+    fi
+}
+
+# run_gtest SUITE EXE [ARGS...]: runs one gtest binary on the host and reports it.
 run_gtest() {
     local suite=$1 exe=$2 log rc
     shift 2
@@ -82,24 +98,31 @@ run_gtest() {
     "$exe" "$@" >"$log" 2>&1
     rc=$?
     set -e
-    if [[ $rc -ne 0 ]]; then
-        cat "$log"
-        status=1
-    else
-        grep -E '^\[  (PASSED|SKIPPED) \]' "$log" | sed "s|^|$(basename "$exe"): |" || true
-    fi
-    count_gtest "$suite" "$log"
-    # A binary that crashed before its summary counts as one failure.
-    if [[ $rc -ne 0 ]] && ! grep -qE '^\[  FAILED  \] [0-9]+ test' "$log"; then
-        failed[$suite]=$((${failed[$suite]:-0} + 1))
-    fi
+    report_gtest "$suite" "$(basename "$exe")" "$log" $rc
     rm -f "$log"
 }
 
-unit_stage() {
-    local exe
+# The unit stage runs in the background while build-ubsan compiles (a test binary needs one
+# CPU): each binary's log and exit status go to unit_dir and are counted afterwards.
+unit_dir=$root/build-asan/ci-unit
+unit_run() {
+    local exe t0
+    t0=$(date +%s)
+    rm -rf "$unit_dir"
+    mkdir -p "$unit_dir"
     for exe in "$root"/build-asan/tests/unit_* "$root"/build-asan/tests/integration_tests; do
-        [[ -x $exe ]] && run_gtest unit "$exe"
+        [[ -x $exe ]] || continue
+        "$exe" >"$unit_dir/$(basename "$exe").log" 2>&1
+        echo $? >"$unit_dir/$(basename "$exe").rc"
+    done
+    echo $(($(date +%s) - t0)) >"$unit_dir/seconds"
+}
+unit_report() {
+    local log name
+    for log in "$unit_dir"/*.log; do
+        [[ -f $log ]] || continue
+        name=$(basename "$log" .log)
+        report_gtest unit "$name" "$log" "$(cat "$unit_dir/$name.rc" 2>/dev/null || echo 1)"
     done
 }
 
@@ -108,7 +131,7 @@ unit_stage() {
 release_stage() {
     local exe
     for exe in "$root"/build-release/tests/unit_pdo "$root"/build-release/tests/unit_sync \
-        "$root"/build-release/tests/unit_controller "$root"/build-release/tests/integration_tests; do
+        "$root"/build-release/tests/unit_drives; do
         run_gtest release "$exe" --gtest_filter='*Allocation*'
     done
 }
@@ -126,12 +149,21 @@ tsan_stage() {
 echo "== build: ASan+UBSan (unit and virtual-bus tests)"
 stage build-asan configure_build "$root/build-asan" Debug "address,undefined" \
     'unit_[a-z_]+|integration_tests' || status=1
-echo "== unit tests (ASan+UBSan)"
-stage unit unit_stage
+echo "== unit tests (ASan+UBSan) started in the background, beside the UBSan build"
+unit_run &
+unit_pid=$!
 
 echo "== build: UBSan (vcan and EtherCAT tests, tools; ASan cannot run in a UML guest)"
+all_jobs=$jobs
+jobs=$((all_jobs > 1 ? all_jobs - 1 : 1))
 stage build-ubsan configure_build "$root/build-ubsan" Debug "undefined" \
     'vcan_tests|ethercat_tests|codrive[a-z_-]*' || status=1
+jobs=$all_jobs
+echo "== unit tests (ASan+UBSan)"
+wait "$unit_pid" || true
+seconds[unit]=$(cat "$unit_dir/seconds" 2>/dev/null || echo 0)
+stage_order+=(unit)
+unit_report
 
 # Fuzz stage in the background: the UML guest of the vcan stage uses one CPU, the clang build and
 # the fuzzers use the others. Its log is printed after the vcan stage.
@@ -221,7 +253,7 @@ stage tsan tsan_stage
 
 echo "== build: Release (allocation tests)"
 stage build-release configure_build "$root/build-release" Release "" \
-    'unit_pdo|unit_sync|unit_controller|integration_tests' || status=1
+    'unit_pdo|unit_sync|unit_drives' || status=1
 echo "== allocation tests (Release)"
 stage release release_stage
 
