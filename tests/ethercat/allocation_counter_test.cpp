@@ -1,14 +1,15 @@
 // SPDX-License-Identifier: Apache-2.0
-// The allocation counter of the no-allocation proofs sees allocations of threads the test did not
-// start (the controller's cyclic thread is one), and only when asked to.
+// The allocation counter behind the cyclic-thread proofs of this suite
+// (ControllerOverEthercat.DedicatedCyclicThreadAllocatesNothingOverAThousandCycles) sees the
+// allocations of threads the test did not start, and only when asked to.
 #include <gtest/gtest.h>
 
 #include <cstdint>
 #include <new>
 #include <thread>
 
-// One program-wide counting operator new (included once per program).
-#include <codrive/testing/counting_new.hpp>
+// The counting operators themselves are defined once, in controller_ecat_test.cpp.
+#include <codrive/testing/allocation_counter.hpp>
 
 using codrive::testing::AllocationScope;
 
