@@ -604,6 +604,23 @@ void Controller::pump_acyclic() {
     }
 }
 
+void Controller::set_cycle_callback(CycleCallback cb) {
+    if (!dedicated() || !cyclic_thread_.joinable() ||
+        std::this_thread::get_id() == cyclic_thread_.get_id()) {
+        cycle_cb_ = std::move(cb); // no other thread calls it
+        return;
+    }
+    // The cyclic thread calls cycle_cb_: it swaps the new one in at its next wake-up (a swap of
+    // two std::function objects allocates nothing); the old one comes back in pending_cb_ and is
+    // destroyed here, off the cyclic thread.
+    pending_cb_ = std::move(cb);
+    cb_handoff_.store(true, std::memory_order_release);
+    while (cb_handoff_.load(std::memory_order_acquire)) {
+        std::this_thread::yield();
+    }
+    pending_cb_ = nullptr;
+}
+
 void Controller::cyclic_main() {
     cyclic_warnings_ = apply_realtime(options_.realtime);
     cyclic_ready_.store(true, std::memory_order_release);
@@ -622,6 +639,10 @@ void Controller::cyclic_main() {
         const auto ns = wake.time_since_epoch().count();
         timespec ts{static_cast<time_t>(ns / 1000000000), static_cast<long>(ns % 1000000000)};
         while (::clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &ts, nullptr) == EINTR) {
+        }
+        if (cb_handoff_.load(std::memory_order_acquire)) {
+            std::swap(cycle_cb_, pending_cb_);
+            cb_handoff_.store(false, std::memory_order_release);
         }
         const TimePoint now = SteadyClock::now();
         for (auto& b : buses_) {

@@ -130,7 +130,11 @@ public:
     /// Runs fn on the loop thread (thread-safe).
     void post(std::function<void()> fn);
 
-    void set_cycle_callback(CycleCallback cb) { cycle_cb_ = std::move(cb); }
+    /// Sets (or, with nullptr, clears) the callback run on every cycle. In
+    /// Threading::DedicatedCyclic, while the cyclic thread runs, the new callback is handed to
+    /// that thread at its next wake-up and this call waits for it (at most about 20 ms): once it
+    /// returns, the previous callback is no longer called and has been destroyed on this thread.
+    void set_cycle_callback(CycleCallback cb);
     /// Master events, PDO events, boot reports and warnings, each a sentence.
     void set_event_callback(EventCallback cb) { event_cb_ = std::move(cb); }
 
@@ -193,7 +197,9 @@ private:
     std::atomic<bool> axes_safe_{false};           ///< cyclic → acyclic: axes stopped, SYNC off
     std::atomic<bool> cyclic_exit_{false};
     std::vector<std::string> cyclic_warnings_; ///< written before cyclic_ready_
-    std::unique_ptr<StatsCell> stats_cell_;    ///< the published cyclic statistics
+    CycleCallback pending_cb_; ///< set_cycle_callback() → cyclic thread (swapped there)
+    std::atomic<bool> cb_handoff_{false};   ///< pending_cb_ is ready to be swapped in
+    std::unique_ptr<StatsCell> stats_cell_; ///< the published cyclic statistics
     /// Threading::Single: the caller's thread settings before apply_realtime(), restored at
     /// shutdown.
     std::optional<SavedThreadSchedule> caller_schedule_;
