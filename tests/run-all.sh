@@ -2,75 +2,180 @@
 # SPDX-License-Identifier: Apache-2.0
 # Builds and runs every codrive test: unit and virtual-bus tests under ASan+UBSan on the host,
 # vcan tests (real sockets, real processes) under UBSan in vcan (natively or in a UML guest),
-# EtherCAT tests on veth, the libFuzzer targets (clang 14, bounded time, built and run while the
-# one-CPU vcan guest runs) and a valgrind leak check of a vcan subset in the guest. Prints how
-# many tests of each suite ran; fails if a suite that exists ran none.
-#   CODRIVE_SKIP_VCAN=1   skip the vcan suite explicitly (it is reported as skipped)
-#   CODRIVE_SKIP_FUZZ=1   skip the fuzz stage explicitly (reported as skipped)
-#   CODRIVE_FUZZ_SECONDS  seconds per fuzz target (default 10)
-#   CODRIVE_JOBS=N        parallel build jobs (default: nproc)
+# EtherCAT tests on veth, the host threading tests under ThreadSanitizer, the allocation tests
+# in a Release build, the libFuzzer targets (clang 14, bounded time) and a valgrind leak check of
+# a vcan subset in the guest. Each build directory builds only the targets its stages run.
+# The summary gives per suite: passed, failed, skipped, and the stage's wall time. A suite that
+# exists but ran no test fails the run, and so does a skipped test that was not asked for.
+#   CODRIVE_SKIP_VCAN=1      skip the vcan and leak stages explicitly (reported as skipped)
+#   CODRIVE_SKIP_ETHERCAT=1  skip the EtherCAT stage explicitly, and let the TSan suite skip its
+#                            veth tests (reported as skipped)
+#   CODRIVE_SKIP_FUZZ=1      skip the fuzz stage explicitly (reported as skipped)
+#   CODRIVE_FUZZ_SECONDS     seconds per fuzz target (default 10)
+#   CODRIVE_JOBS=N           parallel build jobs (default: nproc)
+# The last line is "N passed, M failed, K skipped" (CI reads it).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 root=$PWD
 jobs=${CODRIVE_JOBS:-$(nproc)}
+t_start=$(date +%s)
 
-bash .ci/install-deps.sh
-
-configure_build() { # dir sanitize
-    local dir=$1 sanitize=$2
-    cmake -S "$root" -B "$dir" -G Ninja -DCMAKE_BUILD_TYPE=Debug -DCODRIVE_SANITIZE="$sanitize" \
-        -DCODRIVE_BUILD_BENCH=OFF >"$dir.configure.log" 2>&1 || {
-        cat "$dir.configure.log"
-        exit 1
-    }
-    ninja -C "$dir" -j "$jobs"
-}
-
-declare -A passed failed
-total_passed=0
-total_failed=0
-
-# run_suite NAME CMD... : runs gtest binaries, adds up "[  PASSED  ] N" and "N FAILED TEST".
-count_gtest() { # label logfile
-    local label=$1 log=$2 p f
-    p=$(awk '/^\[  PASSED  \] [0-9]+ test/ {s += $4} END {print s + 0}' "$log")
-    f=$(awk '/^\[  FAILED  \] [0-9]+ test/ {s += $4} END {print s + 0}' "$log")
-    passed[$label]=$(( ${passed[$label]:-0} + p ))
-    failed[$label]=$(( ${failed[$label]:-0} + f ))
-}
-
+declare -A passed failed skipped seconds note
+suites=(unit tsan release vcan leak fuzz ethercat install)
+stage_order=()
 status=0
-echo "== build: ASan+UBSan (unit and virtual-bus tests)"
-configure_build "$root/build-asan" "address,undefined"
-echo "== unit tests (ASan+UBSan)"
-for exe in "$root"/build-asan/tests/unit_* "$root"/build-asan/tests/integration_tests; do
-    [[ -x $exe ]] || continue
-    log=$(mktemp)
+
+# stage NAME CMD... : runs CMD, records its wall time under NAME (for the summary).
+stage() {
+    local name=$1 t0 rc
+    shift
+    t0=$(date +%s)
     set +e
-    "$exe" >"$log" 2>&1
+    "$@"
     rc=$?
     set -e
+    seconds[$name]=$(($(date +%s) - t0))
+    stage_order+=("$name")
+    return $rc
+}
+
+stage deps bash .ci/install-deps.sh
+
+# configure_build DIR BUILD_TYPE SANITIZE TARGET_REGEX: configures like the README and builds
+# only the executables whose names match TARGET_REGEX (and what they link).
+configure_build() {
+    local dir=$1 type=$2 sanitize=$3 regex=$4 targets
+    cmake -S "$root" -B "$dir" -G Ninja -DCMAKE_BUILD_TYPE="$type" -DCODRIVE_SANITIZE="$sanitize" \
+        -DCODRIVE_BUILD_BENCH=OFF >"$dir.configure.log" 2>&1 || {
+        cat "$dir.configure.log"
+        return 1
+    }
+    targets=$(ninja -C "$dir" -t targets all | awk -F: -v re="^($regex)\$" '$1 ~ re {print $1}' |
+        sort -u)
+    if [[ -z $targets ]]; then
+        echo "run-all: no target in $dir matches $regex" >&2
+        return 1
+    fi
+    # shellcheck disable=SC2086 # one word per target
+    ninja -C "$dir" -j "$jobs" $targets
+}
+
+# count_gtest SUITE LOGFILE: adds up gtest's "[  PASSED  ] N", "[  FAILED  ] N" and
+# "[  SKIPPED ] N" lines.
+count_gtest() {
+    local suite=$1 log=$2 p f s
+    p=$(awk '/^\[  PASSED  \] [0-9]+ test/ {s += $4} END {print s + 0}' "$log")
+    f=$(awk '/^\[  FAILED  \] [0-9]+ test/ {s += $4} END {print s + 0}' "$log")
+    s=$(awk '/^\[  SKIPPED \] [0-9]+ test/ {s += $4} END {print s + 0}' "$log")
+    passed[$suite]=$((${passed[$suite]:-0} + p))
+    failed[$suite]=$((${failed[$suite]:-0} + f))
+    skipped[$suite]=$((${skipped[$suite]:-0} + s))
+}
+
+# report_gtest SUITE NAME LOG RC: prints a gtest binary's log on failure (its PASSED/SKIPPED
+# lines otherwise) and counts it into SUITE; a binary that crashed before its summary counts as
+# one failure.
+report_gtest() {
+    local suite=$1 name=$2 log=$3 rc=$4
     if [[ $rc -ne 0 ]]; then
         cat "$log"
         status=1
     else
-        grep -E '^\[  PASSED  \]' "$log" | sed "s|^|$(basename "$exe"): |" || true
+        grep -E '^\[  (PASSED|SKIPPED) \]' "$log" | sed "s|^|$name: |" || true
     fi
-    count_gtest unit "$log"
-    rm -f "$log"
-done
+    count_gtest "$suite" "$log"
+    if [[ $rc -ne 0 ]] && ! grep -qE '^\[  FAILED  \] [0-9]+ test' "$log"; then
+        failed[$suite]=$((${failed[$suite]:-0} + 1))
+    fi
+}
 
-echo "== build: UBSan (vcan and EtherCAT tests; ASan cannot run in a UML guest)"
-configure_build "$root/build-ubsan" "undefined"
+# run_gtest SUITE EXE [ARGS...]: runs one gtest binary on the host and reports it.
+run_gtest() {
+    local suite=$1 exe=$2 log rc
+    shift 2
+    log=$(mktemp)
+    set +e
+    "$exe" "$@" >"$log" 2>&1
+    rc=$?
+    set -e
+    report_gtest "$suite" "$(basename "$exe")" "$log" $rc
+    rm -f "$log"
+}
+
+# The unit stage runs in the background while build-ubsan compiles (a test binary needs one
+# CPU): each binary's log and exit status go to unit_dir and are counted afterwards.
+unit_dir=$root/build-asan/ci-unit
+unit_run() {
+    local exe t0
+    t0=$(date +%s)
+    rm -rf "$unit_dir"
+    mkdir -p "$unit_dir"
+    for exe in "$root"/build-asan/tests/unit_* "$root"/build-asan/tests/integration_tests; do
+        [[ -x $exe ]] || continue
+        "$exe" >"$unit_dir/$(basename "$exe").log" 2>&1
+        echo $? >"$unit_dir/$(basename "$exe").rc"
+    done
+    echo $(($(date +%s) - t0)) >"$unit_dir/seconds"
+}
+unit_report() {
+    local log name
+    for log in "$unit_dir"/*.log; do
+        [[ -f $log ]] || continue
+        name=$(basename "$log" .log)
+        report_gtest unit "$name" "$log" "$(cat "$unit_dir/$name.rc" 2>/dev/null || echo 1)"
+    done
+}
+
+# The allocation proofs in an optimised build: the optimiser must not be able to remove what
+# they count (and a Release build is what users ship). The build directory is the one the
+# install stage (tests/install/run.sh) configures next with the same flags: the libraries
+# compiled here are reused there instead of being compiled a fourth time.
+release_build=$root/build-install/build
+release_stage() {
+    local exe
+    for exe in "$release_build"/tests/unit_pdo "$release_build"/tests/unit_sync \
+        "$release_build"/tests/unit_drives; do
+        run_gtest release "$exe" --gtest_filter='*Allocation*'
+    done
+}
+
+# ThreadSanitizer on the tests where threads meet: the in-process controller and hand-off tests
+# (integration_tests) and the controller over veth EtherCAT with its dedicated cyclic thread.
+# TSan cannot run in the UML guest, so the vcan suite has no TSan run.
+tsan_stage() {
+    export TSAN_OPTIONS="halt_on_error=1 second_deadlock_stack=1 ${TSAN_OPTIONS:-}"
+    run_gtest tsan "$root/build-tsan/tests/integration_tests"
+    run_gtest tsan "$root/build-tsan/tests/ethercat_tests" \
+        --gtest_filter='ControllerOverEthercat.*:-*EcatDemoProgram*'
+}
+
+echo "== build: ASan+UBSan (unit and virtual-bus tests)"
+stage build-asan configure_build "$root/build-asan" Debug "address,undefined" \
+    'unit_[a-z_]+|integration_tests' || status=1
+echo "== unit tests (ASan+UBSan) started in the background, beside the UBSan build"
+unit_run &
+unit_pid=$!
+
+echo "== build: UBSan (vcan and EtherCAT tests, tools; ASan cannot run in a UML guest)"
+all_jobs=$jobs
+jobs=$((all_jobs > 1 ? all_jobs - 1 : 1))
+stage build-ubsan configure_build "$root/build-ubsan" Debug "undefined" \
+    'vcan_tests|ethercat_tests|codrive[a-z_-]*' || status=1
+jobs=$all_jobs
+echo "== unit tests (ASan+UBSan)"
+wait "$unit_pid" || true
+seconds[unit]=$(cat "$unit_dir/seconds" 2>/dev/null || echo 0)
+stage_order+=(unit)
+unit_report
 
 # Fuzz stage in the background: the UML guest of the vcan stage uses one CPU, the clang build and
 # the fuzzers use the others. Its log is printed after the vcan stage.
 fuzz_log=$root/build-fuzz.ci.log
 fuzz_pid=
+fuzz_t0=$(date +%s)
 if [[ ${CODRIVE_SKIP_FUZZ:-0} == 1 ]]; then
-    fuzz_skipped=1
+    note[fuzz]="skipped on request"
 else
-    fuzz_skipped=0
     echo "== fuzz stage started in the background (log: $fuzz_log)"
     fuzz_jobs=$((jobs > 1 ? jobs - 1 : 1))
     CODRIVE_FUZZ_BUILD=$root/build-fuzz JOBS=$fuzz_jobs \
@@ -78,12 +183,8 @@ else
     fuzz_pid=$!
 fi
 
-if [[ ${CODRIVE_SKIP_VCAN:-0} == 1 ]]; then
-    echo "== vcan tests: SKIPPED (CODRIVE_SKIP_VCAN=1)"
-    vcan_skipped=1
-else
-    vcan_skipped=0
-    echo "== vcan tests (real SocketCAN)"
+vcan_stage() {
+    local log rc
     log=$(mktemp)
     set +e
     bash vcan-scripts/run-in-vcan.sh -v "$root/build-ubsan/tests/vcan_tests" 2>&1 | tee "$log"
@@ -92,8 +193,10 @@ else
     [[ $rc -eq 0 ]] || status=1
     count_gtest vcan "$log"
     rm -f "$log"
+}
 
-    echo "== leak check: valgrind memcheck on a vcan subset and the tools it starts (guest)"
+leak_stage() {
+    local log rc
     log=$(mktemp)
     set +e
     bash vcan-scripts/run-in-vcan.sh --timeout 900 bash tests/vcan/leak_check.sh \
@@ -107,6 +210,17 @@ else
     failed[leak]=$(awk '/^leak-check: [0-9]+ processes clean/ {print $5 + $8}' "$log")
     [[ -n ${passed[leak]} ]] || failed[leak]=1
     rm -f "$log"
+}
+
+if [[ ${CODRIVE_SKIP_VCAN:-0} == 1 ]]; then
+    echo "== vcan tests: SKIPPED (CODRIVE_SKIP_VCAN=1)"
+    note[vcan]="skipped on request"
+    note[leak]="skipped on request"
+else
+    echo "== vcan tests (real SocketCAN)"
+    stage vcan vcan_stage
+    echo "== leak check: valgrind memcheck on a vcan subset and the tools it starts (guest)"
+    stage leak leak_stage
 fi
 
 if [[ -n $fuzz_pid ]]; then
@@ -115,6 +229,8 @@ if [[ -n $fuzz_pid ]]; then
     wait "$fuzz_pid"
     rc=$?
     set -e
+    seconds[fuzz]=$(($(date +%s) - fuzz_t0))
+    stage_order+=(fuzz)
     cat "$fuzz_log"
     [[ $rc -eq 0 ]] || status=1
     passed[fuzz]=$(awk '/^fuzz: [0-9]+ passed/ {print $2}' "$fuzz_log")
@@ -124,55 +240,91 @@ if [[ -n $fuzz_pid ]]; then
     fi
 fi
 
-if [[ -x $root/build-ubsan/tests/ethercat_tests ]]; then
+if [[ ${CODRIVE_SKIP_ETHERCAT:-0} == 1 ]]; then
+    echo "== EtherCAT tests: SKIPPED (CODRIVE_SKIP_ETHERCAT=1)"
+    note[ethercat]="skipped on request"
+else
     echo "== EtherCAT tests (veth)"
+    stage ethercat run_gtest ethercat "$root/build-ubsan/tests/ethercat_tests"
+fi
+
+echo "== build: ThreadSanitizer (controller, hand-off and EtherCAT controller tests)"
+stage build-tsan configure_build "$root/build-tsan" Debug thread \
+    'integration_tests|ethercat_tests|codrive-ecat-sim' || status=1
+echo "== ThreadSanitizer tests (host)"
+stage tsan tsan_stage
+
+echo "== build: Release (allocation tests)"
+mkdir -p "$root/build-install"
+stage build-release configure_build "$release_build" Release "" \
+    'unit_pdo|unit_sync|unit_drives' || status=1
+echo "== allocation tests (Release)"
+stage release release_stage
+
+install_stage() {
+    local log rc
     log=$(mktemp)
     set +e
-    "$root/build-ubsan/tests/ethercat_tests" 2>&1 | tee "$log"
+    bash tests/install/run.sh "$root/build-install" 2>&1 | tee "$log"
     rc=${PIPESTATUS[0]}
     set -e
     [[ $rc -eq 0 ]] || status=1
-    count_gtest ethercat "$log"
+    passed[install]=$(awk '/^install: [0-9]+ passed/ {print $2}' "$log")
+    failed[install]=$(awk '/^install: [0-9]+ passed/ {print $4}' "$log")
+    [[ -n ${passed[install]} ]] || failed[install]=1
     rm -f "$log"
-    ethercat_expected=1
-else
-    ethercat_expected=0
-fi
-
+}
 echo "== install: find_package(codrive) and pkg-config consumers of an installed tree"
-log=$(mktemp)
-set +e
-bash tests/install/run.sh "$root/build-install" 2>&1 | tee "$log"
-rc=${PIPESTATUS[0]}
-set -e
-[[ $rc -eq 0 ]] || status=1
-passed[install]=$(awk '/^install: [0-9]+ passed/ {print $2}' "$log")
-failed[install]=$(awk '/^install: [0-9]+ passed/ {print $4}' "$log")
-[[ -n ${passed[install]} ]] || failed[install]=1
-rm -f "$log"
+stage install install_stage
+
+# Skips that were asked for: the vcan guard honours CODRIVE_SKIP_VCAN, the veth guard
+# CODRIVE_SKIP_ETHERCAT (in the EtherCAT and TSan suites). Any other skip is an error.
+skip_allowed() { # suite
+    case $1 in
+    vcan) [[ ${CODRIVE_SKIP_VCAN:-0} == 1 ]] ;;
+    ethercat | tsan) [[ ${CODRIVE_SKIP_ETHERCAT:-0} == 1 ]] ;;
+    *) false ;;
+    esac
+}
+
+fmt_time() { printf '%dm%02ds' $(($1 / 60)) $(($1 % 60)); }
 
 echo
 echo "== summary"
-for suite in unit vcan leak fuzz ethercat install; do
+total_passed=0
+total_failed=0
+total_skipped=0
+for suite in "${suites[@]}"; do
     p=${passed[$suite]:-0}
     f=${failed[$suite]:-0}
+    s=${skipped[$suite]:-0}
     total_passed=$((total_passed + p))
     total_failed=$((total_failed + f))
-    note=""
-    if [[ ($suite == vcan || $suite == leak) && $vcan_skipped == 1 ]]; then
-        note=" (skipped on request)"
-    elif [[ $suite == fuzz && $fuzz_skipped == 1 ]]; then
-        note=" (skipped on request)"
-    elif [[ $suite == ethercat && $ethercat_expected == 0 ]]; then
-        note=" (no EtherCAT suite built yet)"
-    elif ((p + f == 0)); then
-        note=" (ERROR: the suite ran no test)"
-        status=1
+    total_skipped=$((total_skipped + s))
+    n=${note[$suite]:-}
+    if [[ -z $n ]]; then
+        if ((p + f + s == 0)); then
+            n="ERROR: the suite ran no test"
+            status=1
+        elif ((s > 0)) && ! skip_allowed "$suite"; then
+            n="ERROR: $s test(s) skipped that no CODRIVE_SKIP_* asked to skip"
+            status=1
+        elif ((s > 0)); then
+            n="skips requested"
+        fi
     fi
-    printf '%-9s %5d passed, %d failed%s\n' "$suite:" "$p" "$f" "$note"
+    t=""
+    [[ -n ${seconds[$suite]:-} ]] && t=$(fmt_time "${seconds[$suite]}")
+    printf '%-9s %5d passed, %d failed, %d skipped  %8s%s\n' "$suite:" "$p" "$f" "$s" "$t" \
+        "${n:+  ($n)}"
 done
+line="stage times:"
+for name in "${stage_order[@]}"; do
+    line+=" $name $(fmt_time "${seconds[$name]}"),"
+done
+echo "$line total $(fmt_time $(($(date +%s) - t_start))) (fuzz runs beside vcan and leak)"
 if ((total_failed > 0)); then
     status=1
 fi
-echo "${total_passed} passed, ${total_failed} failed"
+echo "${total_passed} passed, ${total_failed} failed, ${total_skipped} skipped"
 exit $status

@@ -5,6 +5,7 @@
 
 #include "ecat_segment.hpp"
 #include "handoff_transport.hpp"
+#include "seqlock.hpp"
 #include "spsc_ring.hpp"
 
 #include <codrive/core/socket_can_bus.hpp>
@@ -53,6 +54,19 @@ struct Controller::Bus {
     /// filtered by the kernel) and the PDO events it hands to the acyclic thread.
     std::unique_ptr<SocketCanBus> cyclic_socket;
     SpscRing<pdo::PdoEvent, 64> pdo_events;
+};
+
+/// The cyclic figures of stats(), published by whichever thread owns the cycles (the loop
+/// thread in Threading::Single, the cyclic thread in Threading::DedicatedCyclic, the loop thread
+/// again after the cyclic thread was joined): one writer at a time, lock-free readers.
+struct Controller::StatsCell {
+    Seqlock<ControllerStats> snapshot;
+    // Writer side only: percentiles scan the histogram (a few thousand buckets), so they are
+    // recomputed every kPercentileEvery publications, not every cycle.
+    static constexpr std::uint64_t kPercentileEvery = 256;
+    std::uint64_t publications = 0;
+    Duration p50{0};
+    Duration p99{0};
 };
 
 /// Dedicated-cyclic mode, acyclic side: starts the object accesses the cyclic thread queued
@@ -114,7 +128,7 @@ std::string ControllerStats::to_string() const {
 
 Controller::Controller(std::vector<master::BusConfig> buses,
                        std::vector<EcatSegmentConfig> segments, ControllerOptions options)
-    : options_(std::move(options)) {
+    : options_(std::move(options)), stats_cell_(std::make_unique<StatsCell>()) {
     for (auto& c : buses) {
         auto b = std::make_unique<Bus>();
         b->config = std::move(c);
@@ -476,6 +490,7 @@ tl::expected<void, std::string> Controller::start() {
             if (cycle_cb_) {
                 cycle_cb_(info);
             }
+            publish_cyclic_stats(false);
         });
         loop_->add_timed(seg.get());
     }
@@ -589,6 +604,23 @@ void Controller::pump_acyclic() {
     }
 }
 
+void Controller::set_cycle_callback(CycleCallback cb) {
+    if (!dedicated() || !cyclic_thread_.joinable() ||
+        std::this_thread::get_id() == cyclic_thread_.get_id()) {
+        cycle_cb_ = std::move(cb); // no other thread calls it
+        return;
+    }
+    // The cyclic thread calls cycle_cb_: it swaps the new one in at its next wake-up (a swap of
+    // two std::function objects allocates nothing); the old one comes back in pending_cb_ and is
+    // destroyed here, off the cyclic thread.
+    pending_cb_ = std::move(cb);
+    cb_handoff_.store(true, std::memory_order_release);
+    while (cb_handoff_.load(std::memory_order_acquire)) {
+        std::this_thread::yield();
+    }
+    pending_cb_ = nullptr;
+}
+
 void Controller::cyclic_main() {
     cyclic_warnings_ = apply_realtime(options_.realtime);
     cyclic_ready_.store(true, std::memory_order_release);
@@ -607,6 +639,10 @@ void Controller::cyclic_main() {
         const auto ns = wake.time_since_epoch().count();
         timespec ts{static_cast<time_t>(ns / 1000000000), static_cast<long>(ns % 1000000000)};
         while (::clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &ts, nullptr) == EINTR) {
+        }
+        if (cb_handoff_.load(std::memory_order_acquire)) {
+            std::swap(cycle_cb_, pending_cb_);
+            cb_handoff_.store(false, std::memory_order_release);
         }
         const TimePoint now = SteadyClock::now();
         for (auto& b : buses_) {
@@ -670,6 +706,7 @@ void Controller::on_sync(Bus& b, const CycleInfo& info) {
         }
     }
     b.pdo->on_sync(info.cycle, info.actual);
+    publish_cyclic_stats(false);
 }
 
 void Controller::cyclic_begin_safe_stop(std::size_t& pending) {
@@ -739,6 +776,7 @@ void Controller::shutdown() {
         caller_schedule_->restore();
         caller_schedule_.reset();
     }
+    publish_cyclic_stats(true); // cycles have ended (cyclic thread joined): exact figures
 }
 
 void Controller::run() {
@@ -816,22 +854,53 @@ const master::BusConfig& Controller::config(std::size_t bus) const {
     return buses_.at(bus)->config;
 }
 
-ControllerStats Controller::stats() const {
+void Controller::publish_cyclic_stats(bool exact_percentiles) {
+    // Runs on the cycle owner: reads only what that thread owns (SYNC producers, PDO engines,
+    // segments' cycle counters and histograms), allocates nothing.
+    StatsCell& cell = *stats_cell_;
+    const bool refresh = exact_percentiles || cell.publications % StatsCell::kPercentileEvery == 0;
+    ++cell.publications;
     ControllerStats s;
+    Duration p50{0};
+    Duration p99{0};
+    const auto add_period = [&](const sync::PeriodStats& pe) {
+        if (refresh) {
+            p50 = std::max(p50, pe.p50());
+            p99 = std::max(p99, pe.p99());
+        }
+        s.period_error_max = std::max(s.period_error_max, pe.max());
+    };
     for (const auto& b : buses_) {
         if (b->sync) {
             s.cycles += b->sync->sent();
             s.overruns += b->sync->skipped();
-            const auto& pe = b->sync->period_error();
-            s.period_error_p50 = std::max(s.period_error_p50, pe.p50());
-            s.period_error_p99 = std::max(s.period_error_p99, pe.p99());
-            s.period_error_max = std::max(s.period_error_max, pe.max());
+            add_period(b->sync->period_error());
         }
         if (b->pdo) {
             s.tpdos_received += b->pdo->stats().tpdos_received;
             s.tpdos_missing += b->pdo->stats().tpdos_missing;
             s.rpdos_sent += b->pdo->stats().rpdos_sent;
         }
+    }
+    for (const auto& seg : segments_) {
+        s.cycles += seg->cycles();
+        s.overruns += seg->overruns();
+        add_period(seg->period_error());
+        s.ecat_frame_errors += seg->frame_errors();
+    }
+    if (refresh) {
+        cell.p50 = p50;
+        cell.p99 = p99;
+    }
+    s.period_error_p50 = cell.p50;
+    s.period_error_p99 = cell.p99;
+    cell.snapshot.store(s);
+}
+
+ControllerStats Controller::stats() const {
+    ControllerStats s = stats_cell_->snapshot.load();
+    // The loop thread's own figures.
+    for (const auto& b : buses_) {
         if (b->master) {
             for (auto* n : const_cast<master::Master&>(*b->master).nodes()) {
                 s.sdo_completed += n->sdo().stats().completed;
@@ -839,15 +908,6 @@ ControllerStats Controller::stats() const {
             }
         }
         s.bus_errors += b->bus_errors + (b->bus != nullptr ? b->bus->stats().error_frames : 0);
-    }
-    for (const auto& seg : segments_) {
-        s.cycles += seg->cycles();
-        s.overruns += seg->overruns();
-        const auto& pe = seg->period_error();
-        s.period_error_p50 = std::max(s.period_error_p50, pe.p50());
-        s.period_error_p99 = std::max(s.period_error_p99, pe.p99());
-        s.period_error_max = std::max(s.period_error_max, pe.max());
-        s.ecat_frame_errors += seg->frame_errors();
     }
     return s;
 }

@@ -24,8 +24,11 @@ struct RawDatagram {
     bool circulated;
 };
 
-// Validates the frame and collects the datagram positions; nothing else reads unchecked bytes.
-Result<std::vector<RawDatagram>> scan_frame(std::span<const std::uint8_t> frame) {
+// Validates the frame and hands each datagram's position to `visit` (a RawDatagram, in order);
+// nothing else reads unchecked bytes. Returns the number of datagrams. Allocates nothing: the
+// cyclic LRW path decodes through it every cycle.
+template <typename Visit>
+Result<std::size_t> scan_frame_each(std::span<const std::uint8_t> frame, Visit&& visit) {
     if (frame.size() < kEthernetHeaderSize + kEcatHeaderSize) {
         return fail(EcatErrc::InvalidFrame);
     }
@@ -44,7 +47,7 @@ Result<std::vector<RawDatagram>> scan_frame(std::span<const std::uint8_t> frame)
         return fail(EcatErrc::InvalidFrame);
     }
     const std::size_t end = begin + ecat_len;
-    std::vector<RawDatagram> out;
+    std::size_t count = 0;
     std::size_t pos = begin;
     while (true) {
         if (pos + kDatagramHeaderSize > end) {
@@ -56,11 +59,22 @@ Result<std::vector<RawDatagram>> scan_frame(std::span<const std::uint8_t> frame)
         if (!is_valid_command(cmd) || pos + kDatagramHeaderSize + len + 2 > end) {
             return fail(EcatErrc::InvalidFrame);
         }
-        out.push_back({pos, cmd, len, (len_field & kCirculatingBit) != 0});
+        visit(RawDatagram{pos, cmd, len, (len_field & kCirculatingBit) != 0});
+        ++count;
         pos += kDatagramHeaderSize + len + 2;
         if ((len_field & kMoreBit) == 0) {
             break;
         }
+    }
+    return count;
+}
+
+// The datagram positions as a list (decoding paths outside the cycle).
+Result<std::vector<RawDatagram>> scan_frame(std::span<const std::uint8_t> frame) {
+    std::vector<RawDatagram> out;
+    auto n = scan_frame_each(frame, [&out](const RawDatagram& r) { out.push_back(r); });
+    if (!n) {
+        return fail(n.error());
     }
     return out;
 }
@@ -306,30 +320,35 @@ Result<std::vector<Datagram>> decode_frame(std::span<const std::uint8_t> frame) 
 }
 
 VoidResult decode_frame_into(std::span<const std::uint8_t> frame, std::span<Datagram> datagrams) {
-    auto raw = scan_frame(frame);
-    if (!raw) {
-        return fail(raw.error());
+    // Two passes over the frame, no list: first check that it answers `datagrams` one for one
+    // (nothing is written unless all match), then copy.
+    std::size_t i = 0;
+    bool matches = true;
+    auto n = scan_frame_each(frame, [&](const RawDatagram& r) {
+        const std::uint8_t* h = frame.data() + r.header_offset;
+        if (i >= datagrams.size() || r.cmd != static_cast<std::uint8_t>(datagrams[i].command) ||
+            h[1] != datagrams[i].index || r.len != datagrams[i].data.size()) {
+            matches = false;
+        }
+        ++i;
+    });
+    if (!n) {
+        return fail(n.error());
     }
-    if (raw->size() != datagrams.size()) {
+    if (*n != datagrams.size() || !matches) {
         return fail(EcatErrc::ProtocolError);
     }
-    for (std::size_t i = 0; i < datagrams.size(); ++i) {
-        const std::uint8_t* h = frame.data() + (*raw)[i].header_offset;
-        if ((*raw)[i].cmd != static_cast<std::uint8_t>(datagrams[i].command) ||
-            h[1] != datagrams[i].index || (*raw)[i].len != datagrams[i].data.size()) {
-            return fail(EcatErrc::ProtocolError);
-        }
-    }
-    for (std::size_t i = 0; i < datagrams.size(); ++i) {
-        const std::uint8_t* h = frame.data() + (*raw)[i].header_offset;
-        Datagram& d = datagrams[i];
+    i = 0;
+    (void)scan_frame_each(frame, [&](const RawDatagram& r) {
+        const std::uint8_t* h = frame.data() + r.header_offset;
+        Datagram& d = datagrams[i++];
         if (!d.data.empty()) {
             std::memcpy(d.data.data(), h + kDatagramHeaderSize, d.data.size());
         }
         d.irq = get_le<std::uint16_t>(h + 8);
         d.address = get_le<std::uint32_t>(h + 2);
         d.wkc = get_le<std::uint16_t>(h + kDatagramHeaderSize + d.data.size());
-    }
+    });
     return {};
 }
 

@@ -1,13 +1,17 @@
 // SPDX-License-Identifier: Apache-2.0
 // The Controller in both threading modes against a simulated AKD2G on vcan: enable and a CSP
-// ramp driven from the cycle callback, SYNC jitter printed, stop within 1 s, and no descriptor
-// or thread left behind.
+// ramp driven from the cycle callback, no overrun or missing TPDO once moving, no allocation on
+// the dedicated cyclic thread, stop within 1 s, and no descriptor or thread left behind.
 #include <codrive/controller/controller.hpp>
 #include <codrive/testing/enable_then_ramp.hpp>
 #include <codrive/testing/process.hpp>
 #include <codrive/testing/soak.hpp>
 #include <codrive/testing/stop_latency.hpp>
 #include <codrive/testing/vcan.hpp>
+
+// One program-wide counting operator new (included once per program): the dedicated cyclic
+// thread's allocations are counted from its cycle callback.
+#include <codrive/testing/counting_new.hpp>
 
 #include <gtest/gtest.h>
 
@@ -72,13 +76,40 @@ void enable_move_stop(controller::Threading mode, const char* label) {
         drives::Axis* axis = c.axis(1, 1);
         ASSERT_NE(axis, nullptr);
         codrive::testing::EnableThenRamp ramp(*axis, 200, 40000);
-        c.set_cycle_callback([&](const controller::CycleInfo&) { ramp.on_cycle(); });
+        // Dedicated mode: the cyclic thread's allocations over 500 cycles once the axis moves.
+        codrive::testing::CycleAllocations allocations(10, 500);
+        const bool dedicated = mode == controller::Threading::DedicatedCyclic;
+        c.set_cycle_callback([&](const controller::CycleInfo&) {
+            ramp.on_cycle();
+            if (dedicated) {
+                allocations.on_cycle(ramp.phase() == ramp.Moving || ramp.phase() == ramp.Done);
+            }
+        });
+        ASSERT_TRUE(c.run_until(
+            [&] { return ramp.phase() != ramp.Waiting && ramp.phase() != ramp.Enabling; }, 30s))
+            << "phase " << ramp.phase() << "\n"
+            << events;
+        const auto moving = c.stats(); // steady state from here: enabled, following the ramp
         ASSERT_TRUE(c.run_until([&] { return ramp.finished(); }, 30s))
             << "phase " << ramp.phase() << "\n"
             << events;
         ASSERT_TRUE(ramp.done()) << ramp.failure() << events;
         c.run_for(300ms);
+        if (dedicated) {
+            ASSERT_TRUE(c.run_until([&] { return allocations.done(); }, 10s));
+            std::printf("%s: %llu allocations on the cyclic thread in %llu cycles\n", label,
+                        static_cast<unsigned long long>(allocations.count()),
+                        static_cast<unsigned long long>(allocations.cycles()));
+            EXPECT_EQ(allocations.count(), 0U);
+        }
         EXPECT_NEAR(ramp.position(), ramp.start() + 40000, 1000) << events;
+        const auto steady = c.stats();
+        if (dedicated) {
+            // An unloaded vcan with one drive: once the axis follows the ramp, the cyclic thread
+            // keeps every SYNC slot and every TPDO arrives.
+            EXPECT_EQ(steady.overruns - moving.overruns, 0U) << steady.to_string();
+            EXPECT_EQ(steady.tpdos_missing - moving.tpdos_missing, 0U) << steady.to_string();
+        }
 
         const double stop_ms = codrive::testing::run_and_measure_stop(c);
         const auto stats = c.stats();

@@ -7,29 +7,19 @@
 #include <atomic>
 #include <cstdlib>
 #include <new>
+#include <string>
+#include <vector>
 
 #include <codrive/testing/counting_new.hpp>
 
 // One program-wide counting operator new (included once per program).
-using codrive::testing::g_allocations;
-using codrive::testing::g_counting;
+using codrive::testing::AllocationScope;
 
 using namespace codrive;
 using namespace codrive::pdo;
 using namespace codrive::pdo::test;
 
 namespace {
-
-/// Counts allocations made on this thread while alive.
-class AllocationScope {
-public:
-    AllocationScope() : start_(g_allocations.load()) { g_counting = true; }
-    ~AllocationScope() { g_counting = false; }
-    [[nodiscard]] std::uint64_t count() const { return g_allocations.load() - start_; }
-
-private:
-    std::uint64_t start_;
-};
 
 /// A bus that only counts: the engines' sends cost nothing here.
 class CountingBus final : public ICanBus {
@@ -54,11 +44,38 @@ private:
 
 } // namespace
 
-TEST(PdoAllocation, CountingScopeSeesAllocations) {
+namespace {
+struct alignas(64) Aligned {
+    std::uint8_t bytes[64];
+};
+} // namespace
+
+// The counter must see what it claims to see, also at -O2 (run in the Release build too): a
+// new-expression whose result is unused may be elided by the optimiser, so the pointers escape
+// through a volatile, and the replaceable functions are also called directly.
+TEST(PdoAllocation, CountingScopeSeesEveryFormOfAllocation) {
     AllocationScope scope;
-    auto* p = new int(3);
-    delete p;
-    EXPECT_EQ(scope.count(), 1U);
+    void* volatile sink = ::operator new(sizeof(int));
+    ::operator delete(sink);
+    EXPECT_EQ(scope.count(), 1U) << "operator new(size)";
+    auto* volatile one = new int(3);
+    delete one;
+    auto* volatile many = new int[5];
+    delete[] many;
+    EXPECT_EQ(scope.count(), 3U) << "new, new[]";
+    auto* volatile aligned = new Aligned;
+    delete aligned;
+    sink = ::operator new (16, std::align_val_t{64});
+    ::operator delete (sink, std::align_val_t{64});
+    EXPECT_EQ(scope.count(), 5U) << "align_val_t forms";
+    sink = ::operator new(8, std::nothrow);
+    ::operator delete(sink);
+    auto* volatile nothrow_aligned = new (std::nothrow) Aligned;
+    delete nothrow_aligned;
+    EXPECT_EQ(scope.count(), 7U) << "nothrow forms";
+    std::vector<int> v(100);
+    std::string long_text(100, 'x');
+    EXPECT_EQ(scope.count(), 9U) << "library allocations (" << v.size() + long_text.size() << ")";
 }
 
 TEST(PdoAllocation, MasterCyclicPathAllocatesNothing) {

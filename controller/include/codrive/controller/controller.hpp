@@ -130,7 +130,11 @@ public:
     /// Runs fn on the loop thread (thread-safe).
     void post(std::function<void()> fn);
 
-    void set_cycle_callback(CycleCallback cb) { cycle_cb_ = std::move(cb); }
+    /// Sets (or, with nullptr, clears) the callback run on every cycle. In
+    /// Threading::DedicatedCyclic, while the cyclic thread runs, the new callback is handed to
+    /// that thread at its next wake-up and this call waits for it (at most about 20 ms): once it
+    /// returns, the previous callback is no longer called and has been destroyed on this thread.
+    void set_cycle_callback(CycleCallback cb);
     /// Master events, PDO events, boot reports and warnings, each a sentence.
     void set_event_callback(EventCallback cb) { event_cb_ = std::move(cb); }
 
@@ -140,6 +144,12 @@ public:
     [[nodiscard]] drives::Axis* axis(NodeId node, unsigned number = 1, std::size_t bus = 0);
     [[nodiscard]] std::vector<AxisRef> axes() const;
     [[nodiscard]] master::Master& master(std::size_t bus = 0);
+    /// Statistics. The cyclic figures (cycles, overruns, SYNC period error, PDO counts,
+    /// EtherCAT frame errors) come from a snapshot the cycle publishes lock-free after every
+    /// cycle, so any thread may read them while the cyclic thread runs (percentiles are
+    /// refreshed every 256 cycles, exactly at shutdown). The SDO and bus-error figures belong
+    /// to the thread that runs the loop: call stats() there (a callback, post()) or after
+    /// run() returned.
     [[nodiscard]] ControllerStats stats() const;
     [[nodiscard]] EventLoop& loop() { return *loop_; }
     [[nodiscard]] bool running() const { return started_ && !stopped_; }
@@ -151,6 +161,7 @@ public:
 private:
     struct Bus;
     struct Node;
+    struct StatsCell;
     Controller(std::vector<master::BusConfig> buses, std::vector<EcatSegmentConfig> segments,
                ControllerOptions options);
     void emit(const std::string& text);
@@ -167,6 +178,8 @@ private:
     void cyclic_begin_safe_stop(std::size_t& pending);
     void pump_acyclic();
     void for_each_axis(const std::function<void(drives::Axis&)>& fn);
+    /// Cycle owner: aggregates the cyclic counters into the snapshot stats() reads.
+    void publish_cyclic_stats(bool exact_percentiles);
 
     ControllerOptions options_;
     std::unique_ptr<EventLoop> loop_;
@@ -184,6 +197,9 @@ private:
     std::atomic<bool> axes_safe_{false};           ///< cyclic → acyclic: axes stopped, SYNC off
     std::atomic<bool> cyclic_exit_{false};
     std::vector<std::string> cyclic_warnings_; ///< written before cyclic_ready_
+    CycleCallback pending_cb_; ///< set_cycle_callback() → cyclic thread (swapped there)
+    std::atomic<bool> cb_handoff_{false};   ///< pending_cb_ is ready to be swapped in
+    std::unique_ptr<StatsCell> stats_cell_; ///< the published cyclic statistics
     /// Threading::Single: the caller's thread settings before apply_realtime(), restored at
     /// shutdown.
     std::optional<SavedThreadSchedule> caller_schedule_;

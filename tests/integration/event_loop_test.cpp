@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
-// The epoll/timerfd event loop (real time, short waits).
+// The epoll/timerfd event loop: real timers, descriptors and a second thread (short waits).
 #include <codrive/core/event_loop.hpp>
 
 #include <gtest/gtest.h>

@@ -1,0 +1,107 @@
+// SPDX-License-Identifier: Apache-2.0
+// The allocation counter behind counting_new.hpp: counters, AllocationScope, and a counter of a
+// cyclic thread's allocations driven from the cycle callback. Any number of files may include
+// this header; the operators that feed it are in counting_new.hpp (one file per program).
+#pragma once
+
+#include <atomic>
+#include <cstdint>
+#include <cstdlib>
+#include <new>
+
+namespace codrive::testing {
+/// Allocations made by counting threads (any thread, while g_count_all_threads is set).
+inline std::atomic<std::uint64_t> g_allocations{0};
+/// Per thread: count this thread's allocations.
+inline thread_local bool g_counting = false;
+/// Count the allocations of every thread (threads the test did not start included).
+inline std::atomic<bool> g_count_all_threads{false};
+
+inline void note_allocation() {
+    if (g_counting || g_count_all_threads.load(std::memory_order_relaxed)) {
+        g_allocations.fetch_add(1, std::memory_order_relaxed);
+    }
+}
+
+[[gnu::noinline]] inline void* counted_malloc(std::size_t size) {
+    note_allocation();
+    return std::malloc(size == 0 ? 1 : size);
+}
+
+[[gnu::noinline]] inline void* counted_aligned(std::size_t size, std::align_val_t align) {
+    note_allocation();
+    const auto a = static_cast<std::size_t>(align);
+    // aligned_alloc wants a multiple of the alignment.
+    return std::aligned_alloc(a, ((size == 0 ? 1 : size) + a - 1) / a * a);
+}
+
+/// Counts the allocations made while it lives: by this thread, or by every thread
+/// (`all_threads`: the cyclic thread, helper threads).
+class AllocationScope {
+public:
+    explicit AllocationScope(bool all_threads = false)
+        : all_(all_threads), start_(g_allocations.load()) {
+        if (all_) {
+            g_count_all_threads = true;
+        } else {
+            g_counting = true;
+        }
+    }
+    ~AllocationScope() { stop(); }
+    AllocationScope(const AllocationScope&) = delete;
+    AllocationScope& operator=(const AllocationScope&) = delete;
+    void stop() {
+        if (all_) {
+            g_count_all_threads = false;
+        } else {
+            g_counting = false;
+        }
+    }
+    [[nodiscard]] std::uint64_t count() const { return g_allocations.load() - start_; }
+
+private:
+    bool all_;
+    std::uint64_t start_;
+};
+} // namespace codrive::testing
+
+namespace codrive::testing {
+
+/// Counts the allocations of the thread that runs a cycle callback (the controller's cyclic
+/// thread), from the end of cycle `warmup` to the end of cycle `warmup + cycles`: everything the
+/// thread does in between (its loop, sleeps, socket I/O, SYNC, PDOs, axes, the segment's
+/// exchange) is counted. Call on_cycle() from the callback; read from any thread once done().
+class CycleAllocations {
+public:
+    CycleAllocations(std::uint64_t warmup, std::uint64_t cycles)
+        : warmup_(warmup), cycles_(cycles) {}
+    /// `ready`: false delays the warm-up (e.g. until the axis is enabled).
+    void on_cycle(bool ready = true) {
+        if (!ready || done()) {
+            return;
+        }
+        const std::uint64_t n = ++seen_;
+        if (n == warmup_) {
+            start_ = g_allocations.load();
+            g_counting = true;
+        } else if (n == warmup_ + cycles_) {
+            g_counting = false;
+            count_.store(g_allocations.load() - start_, std::memory_order_relaxed);
+            done_.store(true, std::memory_order_release);
+        }
+    }
+    [[nodiscard]] bool done() const { return done_.load(std::memory_order_acquire); }
+    /// Allocations over the counted cycles; valid once done().
+    [[nodiscard]] std::uint64_t count() const { return count_.load(std::memory_order_relaxed); }
+    [[nodiscard]] std::uint64_t cycles() const { return cycles_; }
+
+private:
+    std::uint64_t warmup_;
+    std::uint64_t cycles_;
+    std::uint64_t seen_ = 0;  ///< callback thread only
+    std::uint64_t start_ = 0; ///< callback thread only
+    std::atomic<std::uint64_t> count_{0};
+    std::atomic<bool> done_{false};
+};
+
+} // namespace codrive::testing

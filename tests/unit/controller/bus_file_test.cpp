@@ -1,0 +1,71 @@
+// SPDX-License-Identifier: Apache-2.0
+// The bus file's sections: a CAN `bus:` and an `ethercat:` segment side by side, with every
+// finding reported by line (pure parsing, no I/O).
+#include <codrive/controller/ethercat_segment.hpp>
+#include <codrive/master/bus_config.hpp>
+
+#include <gtest/gtest.h>
+
+using namespace codrive;
+using namespace codrive::controller;
+
+TEST(ControllerBusFile, EthercatSectionParsesNextToTheCanBus) {
+    const std::string text = "bus:\n"
+                             "  interface: vcan0\n"
+                             "ethercat:\n"
+                             "  interface: ecm0\n"
+                             "  cycle_us: 2000\n"
+                             "  slaves:\n"
+                             "    - {position: 0, name: table, profile: fio, axes: [{axis: 1, "
+                             "mode: csp}]}\n"
+                             "nodes:\n"
+                             "  - id: 1\n"
+                             "    profile: akd2g\n";
+    const auto s = split_bus_file(text, "bus.yml");
+    ASSERT_TRUE(s.errors.empty()) << s.errors.front();
+    EXPECT_TRUE(s.has_can);
+    ASSERT_TRUE(s.ethercat);
+    EXPECT_EQ(s.ethercat->iface, "ecm0");
+    EXPECT_EQ(s.ethercat->cycle_us, 2000U);
+    ASSERT_EQ(s.ethercat->slaves.size(), 1U);
+    EXPECT_EQ(s.ethercat->slaves[0].profile, "fio");
+    EXPECT_EQ(s.ethercat->slaves[0].name, "table");
+    ASSERT_EQ(s.ethercat->slaves[0].axes.size(), 1U);
+    EXPECT_EQ(s.ethercat->slaves[0].axes[0].mode, std::int8_t{8});
+    // The CAN part keeps its line numbers: `nodes:` is still on line 8.
+    auto can = master::parse_bus_config(s.can_text, "bus.yml");
+    ASSERT_TRUE(can.config) << can.to_string();
+    ASSERT_EQ(can.config->nodes.size(), 1U);
+    auto bad = master::parse_bus_config(s.can_text + "  - id: 1\n", "bus.yml");
+    ASSERT_FALSE(bad.config);
+    EXPECT_NE(bad.to_string().find("bus.yml:11:"), std::string::npos) << bad.to_string();
+}
+
+TEST(ControllerBusFile, EthercatSectionReportsEveryFindingWithItsLine) {
+    const std::string text = "ethercat:\n"
+                             "  cycle_us: 5\n"
+                             "  slaves:\n"
+                             "    - {position: 0, profile: fio, axes: [{axis: 1, mode: warp}]}\n"
+                             "    - {position: 0, profile: nosuch}\n"
+                             "    - {position: 1, profile: fio, speed: 3}\n";
+    const auto s = split_bus_file(text, "e.yml");
+    EXPECT_FALSE(s.ethercat);
+    std::string all;
+    for (const auto& e : s.errors) {
+        all += e + "\n";
+    }
+    EXPECT_NE(all.find("e.yml:1: `ethercat` needs `interface: IFACE`"), std::string::npos) << all;
+    EXPECT_NE(all.find("e.yml:2: `ethercat.cycle_us` must be"), std::string::npos) << all;
+    EXPECT_NE(all.find("e.yml:4: slave 0 axis 1: unknown mode `warp`"), std::string::npos) << all;
+    EXPECT_NE(all.find("e.yml:5: slave 0: unknown profile `nosuch`"), std::string::npos) << all;
+    EXPECT_NE(all.find("e.yml:5: slave position 0 is configured twice"), std::string::npos) << all;
+    EXPECT_NE(all.find("e.yml:6: unknown key `speed` in an EtherCAT slave"), std::string::npos)
+        << all;
+}
+
+TEST(ControllerBusFile, FileWithoutAnySectionIsRejected) {
+    const auto s = split_bus_file("foo: 1\n", "x.yml");
+    ASSERT_EQ(s.errors.size(), 1U);
+    EXPECT_NE(s.errors[0].find("neither a `bus:` (CAN) nor an `ethercat:` section"),
+              std::string::npos);
+}
