@@ -1,5 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 // Master: frame exchange with retries, register access, bring-up and SII (ETG.1000.4/.6).
+#include "coe_transfer.hpp"
+
 #include <codrive/ethercat/error.hpp>
 #include <codrive/ethercat/master.hpp>
 #include <codrive/ethercat/registers.hpp>
@@ -458,6 +460,8 @@ VoidResult Master::set_state_all(AlState target) {
                 (void)exchange_process_data();
             }
             stats_.wkc_errors = wkc_errors;
+            probe_pending_ = false; // nothing to diagnose: the short WKC was expected
+            probe_fresh_ = false;
         }
         for (std::size_t i = 0; i < slaves_.size(); ++i) {
             if (rank(slaves_[i].state) < rank(step)) {
