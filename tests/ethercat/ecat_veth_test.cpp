@@ -161,8 +161,8 @@ TEST_F(EcatVethTest, MailboxTimeoutIsReportedAsASentence) {
     auto r = master_->sdo_upload(1, 0x1018, 1);
     ASSERT_FALSE(r);
     EXPECT_EQ(r.error(), EcatErrc::MailboxTimeout);
-    EXPECT_EQ(master_->last_error(), "slave 1 (AKD2G): SDO upload 0x1018:01: no CoE answer "
-                                     "within 200 ms (mailbox timeout)");
+    EXPECT_EQ(master_->last_error(), "slave 1 (AKD2G): CoE SDO upload 0x1018:01 timed out after "
+                                     "200 ms (mailbox silent)");
 }
 
 // Issue 9/11: a frame carrying a mailbox answer is lost on the wire (the simulator drops every
