@@ -176,9 +176,10 @@ void EcatSegment::cycle(TimePoint now) {
         ++overruns_;
     }
     next_ns_.store(next_.time_since_epoch().count(), std::memory_order_relaxed);
-    // The frame (process data plus the mailbox datagrams riding in it) may take at most half
-    // the period: a lost one is counted and the cycle goes on; it never waits for the mailbox.
-    const TimePoint deadline = std::min(now + period_ / 2, next_);
+    // The frame (process data plus the mailbox datagrams riding in it) may take until the next
+    // cycle is due, never longer: a lost one is counted and the cycle goes on; it never waits
+    // for the mailbox.
+    const TimePoint deadline = next_;
     bool ok = false;
     if (master_->send_process_data()) {
         auto r = master_->receive_process_data(deadline);
@@ -247,9 +248,9 @@ void EcatSegment::acyclic(TimePoint /*now*/) {
             frame_error_reported_ = true;
             failed_at_report_ = frame_errors_.load(std::memory_order_relaxed);
         }
-        emit_(fmt::format("{}: {} cyclic frames lost in a row (none came back within {:.1f} ms, "
-                          "half the cycle; {} lost in all)",
-                          where, run, to_ms(period_ / 2),
+        emit_(fmt::format("{}: {} cyclic frames lost in a row (none came back within its {:.1f} ms "
+                          "cycle; {} lost in all)",
+                          where, run, to_ms(period_),
                           lost_frames_.load(std::memory_order_relaxed)));
     }
     if (frame_error_reported_ && last_cycle_ok_.load(std::memory_order_relaxed)) {
