@@ -151,6 +151,21 @@ Result<std::uint16_t> Master::count_slaves() {
 }
 
 VoidResult Master::scan() {
+    // Transfers queued for the old slave list end here, with a sentence, not silently.
+    const TimePoint now = clock_.now();
+    for (std::size_t i = 0; i < channels_.size() && i < slaves_.size(); ++i) {
+        auto& ch = *channels_[i];
+        while (!ch.queue.empty()) {
+            ch.active = true;
+            const auto& t = *ch.queue.front();
+            mailbox_fail(
+                i, make_error_code(EcatErrc::NotConfigured),
+                fmt::format("{}: {} cancelled: the segment is scanned again", t.label, t.what),
+                now);
+        }
+    }
+    deliver_finished();
+    channels_.clear();
     slaves_.clear();
     mapped_ = false;
     dc_reference_.reset();
