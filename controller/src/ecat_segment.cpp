@@ -6,7 +6,11 @@
 #include <codrive/drives/canopen_transport.hpp>
 #include <codrive/drives/profile.hpp>
 
+#include <codrive/ethercat/error.hpp>
+
 #include <fmt/format.h>
+
+#include <algorithm>
 
 namespace codrive::controller {
 namespace {
@@ -37,7 +41,8 @@ EcatSegment::EcatSegment(EcatSegmentConfig config, std::size_t bus_index, Emit e
 
 EcatSegment::~EcatSegment() = default;
 
-tl::expected<void, std::string> EcatSegment::bring_up(ethercat::IEcatLink* link, bool dedicated) {
+tl::expected<void, std::string> EcatSegment::bring_up(ethercat::IEcatLink* link,
+                                                      bool /*dedicated*/) {
     const std::string where = fmt::format("EtherCAT segment on {}", config_.iface);
     if (link == nullptr) {
         auto l = ethercat::RawSocketLink::open(config_.iface);
@@ -87,21 +92,24 @@ tl::expected<void, std::string> EcatSegment::bring_up(ethercat::IEcatLink* link,
     if (!master_->set_state_all(ethercat::AlState::Op)) {
         return tl::unexpected(fmt::format("{}: OP: {}", where, master_->last_error()));
     }
+    // Emergencies arrive inside the cyclic exchange: the handler only queues them (no
+    // formatting, no I/O there); acyclic() turns them into sentences.
     master_->on_emergency([this](std::size_t slave, const emcy::EmcyMessage& m) {
-        emit_(master_->describe_emergency(slave, m));
+        EmcyEvent e{slave, m};
+        (void)emcy_.push(e);
         for (auto& s : slaves_) {
             if (s->index == slave) {
                 s->emcy_code.store(m.error_code);
             }
         }
     });
+    probes_.assign(master_->slaves().size(), ethercat::Master::AlProbe{});
     for (auto& s : slaves_) {
-        s->transport = std::make_unique<ethercat::CoeTransport>(*master_, s->index);
+        // The cyclic frame carries the CoE transfers: the axes use the transport on whichever
+        // thread runs cycle() (the dedicated cyclic thread too); nothing there blocks.
+        s->transport = std::make_unique<ethercat::CoeTransport>(
+            *master_, s->index, ethercat::CoeTransport::Drive::Cyclic);
         drives::DriveTransport* axis_transport = s->transport.get();
-        if (dedicated) {
-            s->handoff = std::make_unique<HandoffTransport>(*s->transport);
-            axis_transport = s->handoff.get();
-        }
         for (const auto& a : s->entry.axes) {
             drives::AxisConfig ac;
             ac.axis = a.axis;
@@ -157,7 +165,6 @@ void EcatSegment::start_cycles(TimePoint first, CycleHook hook) {
     hook_ = std::move(hook);
     next_ = first;
     next_ns_.store(first.time_since_epoch().count(), std::memory_order_relaxed);
-    next_mailbox_poll_ = first;
 }
 
 void EcatSegment::cycle(TimePoint now) {
@@ -169,12 +176,38 @@ void EcatSegment::cycle(TimePoint now) {
         ++overruns_;
     }
     next_ns_.store(next_.time_since_epoch().count(), std::memory_order_relaxed);
-    if (!master_->exchange_process_data()) {
+    // The frame (process data plus the mailbox datagrams riding in it) may take until the next
+    // cycle is due, never longer: a lost one is counted and the cycle goes on; it never waits
+    // for the mailbox.
+    const TimePoint deadline = next_;
+    bool ok = false;
+    if (master_->send_process_data()) {
+        auto r = master_->receive_process_data(deadline);
+        ok = r.has_value();
+        if (!r && r.error() == ethercat::EcatErrc::NoResponse) {
+            lost_frames_.store(master_->stats().lost_frames, std::memory_order_relaxed);
+            const std::uint64_t run = master_->stats().consecutive_lost;
+            if (run == config_.lost_frames_event) {
+                lost_run_.store(run, std::memory_order_release);
+            }
+        }
+    }
+    if (!ok) {
         frame_errors_.fetch_add(1, std::memory_order_relaxed);
-        last_cycle_ok_.store(false, std::memory_order_relaxed);
-        frame_error_pending_.store(true, std::memory_order_release);
-    } else {
-        last_cycle_ok_.store(true, std::memory_order_relaxed);
+    }
+    last_cycle_ok_.store(ok, std::memory_order_relaxed);
+    // A short working counter: the next frame asked every slave for its AL status; hand the
+    // answers to the acyclic side, which names the slaves.
+    if (master_->take_al_probes() && !probes_ready_.load(std::memory_order_acquire)) {
+        const auto& p = master_->al_probes();
+        std::copy_n(p.begin(), std::min(p.size(), probes_.size()), probes_.begin());
+        probes_wkc_ = master_->probed_wkc();
+        probes_ready_.store(true, std::memory_order_release);
+    }
+    for (auto& s : slaves_) {
+        if (s->transport) {
+            s->transport->poll(); // completions of object accesses (no link access)
+        }
     }
     ++cycles_;
     if (hook_) {
@@ -195,31 +228,34 @@ void EcatSegment::cycle(TimePoint now) {
     }
 }
 
-void EcatSegment::acyclic(TimePoint now) {
-    for (auto& s : slaves_) {
-        if (s->transport) {
-            s->transport->poll();
+void EcatSegment::acyclic(TimePoint /*now*/) {
+    EmcyEvent e;
+    while (emcy_.pop(e)) {
+        emit_(master_->describe_emergency(e.slave, e.message));
+    }
+    const std::string where = fmt::format("EtherCAT segment on {}", config_.iface);
+    if (probes_ready_.load(std::memory_order_acquire)) {
+        if (!frame_error_reported_) {
+            frame_error_reported_ = true;
+            failed_at_report_ = frame_errors_.load(std::memory_order_relaxed);
+            emit_(fmt::format("{}: cyclic exchange failed: {}", where,
+                              master_->describe_wkc(probes_wkc_, probes_)));
         }
+        probes_ready_.store(false, std::memory_order_release);
     }
-    if (now >= next_mailbox_poll_) {
-        next_mailbox_poll_ = now + milliseconds(100);
-        master_->poll_mailboxes();
+    if (const std::uint64_t run = lost_run_.exchange(0, std::memory_order_acquire); run != 0) {
+        if (!frame_error_reported_) {
+            frame_error_reported_ = true;
+            failed_at_report_ = frame_errors_.load(std::memory_order_relaxed);
+        }
+        emit_(fmt::format("{}: {} cyclic frames lost in a row (none came back within its {:.1f} ms "
+                          "cycle; {} lost in all)",
+                          where, run, to_ms(period_),
+                          lost_frames_.load(std::memory_order_relaxed)));
     }
-    const bool failing = frame_error_pending_.exchange(false, std::memory_order_acquire);
-    if (failing && !frame_error_reported_) {
-        frame_error_reported_ = true;
-        failed_at_report_ = frame_errors_.load(std::memory_order_relaxed);
-        // A short working counter: ask every slave (one frame, here outside the cyclic path)
-        // which one does not answer or left OP, and why.
-        const auto wkc = master_->last_wkc_mismatch();
-        emit_(fmt::format("EtherCAT segment on {}: cyclic exchange failed: {}", config_.iface,
-                          wkc ? master_->diagnose_wkc(*wkc) : master_->last_error()));
-    } else if (!failing && frame_error_reported_ &&
-               last_cycle_ok_.load(std::memory_order_relaxed)) {
+    if (frame_error_reported_ && last_cycle_ok_.load(std::memory_order_relaxed)) {
         frame_error_reported_ = false;
-        emit_(fmt::format("EtherCAT segment on {}: cyclic exchange works again ({} failed "
-                          "cycles)",
-                          config_.iface,
+        emit_(fmt::format("{}: cyclic exchange works again ({} failed cycles)", where,
                           frame_errors_.load(std::memory_order_relaxed) - failed_at_report_ + 1));
     }
 }
@@ -233,45 +269,14 @@ void EcatSegment::on_tick(TimePoint now) {
 }
 
 void EcatSegment::cyclic_step(TimePoint now) {
-    for (auto& s : slaves_) {
-        if (s->handoff) {
-            s->handoff->deliver_completions();
-        }
-    }
     if (now < next_) {
         return;
     }
-    int expected = 0;
-    if (!owner_.compare_exchange_strong(expected, 1, std::memory_order_acquire)) {
-        // The acyclic side is in a mailbox exchange: skip this slot rather than wait.
-        period_error_.add(now - next_);
-        while (next_ <= now) {
-            next_ += period_;
-            ++overruns_;
-        }
-        next_ns_.store(next_.time_since_epoch().count(), std::memory_order_relaxed);
-        return;
-    }
-    cycle(now);
-    owner_.store(0, std::memory_order_release);
+    cycle(now); // the master belongs to this thread: no flag, no lock, no wait
 }
 
 void EcatSegment::acyclic_step(TimePoint now) {
-    for (auto& s : slaves_) {
-        if (s->handoff) {
-            s->handoff->pump_requests(); // into the CoE transport's queue (acyclic side only)
-        }
-    }
-    const TimePoint next{Duration{next_ns_.load(std::memory_order_relaxed)}};
-    if (next - now < period_ / 2) {
-        return; // too close to the next LRW: a mailbox round trip could make it skip
-    }
-    int expected = 0;
-    if (!owner_.compare_exchange_strong(expected, 2, std::memory_order_acquire)) {
-        return;
-    }
-    acyclic(now);
-    owner_.store(0, std::memory_order_release);
+    acyclic(now); // events only: never touches the link
 }
 
 void EcatSegment::stop() {

@@ -3,7 +3,7 @@
 // layouts, CiA 402 axes over CoE, and the per-cycle LRW exchange.
 #pragma once
 
-#include "handoff_transport.hpp"
+#include "spsc_ring.hpp"
 
 #include <codrive/controller/controller.hpp>
 #include <codrive/controller/ethercat_segment.hpp>
@@ -44,17 +44,15 @@ public:
     /// The cyclic part: LRW (outputs of the last cycle out, inputs in), the hook, every axis's
     /// on_cycle(). No allocation, no locks, no logging I/O.
     void cycle(TimePoint now);
-    /// The acyclic part: queued CoE object accesses, emergencies, error reports.
+    /// The acyclic part: emergencies and error reports as events.
     void acyclic(TimePoint now);
 
-    /// Dedicated-cyclic mode, cyclic thread: completions of object accesses, then the cycle if
-    /// it is due. The EtherCAT master is shared with the acyclic thread by an atomic ownership
-    /// flag taken with compare-exchange, never waited for: if the acyclic side is in a mailbox
-    /// exchange at cycle time, that cycle's LRW is skipped and counted as an overrun.
+    /// Dedicated-cyclic mode, cyclic thread: the cycle if it is due. The master belongs to
+    /// this thread while cycles run: CoE transfers ride in the cyclic frame as state machines,
+    /// so no acyclic work can hold the master or make a cycle wait.
     void cyclic_step(TimePoint now);
-    /// Dedicated-cyclic mode, acyclic thread: hands queued object accesses to the CoE transport
-    /// and runs them (and the emergency poll) when at least half a cycle remains before the next
-    /// LRW.
+    /// Dedicated-cyclic mode, acyclic thread: turns what the cycle handed over (emergencies,
+    /// working-counter diagnosis, lost-frame runs) into events. Never touches the link.
     void acyclic_step(TimePoint now);
 
     // ITimed: single-thread mode runs both parts from the controller's loop.
@@ -81,7 +79,6 @@ private:
         std::size_t index = 0; ///< position on the segment
         const drives::Profile* profile = nullptr;
         std::unique_ptr<ethercat::CoeTransport> transport;
-        std::unique_ptr<HandoffTransport> handoff; ///< dedicated-cyclic mode
         std::vector<std::unique_ptr<drives::Axis>> axes;
         std::atomic<std::uint16_t> emcy_code{0}; ///< written by the acyclic side
     };
@@ -97,15 +94,23 @@ private:
     Duration period_{0};
     TimePoint next_ = kNever;
     std::atomic<std::int64_t> next_ns_{0}; ///< next_ for the acyclic thread
-    std::atomic<int> owner_{0};            ///< who uses master_: 0 nobody, 1 cyclic, 2 acyclic
     std::uint64_t cycles_ = 0;
     std::uint64_t overruns_ = 0;
     std::atomic<std::uint64_t> frame_errors_{0};
-    std::atomic<bool> frame_error_pending_{false}; ///< reported by acyclic()
     bool frame_error_reported_ = false;
     std::atomic<bool> last_cycle_ok_{true};
     std::uint64_t failed_at_report_ = 0; ///< frame_errors_ when the failure was reported
-    TimePoint next_mailbox_poll_{};
+    // Handed from the cycle to acyclic(): emergencies, AL status probes, lost-frame runs.
+    struct EmcyEvent {
+        std::size_t slave = 0;
+        emcy::EmcyMessage message;
+    };
+    SpscRing<EmcyEvent, 32> emcy_;
+    std::vector<ethercat::Master::AlProbe> probes_; ///< written by the cycle while !probes_ready_
+    std::uint16_t probes_wkc_ = 0;
+    std::atomic<bool> probes_ready_{false};
+    std::atomic<std::uint64_t> lost_run_{0};
+    std::atomic<std::uint64_t> lost_frames_{0};
     sync::PeriodStats period_error_;
 };
 

@@ -33,7 +33,7 @@ public:
             error(key_line, "`ethercat` must be a map with `interface`, `cycle_us` and `slaves`");
             return std::nullopt;
         }
-        check_keys(s, {"interface", "cycle_us", "slaves"}, "`ethercat`");
+        check_keys(s, {"interface", "cycle_us", "lost_frames_event", "slaves"}, "`ethercat`");
         if (s["interface"] && s["interface"].IsScalar()) {
             c.iface = s["interface"].as<std::string>();
         } else {
@@ -47,6 +47,15 @@ public:
                       "`ethercat.cycle_us` must be a number of microseconds, 100..1000000");
             } else {
                 c.cycle_us = static_cast<std::uint32_t>(*v);
+            }
+        }
+        if (s["lost_frames_event"]) {
+            const auto v = number(s["lost_frames_event"]);
+            if (!v || *v < 1 || *v > 1000) {
+                error(line_of(s["lost_frames_event"]),
+                      "`ethercat.lost_frames_event` must be a number of frames, 1..1000");
+            } else {
+                c.lost_frames_event = static_cast<unsigned>(*v);
             }
         }
         const YAML::Node slaves = s["slaves"];

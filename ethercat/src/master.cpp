@@ -1,5 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 // Master: frame exchange with retries, register access, bring-up and SII (ETG.1000.4/.6).
+#include "coe_transfer.hpp"
+
 #include <codrive/ethercat/error.hpp>
 #include <codrive/ethercat/master.hpp>
 #include <codrive/ethercat/registers.hpp>
@@ -149,6 +151,21 @@ Result<std::uint16_t> Master::count_slaves() {
 }
 
 VoidResult Master::scan() {
+    // Transfers queued for the old slave list end here, with a sentence, not silently.
+    const TimePoint now = clock_.now();
+    for (std::size_t i = 0; i < channels_.size() && i < slaves_.size(); ++i) {
+        auto& ch = *channels_[i];
+        while (!ch.queue.empty()) {
+            ch.active = true;
+            const auto& t = *ch.queue.front();
+            mailbox_fail(
+                i, make_error_code(EcatErrc::NotConfigured),
+                fmt::format("{}: {} cancelled: the segment is scanned again", t.label, t.what),
+                now);
+        }
+    }
+    deliver_finished();
+    channels_.clear();
     slaves_.clear();
     mapped_ = false;
     dc_reference_.reset();
@@ -458,6 +475,8 @@ VoidResult Master::set_state_all(AlState target) {
                 (void)exchange_process_data();
             }
             stats_.wkc_errors = wkc_errors;
+            probe_pending_ = false; // nothing to diagnose: the short WKC was expected
+            probe_fresh_ = false;
         }
         for (std::size_t i = 0; i < slaves_.size(); ++i) {
             if (rank(slaves_[i].state) < rank(step)) {

@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: Apache-2.0
 // Master mailbox (SM0/SM1) and CoE: SDO upload/download, SDO information, emergencies
 // (ETG.1000.6 §5.6.2).
+#include "coe_transfer.hpp"
+
 #include <codrive/ethercat/error.hpp>
 #include <codrive/ethercat/master.hpp>
 #include <codrive/ethercat/registers.hpp>
@@ -12,25 +14,6 @@
 #include <algorithm>
 
 namespace codrive::ethercat {
-namespace {
-
-constexpr std::size_t kSdoHeader = kCoeHeaderSize + 4; // CoE header + command + index + sub
-
-std::vector<std::uint8_t> sdo_request(std::uint8_t cmd, std::uint16_t index,
-                                      std::uint8_t subindex) {
-    std::vector<std::uint8_t> p(kCoeHeaderSize + 8, 0);
-    put_le<std::uint16_t>(p.data(), coe_header(CoeService::SdoRequest));
-    p[2] = cmd;
-    put_le<std::uint16_t>(p.data() + 3, index);
-    p[5] = subindex;
-    return p;
-}
-
-std::error_code abort_code(std::uint32_t code) {
-    return {static_cast<int>(code), sdo_abort_category()};
-}
-
-} // namespace
 
 std::uint8_t Master::next_counter(std::size_t slave) {
     // Counter 1..7, 0 is reserved (ETG.1000.6 §5.6.1).
@@ -197,252 +180,39 @@ std::string Master::describe_emergency(std::size_t slave, const emcy::EmcyMessag
     return fmt::format("{}: {}", slave_label(slave), text);
 }
 
-Result<MailboxMessage> Master::read_coe_reply(std::size_t slave, CoeService service) {
-    const TimePoint deadline = clock_.now() + config_.mailbox_timeout;
-    while (true) {
-        const auto left = std::max(Duration::zero(), deadline - clock_.now());
-        auto m = mailbox_read(slave, left);
-        if (!m) {
-            return m;
-        }
-        if (m->header.type != MailboxType::Coe || m->payload.size() < kCoeHeaderSize) {
-            continue; // another protocol's message; not ours
-        }
-        const CoeService got = coe_service(get_le<std::uint16_t>(m->payload.data()));
-        if (got == CoeService::Emergency) {
-            if (m->payload.size() >= kCoeHeaderSize + 8) {
-                emcy::EmcyMessage e;
-                e.node = static_cast<NodeId>(std::min<std::size_t>(slave + 1, 127));
-                e.error_code = get_le<std::uint16_t>(m->payload.data() + 2);
-                e.error_register = m->payload[4];
-                std::copy_n(m->payload.begin() + 5, 5, e.manufacturer.begin());
-                if (emergency_handler_) {
-                    emergency_handler_(slave, e);
-                }
-            }
-            continue;
-        }
-        // The server's SDO abort travels as an SDO *request* (ETG.1000.6 §5.6.2.7).
-        const bool sdo_abort = service == CoeService::SdoResponse &&
-                               got == CoeService::SdoRequest && m->payload.size() > 2 &&
-                               (m->payload[2] & sdo_cmd::kSpecifierMask) == sdo_cmd::kAbort;
-        if (got == service || sdo_abort) {
-            return m;
-        }
-    }
-}
-
 void Master::poll_mailboxes() {
     for (std::size_t i = 0; i < slaves_.size(); ++i) {
-        if (!slaves_[i].sii.has_coe() || slaves_[i].state == AlState::Init) {
-            continue;
+        if (!slaves_[i].sii.has_coe() || slaves_[i].state == AlState::Init ||
+            mailbox_transfers(i) > 0) {
+            continue; // a running transfer reads its own answers (and emergencies)
         }
         while (true) {
             auto m = mailbox_read(i, Duration::zero());
             if (!m) {
                 break;
             }
-            if (m->header.type == MailboxType::Coe && m->payload.size() >= kCoeHeaderSize + 8 &&
+            if (m->header.type == MailboxType::Coe && m->payload.size() >= kCoeHeaderSize &&
                 coe_service(get_le<std::uint16_t>(m->payload.data())) == CoeService::Emergency) {
-                emcy::EmcyMessage e;
-                e.node = static_cast<NodeId>(std::min<std::size_t>(i + 1, 127));
-                e.error_code = get_le<std::uint16_t>(m->payload.data() + 2);
-                e.error_register = m->payload[4];
-                std::copy_n(m->payload.begin() + 5, 5, e.manufacturer.begin());
-                if (emergency_handler_) {
-                    emergency_handler_(i, e);
-                }
+                dispatch_emergency(i, m->payload);
             }
         }
     }
 }
 
-VoidResult Master::mailbox_exchange_sdo(std::size_t slave, std::vector<std::uint8_t> payload,
-                                        MailboxMessage& reply, std::uint16_t index,
-                                        std::uint8_t subindex, const char* what) {
-    if (auto c = check_slave(slave); !c) {
-        return c;
-    }
-    if (!slaves_[slave].sii.has_coe()) {
-        return set_error(make_error_code(EcatErrc::MailboxNotSupported),
-                         fmt::format("{}: the slave does not support CoE", slave_label(slave)));
-    }
-    MailboxMessage m;
-    m.header.type = MailboxType::Coe;
-    m.payload = std::move(payload);
-    if (auto w = mailbox_write(slave, std::move(m)); !w) {
-        return w;
-    }
-    auto r = read_coe_reply(slave, CoeService::SdoResponse);
-    if (!r) {
-        if (r.error() == EcatErrc::MailboxTimeout) {
-            last_error_ = fmt::format("{}: SDO {} 0x{:04X}:{:02X}: no CoE answer within {:.0f} ms "
-                                      "(mailbox timeout)",
-                                      slave_label(slave), what, index, subindex,
-                                      to_ms(config_.mailbox_timeout));
-        }
-        return fail(r.error());
-    }
-    if (r->payload.size() < kSdoHeader) {
-        return set_error(make_error_code(EcatErrc::ProtocolError),
-                         fmt::format("{}: SDO {} 0x{:04X}:{:02X}: the CoE answer is too short",
-                                     slave_label(slave), what, index, subindex));
-    }
-    if ((r->payload[2] & sdo_cmd::kSpecifierMask) == sdo_cmd::kAbort) {
-        const std::uint32_t code =
-            r->payload.size() >= kSdoHeader + 4 ? get_le<std::uint32_t>(r->payload.data() + 6) : 0;
-        return set_error(abort_code(code),
-                         fmt::format("{}: SDO {} 0x{:04X}:{:02X} aborted 0x{:08X} ({})",
-                                     slave_label(slave), what, index, subindex, code,
-                                     sdo_abort_describe(code)));
-    }
-    reply = std::move(*r);
-    return {};
-}
-
 Result<std::vector<std::uint8_t>> Master::sdo_upload(std::size_t slave, std::uint16_t index,
                                                      std::uint8_t subindex, bool complete_access) {
-    const auto protocol_error = [&](const char* why) {
-        last_error_ = fmt::format("{}: SDO upload 0x{:04X}:{:02X}: {}", slave_label(slave), index,
-                                  subindex, why);
-        return fail(EcatErrc::ProtocolError);
-    };
-    MailboxMessage reply;
-    const std::uint8_t cmd =
-        sdo_cmd::kUploadInitiateReq | (complete_access ? sdo_cmd::kCompleteAccess : 0);
-    if (auto r = mailbox_exchange_sdo(slave, sdo_request(cmd, index, subindex), reply, index,
-                                      subindex, "upload");
-        !r) {
-        return fail(r.error());
-    }
-    const auto& p = reply.payload;
-    if ((p[2] & sdo_cmd::kSpecifierMask) != sdo_cmd::kUploadInitiateResp ||
-        get_le<std::uint16_t>(p.data() + 3) != index) {
-        return protocol_error("the answer does not match the request");
-    }
-    if ((p[2] & sdo_cmd::kExpedited) != 0) {
-        std::size_t n = 4;
-        if ((p[2] & sdo_cmd::kSizeIndicated) != 0) {
-            n = 4U - ((p[2] >> 2) & 0x03U);
-        }
-        if (p.size() < kSdoHeader + n) {
-            return protocol_error("the expedited answer is too short");
-        }
-        return std::vector<std::uint8_t>(p.begin() + kSdoHeader,
-                                         p.begin() + static_cast<long>(kSdoHeader + n));
-    }
-    if (p.size() < kSdoHeader + 4) {
-        return protocol_error("the answer has no size");
-    }
-    const std::uint32_t size = get_le<std::uint32_t>(p.data() + kSdoHeader);
-    std::vector<std::uint8_t> data(p.begin() + kSdoHeader + 4, p.end());
-    if (data.size() >= size) {
-        data.resize(size);
-        return data;
-    }
-    // Segmented upload: the rest comes in upload segments (CiA 301 §7.2.4.3.6).
-    std::uint8_t toggle = 0;
-    while (data.size() < size) {
-        std::vector<std::uint8_t> req(kCoeHeaderSize + 8, 0);
-        put_le<std::uint16_t>(req.data(), coe_header(CoeService::SdoRequest));
-        req[2] = static_cast<std::uint8_t>(sdo_cmd::kUploadSegmentReq | toggle);
-        if (auto r = mailbox_exchange_sdo(slave, std::move(req), reply, index, subindex, "upload");
-            !r) {
-            return fail(r.error());
-        }
-        const auto& s = reply.payload;
-        if ((s[2] & sdo_cmd::kSpecifierMask) != sdo_cmd::kUploadSegmentResp) {
-            return protocol_error("expected an upload segment");
-        }
-        if ((s[2] & sdo_cmd::kToggle) != toggle) {
-            return protocol_error("the segment toggle bit is wrong");
-        }
-        std::size_t n = s.size() - 3;
-        if (s.size() == kCoeHeaderSize + 8) {
-            n = 7U - ((s[2] >> 1) & 0x07U); // short segment: size from the command byte
-        }
-        data.insert(data.end(), s.begin() + 3, s.begin() + 3 + static_cast<long>(n));
-        if ((s[2] & sdo_cmd::kLastSegment) != 0) {
-            break;
-        }
-        toggle ^= sdo_cmd::kToggle;
-    }
-    if (data.size() != size) {
-        return protocol_error("the segments do not add up to the announced size");
-    }
-    return data;
+    return run_transfer(slave, detail::make_sdo_upload(index, subindex, complete_access));
 }
 
 VoidResult Master::sdo_download(std::size_t slave, std::uint16_t index, std::uint8_t subindex,
                                 std::span<const std::uint8_t> data, bool complete_access) {
-    if (auto c = check_slave(slave); !c) {
-        return c;
-    }
-    const std::uint8_t ca = complete_access ? sdo_cmd::kCompleteAccess : 0;
-    const auto protocol_error = [&](const char* why) {
-        return set_error(make_error_code(EcatErrc::ProtocolError),
-                         fmt::format("{}: SDO download 0x{:04X}:{:02X}: {}", slave_label(slave),
-                                     index, subindex, why));
-    };
-    MailboxMessage reply;
-    if (!data.empty() && data.size() <= 4) {
-        auto req = sdo_request(
-            static_cast<std::uint8_t>(sdo_cmd::kDownloadInitiateReq | ca | sdo_cmd::kExpedited |
-                                      sdo_cmd::kSizeIndicated | ((4U - data.size()) << 2)),
-            index, subindex);
-        std::copy(data.begin(), data.end(), req.begin() + kSdoHeader);
-        if (auto r =
-                mailbox_exchange_sdo(slave, std::move(req), reply, index, subindex, "download");
-            !r) {
-            return r;
-        }
-        if ((reply.payload[2] & sdo_cmd::kSpecifierMask) != sdo_cmd::kDownloadInitiateResp) {
-            return protocol_error("the answer does not match the request");
-        }
-        return {};
-    }
-    const std::size_t mbx = slaves_[slave].sii.rx_mailbox_size;
-    const std::size_t first_room = mbx - kMailboxHeaderSize - kSdoHeader - 4;
-    const std::size_t first = std::min(first_room, data.size());
-    auto req =
-        sdo_request(sdo_cmd::kDownloadInitiateReq | ca | sdo_cmd::kSizeIndicated, index, subindex);
-    put_le<std::uint32_t>(req.data() + kSdoHeader, static_cast<std::uint32_t>(data.size()));
-    req.resize(kSdoHeader + 4);
-    req.insert(req.end(), data.begin(), data.begin() + static_cast<long>(first));
-    if (auto r = mailbox_exchange_sdo(slave, std::move(req), reply, index, subindex, "download");
-        !r) {
-        return r;
-    }
-    if ((reply.payload[2] & sdo_cmd::kSpecifierMask) != sdo_cmd::kDownloadInitiateResp) {
-        return protocol_error("the answer does not match the request");
-    }
-    std::size_t sent = first;
-    std::uint8_t toggle = 0;
-    const std::size_t seg_room = mbx - kMailboxHeaderSize - kCoeHeaderSize - 1;
-    while (sent < data.size()) {
-        const std::size_t n = std::min(seg_room, data.size() - sent);
-        const bool last = sent + n == data.size();
-        std::vector<std::uint8_t> seg(kCoeHeaderSize + 1, 0);
-        put_le<std::uint16_t>(seg.data(), coe_header(CoeService::SdoRequest));
-        seg[2] = static_cast<std::uint8_t>(sdo_cmd::kDownloadSegmentReq | toggle |
-                                           (last ? sdo_cmd::kLastSegment : 0) |
-                                           (n < 7 ? ((7U - n) << 1) : 0U));
-        seg.insert(seg.end(), data.begin() + static_cast<long>(sent),
-                   data.begin() + static_cast<long>(sent + n));
-        if (seg.size() < kCoeHeaderSize + 8) {
-            seg.resize(kCoeHeaderSize + 8, 0); // segments carry at least 7 data bytes
-        }
-        if (auto r =
-                mailbox_exchange_sdo(slave, std::move(seg), reply, index, subindex, "download");
-            !r) {
-            return r;
-        }
-        if ((reply.payload[2] & sdo_cmd::kSpecifierMask) != sdo_cmd::kDownloadSegmentResp ||
-            (reply.payload[2] & sdo_cmd::kToggle) != toggle) {
-            return protocol_error("the segment answer does not match (toggle)");
-        }
-        sent += n;
-        toggle ^= sdo_cmd::kToggle;
+    const std::size_t mbx = slave < slaves_.size() ? slaves_[slave].sii.rx_mailbox_size : 0;
+    auto r = run_transfer(
+        slave, detail::make_sdo_download(index, subindex,
+                                         std::vector<std::uint8_t>(data.begin(), data.end()),
+                                         complete_access, mbx));
+    if (!r) {
+        return fail(r.error());
     }
     return {};
 }
@@ -450,55 +220,9 @@ VoidResult Master::sdo_download(std::size_t slave, std::uint16_t index, std::uin
 Result<std::vector<std::uint8_t>> Master::sdo_info_request(std::size_t slave,
                                                            std::vector<std::uint8_t> request,
                                                            std::uint8_t response_opcode) {
-    if (auto c = check_slave(slave); !c) {
-        return fail(c.error());
-    }
-    if (!slaves_[slave].sii.has_coe()) {
-        last_error_ = fmt::format("{}: the slave does not support CoE", slave_label(slave));
-        return fail(EcatErrc::MailboxNotSupported);
-    }
-    std::vector<std::uint8_t> payload(kCoeHeaderSize + sdo_info::kHeaderSize, 0);
-    put_le<std::uint16_t>(payload.data(), coe_header(CoeService::SdoInformation));
-    payload[2] = static_cast<std::uint8_t>(response_opcode - 1); // requests are odd opcodes
-    payload.insert(payload.end(), request.begin(), request.end());
-    MailboxMessage m;
-    m.header.type = MailboxType::Coe;
-    m.payload = std::move(payload);
-    if (auto w = mailbox_write(slave, std::move(m)); !w) {
-        return fail(w.error());
-    }
-    std::vector<std::uint8_t> data;
-    while (true) {
-        auto r = read_coe_reply(slave, CoeService::SdoInformation);
-        if (!r) {
-            if (r.error() == EcatErrc::MailboxTimeout) {
-                last_error_ = fmt::format("{}: no SDO information answer within {:.0f} ms",
-                                          slave_label(slave), to_ms(config_.mailbox_timeout));
-            }
-            return fail(r.error());
-        }
-        const auto& p = r->payload;
-        if (p.size() < kCoeHeaderSize + sdo_info::kHeaderSize) {
-            last_error_ = fmt::format("{}: SDO information answer too short", slave_label(slave));
-            return fail(EcatErrc::ProtocolError);
-        }
-        const std::uint8_t opcode = p[2] & 0x7F;
-        if (opcode == sdo_info::kErrorReq) {
-            const std::uint32_t code = p.size() >= 10 ? get_le<std::uint32_t>(p.data() + 6) : 0;
-            last_error_ = fmt::format("{}: SDO information request refused 0x{:08X} ({})",
-                                      slave_label(slave), code, sdo_abort_describe(code));
-            return fail(abort_code(code));
-        }
-        if (opcode != response_opcode) {
-            last_error_ =
-                fmt::format("{}: unexpected SDO information opcode {}", slave_label(slave), opcode);
-            return fail(EcatErrc::ProtocolError);
-        }
-        data.insert(data.end(), p.begin() + kCoeHeaderSize + sdo_info::kHeaderSize, p.end());
-        if ((p[2] & sdo_info::kIncomplete) == 0) {
-            return data;
-        }
-    }
+    return run_transfer(slave,
+                        detail::make_sdo_info(static_cast<std::uint8_t>(response_opcode - 1),
+                                              std::move(request), "SDO information request"));
 }
 
 Result<std::vector<std::uint16_t>> Master::sdo_info_object_list(std::size_t slave) {

@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: Apache-2.0
 // Master process data: PDO assignment over CoE (1C12h/1C13h, ETG.1000.6 §5.6.7.4), SM2/SM3 and
 // FMMU set-up, cyclic LRW with working-counter supervision.
+#include "coe_transfer.hpp"
+
 #include <codrive/ethercat/error.hpp>
 #include <codrive/ethercat/master.hpp>
 #include <codrive/ethercat/registers.hpp>
@@ -222,7 +224,13 @@ VoidResult Master::map_process_data(std::uint32_t logical_base) {
     logical_base_ = logical_base;
     output_size_ = out_total;
     image_.assign(out_total + in_total, 0);
-    cyclic_[0] = Datagram::logical(Command::Lrw, logical_base, image_.size());
+    al_probes_.assign(slaves_.size(), AlProbe{});
+    // Room for the largest frame (LRW, probes, one mailbox datagram per slave) up front, so the
+    // cyclic path does not allocate.
+    frame_.reserve(2 + 2 * slaves_.size());
+    for (std::size_t i = 0; i < slaves_.size(); ++i) {
+        channel(i);
+    }
     mapped_ = true;
     return {};
 }
@@ -248,54 +256,119 @@ VoidResult Master::send_process_data() {
         return set_error(make_error_code(EcatErrc::NotConfigured),
                          "process data is not mapped: bring the slaves to SAFE-OP first");
     }
-    Datagram& d = cyclic_[0];
-    std::copy(image_.begin(), image_.end(), d.data.begin());
-    d.wkc = 0;
-    d.index = next_index();
-    auto n = encode_frame(cyclic_, tx_buffer_);
+    const TimePoint now = clock_.now();
+    frame_used_ = 0;
+    Datagram& lrw = add_datagram(Command::Lrw, 0, 0, image_.size());
+    lrw.address = logical_base_;
+    std::copy(image_.begin(), image_.end(), lrw.data.begin());
+    probes_add();
+    // Mailbox traffic rides in the same frame, as much as fits: one datagram per slave whose
+    // channel has something to do (ETG.1000.6 §5.6: mailbox access is plain FPWR/FPRD).
+    const std::size_t before = frame_used_;
+    mailbox_add(now);
+    stats_.mailbox_datagrams += frame_used_ - before;
+    const std::uint8_t idx = next_index();
+    const auto frame = std::span<Datagram>(frame_.data(), frame_used_);
+    for (auto& d : frame) {
+        d.index = idx;
+    }
+    auto n = encode_frame(frame, tx_buffer_);
     if (!n) {
         return fail(n.error());
     }
-    cyclic_index_ = d.index;
+    cyclic_index_ = idx;
     return link_.send(std::span<const std::uint8_t>(tx_buffer_).first(*n));
+}
+
+void Master::probes_add() {
+    probe_first_ = -1;
+    if (!probe_pending_ || probe_fresh_) {
+        return;
+    }
+    if (frame_room() < slaves_.size() * (kDatagramOverhead + 6)) {
+        return;
+    }
+    probe_first_ = static_cast<int>(frame_used_);
+    for (const auto& s : slaves_) {
+        add_datagram(Command::Fprd, s.station_address, reg::kAlStatus, 6);
+    }
+}
+
+void Master::probes_done(bool lost) {
+    if (probe_first_ < 0 || lost) {
+        return;
+    }
+    for (std::size_t i = 0; i < slaves_.size() && i < al_probes_.size(); ++i) {
+        const Datagram& d = frame_[static_cast<std::size_t>(probe_first_) + i];
+        al_probes_[i].answered = d.wkc == 1;
+        al_probes_[i].status = d.wkc == 1 ? AlStatus::decode(d.data) : AlStatus{};
+    }
+    probed_wkc_ = probe_wkc_;
+    probe_pending_ = false;
+    probe_fresh_ = true;
+    probe_first_ = -1;
+}
+
+bool Master::take_al_probes() {
+    const bool fresh = probe_fresh_;
+    probe_fresh_ = false;
+    return fresh;
 }
 
 Result<std::uint16_t> Master::receive_process_data(TimePoint deadline) {
     if (!cyclic_index_) {
         return fail(EcatErrc::NotConfigured);
     }
+    const auto frame = std::span<Datagram>(frame_.data(), frame_used_);
     while (true) {
         auto r = link_.receive(rx_buffer_, deadline);
         if (!r) {
             if (r.error() == CoreErrc::Timeout) {
                 ++stats_.lost_frames;
+                ++stats_.consecutive_lost;
+                stats_.max_consecutive_lost =
+                    std::max(stats_.max_consecutive_lost, stats_.consecutive_lost);
                 last_wkc_mismatch_.reset();
                 cyclic_index_.reset();
+                // The mailbox channels whose datagrams rode in it: writes go again, lost reads
+                // ask for a repeat; nothing waits here for them.
+                mailbox_done(true, clock_.now());
+                probes_done(true);
+                deliver_finished();
                 last_error_ =
                     fmt::format("cyclic LRW frame lost on {}: no answer in time", link_.name());
                 return fail(EcatErrc::NoResponse);
             }
             return fail(r.error());
         }
-        const auto frame = std::span<const std::uint8_t>(rx_buffer_).first(*r);
-        const auto fi = frame_index(frame);
-        if (!fi || *fi != *cyclic_index_ || !decode_frame_into(frame, cyclic_)) {
+        const auto got = std::span<const std::uint8_t>(rx_buffer_).first(*r);
+        const auto fi = frame_index(got);
+        if (!fi || *fi != *cyclic_index_ || !decode_frame_into(got, frame)) {
             ++stats_.stale_frames;
             continue;
         }
         cyclic_index_.reset();
         ++stats_.cycles;
-        const std::uint16_t wkc = cyclic_[0].wkc;
+        stats_.consecutive_lost = 0;
+        mailbox_done(false, clock_.now());
+        probes_done(false);
+        const std::uint16_t wkc = frame_[0].wkc;
         if (wkc != expected_wkc_) {
             ++stats_.wkc_errors;
             last_wkc_mismatch_ = wkc;
+            if (!probe_pending_ && !probe_fresh_) {
+                probe_pending_ = true; // the next frame asks every slave for its AL status
+                probe_wkc_ = wkc;
+            }
+            deliver_finished();
             last_error_ =
                 fmt::format("cyclic LRW working counter {}, expected {}", wkc, expected_wkc_);
             return fail(EcatErrc::WorkingCounter);
         }
         last_wkc_mismatch_.reset();
-        std::copy(cyclic_[0].data.begin() + static_cast<long>(output_size_), cyclic_[0].data.end(),
+        std::copy(frame_[0].data.begin() + static_cast<long>(output_size_), frame_[0].data.end(),
                   image_.begin() + static_cast<long>(output_size_));
+        deliver_finished();
         return wkc;
     }
 }
@@ -307,23 +380,16 @@ Result<std::uint16_t> Master::exchange_process_data() {
     return receive_process_data(clock_.now() + config_.frame_timeout);
 }
 
-std::string Master::diagnose_wkc(std::uint16_t wkc) {
-    std::vector<Datagram> probes;
-    for (const auto& s : slaves_) {
-        probes.push_back(Datagram::physical(Command::Fprd, s.station_address, reg::kAlStatus, 6));
-    }
+std::string Master::describe_wkc(std::uint16_t wkc, std::span<const AlProbe> probes) const {
     std::string head =
         fmt::format("cyclic LRW working counter {}, expected {}", wkc, expected_wkc_);
-    if (probes.empty() || !exchange(probes)) {
-        return head + ": no slave answers any more (cable or segment lost?)";
-    }
     std::vector<std::string> causes;
     for (std::size_t i = 0; i < probes.size(); ++i) {
-        if (probes[i].wkc != 1) {
+        if (!probes[i].answered) {
             causes.push_back(fmt::format("{} does not answer", slave_label(i)));
             continue;
         }
-        const AlStatus st = AlStatus::decode(probes[i].data);
+        const AlStatus& st = probes[i].status;
         // The state and, with the error flag, why the slave left OP (0x001B: its SM watchdog
         // saw no process data in time; 0x001A: synchronisation lost).
         const std::string why = st.error ? fmt::format(" with AL status code 0x{:04X} ({})",
@@ -341,8 +407,27 @@ std::string Master::diagnose_wkc(std::uint16_t wkc) {
     for (std::size_t i = 0; i < causes.size(); ++i) {
         out += (i == 0 ? "" : "; ") + causes[i];
     }
-    last_error_ = out;
     return out;
+}
+
+std::string Master::diagnose_wkc(std::uint16_t wkc) {
+    std::vector<Datagram> probes;
+    for (const auto& s : slaves_) {
+        probes.push_back(Datagram::physical(Command::Fprd, s.station_address, reg::kAlStatus, 6));
+    }
+    if (probes.empty() || !exchange(probes)) {
+        return fmt::format("cyclic LRW working counter {}, expected {}", wkc, expected_wkc_) +
+               ": no slave answers any more (cable or segment lost?)";
+    }
+    std::vector<AlProbe> results(probes.size());
+    for (std::size_t i = 0; i < probes.size(); ++i) {
+        results[i].answered = probes[i].wkc == 1;
+        if (results[i].answered) {
+            results[i].status = AlStatus::decode(probes[i].data);
+        }
+    }
+    last_error_ = describe_wkc(wkc, results);
+    return last_error_;
 }
 
 } // namespace codrive::ethercat

@@ -15,18 +15,23 @@
 #include <atomic>
 #include <csignal>
 #include <cstdio>
+#include <random>
 #include <vector>
 
 namespace {
 
 std::atomic<bool> g_stop{false};
 std::atomic<int> g_toggle{0};
+std::atomic<int> g_mailbox_toggle{0};
 
 void on_stop(int) {
     g_stop = true;
 }
 void on_usr1(int) {
     ++g_toggle;
+}
+void on_usr2(int) {
+    ++g_mailbox_toggle;
 }
 
 } // namespace
@@ -41,6 +46,8 @@ int main(int argc, char** argv) {
     std::vector<std::string> profiles;
     int mute_on_signal = -1;
     std::vector<int> mailbox_silent;
+    int mute_mailbox_on_signal = -1;
+    unsigned drop_permille = 0;
     std::vector<std::string> refuse;
     std::string lose_answers;
     std::string pcap;
@@ -51,6 +58,13 @@ int main(int argc, char** argv) {
                    "SIGUSR1 toggles this slave silent (it stops answering)");
     app.add_option("--mailbox-silent", mailbox_silent,
                    "this slave consumes mailbox requests but never answers");
+    app.add_option("--mute-mailbox-on-signal", mute_mailbox_on_signal,
+                   "SIGUSR2 toggles this slave's mailbox silent (it consumes requests, never "
+                   "answers; process data goes on)");
+    app.add_option("--drop-frames", drop_permille,
+                   "lose this many of every 1000 frames after the slaves processed them "
+                   "(pseudo-random, fixed seed)")
+        ->check(CLI::Range(0U, 1000U));
     app.add_option("--refuse", refuse,
                    "POS:STATE:CODE — refuse the transition into STATE with AL status CODE");
     app.add_option("--lose-mailbox-answers", lose_answers,
@@ -132,11 +146,15 @@ int main(int argc, char** argv) {
     std::signal(SIGTERM, on_stop);
     std::signal(SIGINT, on_stop);
     std::signal(SIGUSR1, on_usr1);
+    std::signal(SIGUSR2, on_usr2);
+    std::minstd_rand drop_rng(20);
+    std::uint64_t dropped = 0;
     std::printf("codrive-ecat-sim: %zu slave(s) on %s ready\n", segment.size(), iface.c_str());
     std::fflush(stdout);
 
     std::vector<std::uint8_t> buf(kMaxFrameSize + 64);
     int toggles_seen = 0;
+    int mailbox_toggles_seen = 0;
     while (!g_stop) {
         if (const int t = g_toggle.load(); t != toggles_seen) {
             toggles_seen = t;
@@ -145,6 +163,17 @@ int main(int argc, char** argv) {
                 f.silent = !f.silent;
                 std::printf("codrive-ecat-sim: slave %d %s\n", mute_on_signal,
                             f.silent ? "stops answering" : "answers again");
+                std::fflush(stdout);
+            }
+        }
+        if (const int t = g_mailbox_toggle.load(); t != mailbox_toggles_seen) {
+            mailbox_toggles_seen = t;
+            if (mute_mailbox_on_signal >= 0 &&
+                static_cast<std::size_t>(mute_mailbox_on_signal) < segment.size()) {
+                auto& f = segment.slave(static_cast<std::size_t>(mute_mailbox_on_signal)).faults();
+                f.mailbox_silent = !f.mailbox_silent;
+                std::printf("codrive-ecat-sim: slave %d mailbox %s\n", mute_mailbox_on_signal,
+                            f.mailbox_silent ? "goes silent" : "answers again");
                 std::fflush(stdout);
             }
         }
@@ -177,10 +206,15 @@ int main(int argc, char** argv) {
         if (!echo && loss.lose(segment, frame)) {
             continue; // the frame with the answer never reaches the master
         }
+        if (drop_permille != 0 && drop_rng() % 1000 < drop_permille) {
+            ++dropped;
+            continue; // lost on the way back, after the slaves processed it
+        }
         (void)(*link)->send(frame);
     }
-    std::printf("codrive-ecat-sim: stopped after %llu frames\n",
-                static_cast<unsigned long long>(segment.frames()));
+    std::printf("codrive-ecat-sim: stopped after %llu frames (%llu dropped)\n",
+                static_cast<unsigned long long>(segment.frames()),
+                static_cast<unsigned long long>(dropped));
     for (std::size_t i = 0; i < segment.size(); ++i) {
         auto& slave = segment.slave(i);
         const std::uint64_t lost = i == loss.slave() ? loss.lost() : 0;

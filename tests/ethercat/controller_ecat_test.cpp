@@ -13,6 +13,7 @@
 
 #include <cstdio>
 #include <fstream>
+#include <sched.h>
 #include <unistd.h>
 
 // One program-wide counting operator new (included once per program): the dedicated cyclic
@@ -51,6 +52,14 @@ class ControllerOverEthercat : public EcatVethTest {
 protected:
     void SetUp() override {
         start({"--slave", "fio", "--mute-on-signal", "0"}); // SIGUSR1 silences the FIO
+        if (sim_) {
+            // A cycle waits for its frame until the next one is due, never longer: slaves answer
+            // in microseconds, so the simulator runs at real-time priority as a slave's ESC
+            // would, and a loaded host does not turn its late answers into lost frames.
+            sched_param rt{};
+            rt.sched_priority = 50;
+            EXPECT_EQ(::sched_setscheduler(sim_->pid(), SCHED_FIFO, &rt), 0);
+        }
         // The controller opens its own socket; the fixture's master stays out of the way.
         master_.reset();
         link_.reset();
@@ -60,6 +69,8 @@ protected:
         path_ = write_bus_file(veth_->master_if(), 2000);
         controller::ControllerOptions o;
         o.threading = mode;
+        // The dedicated cyclic thread runs at SCHED_FIFO, as on a machine (root here).
+        o.realtime.fifo = mode == controller::Threading::DedicatedCyclic;
         auto c = controller::Controller::from_file(path_, o);
         EXPECT_TRUE(c) << (c ? "" : c.error());
         if (!c) {

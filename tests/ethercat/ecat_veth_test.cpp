@@ -161,8 +161,8 @@ TEST_F(EcatVethTest, MailboxTimeoutIsReportedAsASentence) {
     auto r = master_->sdo_upload(1, 0x1018, 1);
     ASSERT_FALSE(r);
     EXPECT_EQ(r.error(), EcatErrc::MailboxTimeout);
-    EXPECT_EQ(master_->last_error(), "slave 1 (AKD2G): SDO upload 0x1018:01: no CoE answer "
-                                     "within 200 ms (mailbox timeout)");
+    EXPECT_EQ(master_->last_error(), "slave 1 (AKD2G): CoE SDO upload 0x1018:01 timed out after "
+                                     "200 ms (mailbox silent)");
 }
 
 // Issue 9/11: a frame carrying a mailbox answer is lost on the wire (the simulator drops every
@@ -251,6 +251,14 @@ TEST_F(EcatVethTest, CapturedFramesDissectWithoutMalformedPackets) {
     for (int i = 0; i < 20; ++i) {
         ASSERT_TRUE(master_->exchange_process_data()) << master_->last_error();
     }
+    // CoE datagrams riding in the cyclic LRW frame dissect as well.
+    std::optional<CoeOutcome> name;
+    ASSERT_TRUE(master_->sdo_upload_async(1, 0x1008, 0, [&](CoeOutcome o) { name = o; }));
+    for (int i = 0; i < 200 && !name; ++i) {
+        ASSERT_TRUE(master_->exchange_process_data()) << master_->last_error();
+    }
+    ASSERT_TRUE(name);
+    EXPECT_EQ(std::string(name->data.begin(), name->data.end()), "AKD2G") << name->sentence;
     link_->set_tap({});
     writer.close();
     ASSERT_GT(writer.frames(), 100U);

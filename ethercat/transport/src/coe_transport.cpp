@@ -6,46 +6,79 @@
 
 namespace codrive::ethercat {
 
-CoeTransport::CoeTransport(Master& master, std::size_t slave) : master_(master), slave_(slave) {}
+CoeTransport::CoeTransport(Master& master, std::size_t slave, Drive drive)
+    : master_(master), slave_(slave), drive_(drive) {}
 
 std::string CoeTransport::name() const {
     return master_.slave_label(slave_);
 }
 
+void CoeTransport::submitted(VoidResult r, Completion c) {
+    ++in_flight_;
+    if (!r) { // refused at once (no such slave, no CoE): completes on the next poll()
+        c.outcome.error = r.error();
+        c.outcome.sentence = master_.last_error();
+        completed_->push_back(std::move(c));
+    }
+}
+
 void CoeTransport::read(std::uint16_t index, std::uint8_t subindex, ReadDone done) {
-    queue_.push_back(Request::read(index, subindex, std::move(done)));
+    Completion c;
+    c.read_done = std::move(done);
+    auto sink = completed_;
+    auto pending = std::make_shared<Completion>(std::move(c));
+    auto r = master_.sdo_upload_async(slave_, index, subindex, [sink, pending](CoeOutcome o) {
+        pending->outcome = std::move(o);
+        sink->push_back(std::move(*pending));
+    });
+    if (!r) {
+        submitted(r, std::move(*pending));
+        return;
+    }
+    submitted(r, {});
 }
 
 void CoeTransport::write(std::uint16_t index, std::uint8_t subindex, drives::Bytes data,
                          WriteDone done) {
-    queue_.push_back(Request::write(index, subindex, std::move(data), std::move(done)));
+    Completion c;
+    c.write_done = std::move(done);
+    auto sink = completed_;
+    auto pending = std::make_shared<Completion>(std::move(c));
+    auto r = master_.sdo_download_async(slave_, index, subindex,
+                                        std::vector<std::uint8_t>(data.begin(), data.end()),
+                                        [sink, pending](CoeOutcome o) {
+                                            pending->outcome = std::move(o);
+                                            sink->push_back(std::move(*pending));
+                                        });
+    if (!r) {
+        submitted(r, std::move(*pending));
+        return;
+    }
+    submitted(r, {});
 }
 
 std::size_t CoeTransport::poll() {
+    if (drive_ == Drive::Blocking && master_.mailbox_transfers(slave_) > 0) {
+        master_.run_mailbox_until_idle(slave_);
+    }
     std::size_t n = 0;
-    // Callbacks may queue more requests; run only those present now.
-    for (std::size_t todo = queue_.size(); todo > 0; --todo) {
-        Request r = std::move(queue_.front());
-        queue_.pop_front();
-        if (r.is_write) {
-            auto w = master_.sdo_download(slave_, r.index, r.subindex, r.data);
-            if (r.write_done) {
-                r.write_done(
-                    w ? drives::DriveVoid{}
-                      : drives::drive_fail(drives::DriveErrc::Transport, master_.last_error()));
-            }
-        } else {
-            auto v = master_.sdo_upload(slave_, r.index, r.subindex);
-            if (r.read_done) {
-                if (v) {
-                    r.read_done(std::move(*v));
-                } else {
-                    r.read_done(
-                        drives::drive_fail(drives::DriveErrc::Transport, master_.last_error()));
-                }
+    // Callbacks may start more accesses: deliver only those complete now.
+    for (std::size_t todo = completed_->size(); todo > 0; --todo) {
+        Completion c = std::move(completed_->front());
+        completed_->pop_front();
+        --in_flight_;
+        ++n;
+        const bool ok = !c.outcome.error;
+        if (c.write_done) {
+            c.write_done(ok ? drives::DriveVoid{}
+                            : drives::drive_fail(drives::DriveErrc::Transport, c.outcome.sentence));
+        } else if (c.read_done) {
+            if (ok) {
+                c.read_done(std::move(c.outcome.data));
+            } else {
+                c.read_done(drives::drive_fail(drives::DriveErrc::Transport, c.outcome.sentence));
             }
         }
-        ++n;
     }
     return n;
 }

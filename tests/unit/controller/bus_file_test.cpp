@@ -15,6 +15,7 @@ TEST(ControllerBusFile, EthercatSectionParsesNextToTheCanBus) {
                              "ethercat:\n"
                              "  interface: ecm0\n"
                              "  cycle_us: 2000\n"
+                             "  lost_frames_event: 5\n"
                              "  slaves:\n"
                              "    - {position: 0, name: table, profile: fio, axes: [{axis: 1, "
                              "mode: csp}]}\n"
@@ -27,23 +28,25 @@ TEST(ControllerBusFile, EthercatSectionParsesNextToTheCanBus) {
     ASSERT_TRUE(s.ethercat);
     EXPECT_EQ(s.ethercat->iface, "ecm0");
     EXPECT_EQ(s.ethercat->cycle_us, 2000U);
+    EXPECT_EQ(s.ethercat->lost_frames_event, 5U);
     ASSERT_EQ(s.ethercat->slaves.size(), 1U);
     EXPECT_EQ(s.ethercat->slaves[0].profile, "fio");
     EXPECT_EQ(s.ethercat->slaves[0].name, "table");
     ASSERT_EQ(s.ethercat->slaves[0].axes.size(), 1U);
     EXPECT_EQ(s.ethercat->slaves[0].axes[0].mode, std::int8_t{8});
-    // The CAN part keeps its line numbers: `nodes:` is still on line 8.
+    // The CAN part keeps its line numbers: `nodes:` is still on line 9.
     auto can = master::parse_bus_config(s.can_text, "bus.yml");
     ASSERT_TRUE(can.config) << can.to_string();
     ASSERT_EQ(can.config->nodes.size(), 1U);
     auto bad = master::parse_bus_config(s.can_text + "  - id: 1\n", "bus.yml");
     ASSERT_FALSE(bad.config);
-    EXPECT_NE(bad.to_string().find("bus.yml:11:"), std::string::npos) << bad.to_string();
+    EXPECT_NE(bad.to_string().find("bus.yml:12:"), std::string::npos) << bad.to_string();
 }
 
 TEST(ControllerBusFile, EthercatSectionReportsEveryFindingWithItsLine) {
     const std::string text = "ethercat:\n"
                              "  cycle_us: 5\n"
+                             "  lost_frames_event: 0\n"
                              "  slaves:\n"
                              "    - {position: 0, profile: fio, axes: [{axis: 1, mode: warp}]}\n"
                              "    - {position: 0, profile: nosuch}\n"
@@ -56,10 +59,13 @@ TEST(ControllerBusFile, EthercatSectionReportsEveryFindingWithItsLine) {
     }
     EXPECT_NE(all.find("e.yml:1: `ethercat` needs `interface: IFACE`"), std::string::npos) << all;
     EXPECT_NE(all.find("e.yml:2: `ethercat.cycle_us` must be"), std::string::npos) << all;
-    EXPECT_NE(all.find("e.yml:4: slave 0 axis 1: unknown mode `warp`"), std::string::npos) << all;
-    EXPECT_NE(all.find("e.yml:5: slave 0: unknown profile `nosuch`"), std::string::npos) << all;
-    EXPECT_NE(all.find("e.yml:5: slave position 0 is configured twice"), std::string::npos) << all;
-    EXPECT_NE(all.find("e.yml:6: unknown key `speed` in an EtherCAT slave"), std::string::npos)
+    EXPECT_NE(all.find("e.yml:3: `ethercat.lost_frames_event` must be a number of frames, 1..1000"),
+              std::string::npos)
+        << all;
+    EXPECT_NE(all.find("e.yml:5: slave 0 axis 1: unknown mode `warp`"), std::string::npos) << all;
+    EXPECT_NE(all.find("e.yml:6: slave 0: unknown profile `nosuch`"), std::string::npos) << all;
+    EXPECT_NE(all.find("e.yml:6: slave position 0 is configured twice"), std::string::npos) << all;
+    EXPECT_NE(all.find("e.yml:7: unknown key `speed` in an EtherCAT slave"), std::string::npos)
         << all;
 }
 

@@ -252,8 +252,8 @@ TEST_F(EcatMasterSegment, MailboxTimeoutIsASentenceNamingSlaveAndObject) {
     auto r = master_.sdo_upload(2, 0x1018, 1);
     ASSERT_FALSE(r);
     EXPECT_EQ(r.error(), EcatErrc::MailboxTimeout);
-    EXPECT_EQ(master_.last_error(), "slave 2 (DS-BVS): SDO upload 0x1018:01: no CoE answer within "
-                                    "50 ms (mailbox timeout)");
+    EXPECT_EQ(master_.last_error(), "slave 2 (DS-BVS): CoE SDO upload 0x1018:01 timed out after 50 "
+                                    "ms (mailbox silent)");
     EXPECT_GE(clock_.now() - before, milliseconds(50));
 }
 

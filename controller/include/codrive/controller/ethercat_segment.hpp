@@ -30,6 +30,9 @@ struct EcatSegmentConfig {
     std::string file;  ///< bus file, for messages
     std::string iface; ///< Ethernet interface ("eth1", a veth end)
     std::uint32_t cycle_us = 1000;
+    /// Cyclic frames lost in a row that raise an event naming the segment (each lost frame is
+    /// counted in the statistics; the cycle never waits longer than its period for one).
+    unsigned lost_frames_event = 3;
     std::vector<EcatSlaveEntry> slaves;
 };
 

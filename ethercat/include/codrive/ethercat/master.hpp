@@ -18,6 +18,7 @@
 #include <array>
 #include <cstdint>
 #include <functional>
+#include <memory>
 #include <optional>
 #include <span>
 #include <string>
@@ -25,15 +26,23 @@
 
 namespace codrive::ethercat {
 
-/// Timeouts and retries. The acyclic API is synchronous (one frame round trip is tens of
-/// microseconds on a real segment); the cyclic path is split into send/receive so a real-time
-/// thread never waits on mailbox traffic.
+namespace detail {
+struct MailboxChannel;
+class CoeTransfer;
+} // namespace detail
+
+/// Timeouts and retries. Mailbox traffic (CoE) runs as per-slave state machines that put one
+/// datagram per slave into each frame: the cyclic LRW frame while process data runs, or a
+/// mailbox-only frame for the blocking calls (bring-up, CLI). The cyclic path never waits on
+/// the mailbox.
 struct MasterConfig {
     Duration frame_timeout = milliseconds(20); ///< per attempt
     int frame_retries = 3;                     ///< attempts per acyclic frame
     Duration state_timeout = seconds(2);       ///< ESM transition
-    Duration mailbox_timeout = seconds(1);     ///< CoE answer
-    Duration mailbox_poll = microseconds(200); ///< pause between empty mailbox polls
+    Duration mailbox_timeout = seconds(1);     ///< CoE answer, per request/reply step
+    Duration mailbox_poll = microseconds(200); ///< pause between mailbox-only frames (blocking)
+    /// How often an idle CoE slave's send mailbox (SM1) is read for emergencies.
+    Duration emergency_poll = milliseconds(10);
     Duration sii_timeout = milliseconds(100);
     std::uint16_t first_station_address = 0x1001;
     /// Number of the first slave in messages ("slave 0 (FIO)" by default); the CLI uses 1, as
@@ -117,10 +126,22 @@ struct EntryDescription {
     std::string name;
 };
 
+/// Outcome of an asynchronous CoE transfer.
+struct CoeOutcome {
+    std::error_code error; ///< empty on success (SdoAbort codes, MailboxTimeout, ProtocolError)
+    std::string sentence; ///< on failure: "slave 2 (AKD2G): CoE SDO upload 0x6064:00 timed out ..."
+    std::vector<std::uint8_t> data; ///< uploads and SDO information answers
+};
+using CoeDone = std::function<void(CoeOutcome)>;
+
 /// Counters of the cyclic exchange.
 struct ProcessDataStats {
     std::uint64_t cycles = 0;
     std::uint64_t lost_frames = 0;
+    std::uint64_t consecutive_lost = 0;       ///< lost frames since the last one that came back
+    std::uint64_t max_consecutive_lost = 0;   ///< the longest run of lost frames
+    std::uint64_t mailbox_datagrams = 0;      ///< mailbox datagrams carried in cyclic frames
+    std::uint64_t stray_mailbox_messages = 0; ///< SM1 messages nobody waited for (dropped)
     std::uint64_t wkc_errors = 0;
     std::uint64_t stale_frames = 0; ///< frames with an index we were not waiting for
 };
@@ -137,6 +158,9 @@ struct DcSlaveStatus {
 class Master {
 public:
     Master(IEcatLink& link, IClock& clock, MasterConfig config = {});
+    ~Master();
+    Master(const Master&) = delete;
+    Master& operator=(const Master&) = delete;
 
     // ---- Frame exchange --------------------------------------------------------------------
     /// Sends the datagrams in one frame and waits for it to come back (retrying lost frames).
@@ -241,6 +265,25 @@ public:
         put_le<T>(b.data(), value);
         return sdo_download(slave, index, subindex, b);
     }
+    /// Asynchronous SDO upload/download: queued on the slave's mailbox channel and advanced one
+    /// step per frame (the cyclic frame, or run_mailbox_cycle()); `done` runs from the call
+    /// that processes the returned frame (receive_process_data(), run_mailbox_cycle()), never
+    /// inside this call. A mute mailbox fails only this transfer, after mailbox_timeout, with
+    /// its sentence. Errors (returned at once, `done` not called): NoSuchSlave,
+    /// MailboxNotSupported.
+    VoidResult sdo_upload_async(std::size_t slave, std::uint16_t index, std::uint8_t subindex,
+                                CoeDone done, bool complete_access = false);
+    VoidResult sdo_download_async(std::size_t slave, std::uint16_t index, std::uint8_t subindex,
+                                  std::vector<std::uint8_t> data, CoeDone done,
+                                  bool complete_access = false);
+    /// Transfers queued or running on one slave's mailbox channel.
+    [[nodiscard]] std::size_t mailbox_transfers(std::size_t slave) const;
+    /// One mailbox-only frame (blocking up to frame_timeout): for use when no cyclic exchange
+    /// runs (bring-up, tools). Errors: link errors.
+    VoidResult run_mailbox_cycle();
+    /// Runs mailbox-only frames until the slave's channel has nothing queued (each transfer
+    /// ends by its own timeout at the latest).
+    void run_mailbox_until_idle(std::size_t slave);
     /// SDO information service. Errors: SdoAbort (from an SDO info error), MailboxTimeout,
     /// ProtocolError, MailboxNotSupported when the slave does not offer SDO information.
     Result<std::vector<std::uint16_t>> sdo_info_object_list(std::size_t slave);
@@ -285,7 +328,9 @@ public:
     [[nodiscard]] std::uint16_t expected_wkc() const { return expected_wkc_; }
     /// Sends the cyclic LRW frame (no waiting). Errors: NotConfigured, link errors.
     VoidResult send_process_data();
-    /// Waits for the cyclic frame until `deadline`, copies inputs, returns its WKC. Errors:
+    /// Waits for the cyclic frame until `deadline` (a cyclic caller gives at most its period),
+    /// advances the mailbox channels whose datagrams rode in it, copies inputs, returns its
+    /// WKC. A lost frame is counted (stats().lost_frames, consecutive_lost). Errors:
     /// NoResponse (lost frame); a WKC mismatch is counted and returned as WorkingCounter with
     /// last_error() naming the slaves that did not answer.
     Result<std::uint16_t> receive_process_data(TimePoint deadline);
@@ -297,6 +342,20 @@ public:
     [[nodiscard]] std::optional<std::uint16_t> last_wkc_mismatch() const {
         return last_wkc_mismatch_;
     }
+    /// AL status of one slave as read by the in-frame probes.
+    struct AlProbe {
+        bool answered = false;
+        AlStatus status;
+    };
+    /// After a working-counter mismatch the next cyclic frame carries an AL status read of every
+    /// slave (no extra frame, no wait). True once when those results came back: they are in
+    /// al_probes(), the working counter that prompted them in probed_wkc().
+    bool take_al_probes();
+    [[nodiscard]] const std::vector<AlProbe>& al_probes() const { return al_probes_; }
+    [[nodiscard]] std::uint16_t probed_wkc() const { return probed_wkc_; }
+    /// The diagnosis sentence (see diagnose_wkc()) from probe results; touches no link.
+    [[nodiscard]] std::string describe_wkc(std::uint16_t wkc,
+                                           std::span<const AlProbe> probes) const;
     /// Finds the slaves that do not answer or left OP (FPRD of AL status per slave) and returns
     /// the sentence: "cyclic LRW working counter 4, expected 7: slave 2 (DS-BVS) does not
     /// answer" or "...: slave 0 (FIO) is in SAFE-OP with AL status code 0x001B (sync manager
@@ -330,16 +389,30 @@ private:
     VoidResult set_error(std::error_code ec, std::string sentence);
     VoidResult check_slave(std::size_t slave);
     VoidResult setup_mailbox_sms(std::size_t slave);
-    VoidResult mailbox_exchange_sdo(std::size_t slave, std::vector<std::uint8_t> payload,
-                                    MailboxMessage& reply, std::uint16_t index,
-                                    std::uint8_t subindex, const char* what);
-    Result<MailboxMessage> read_coe_reply(std::size_t slave, CoeService service);
     Result<std::vector<std::uint8_t>> sdo_info_request(std::size_t slave,
                                                        std::vector<std::uint8_t> request,
                                                        std::uint8_t response_opcode);
     std::uint8_t next_counter(std::size_t slave);
     std::uint8_t next_index() { return index_++; }
     Result<std::optional<MailboxMessage>> mailbox_read_once(std::size_t slave, bool& lost);
+    // Mailbox channels (master_mailbox.cpp).
+    detail::MailboxChannel& channel(std::size_t slave);
+    VoidResult submit(std::size_t slave, std::unique_ptr<detail::CoeTransfer> t);
+    Result<std::vector<std::uint8_t>> run_transfer(std::size_t slave,
+                                                   std::unique_ptr<detail::CoeTransfer> t);
+    Datagram& add_datagram(Command c, std::uint16_t adp, std::uint16_t ado, std::size_t size);
+    [[nodiscard]] std::size_t frame_room() const;
+    void mailbox_add(TimePoint now);
+    void mailbox_done(bool lost, TimePoint now);
+    void mailbox_message(std::size_t slave, std::span<const std::uint8_t> sm1, TimePoint now);
+    void mailbox_start(std::size_t slave, TimePoint now);
+    void mailbox_send(std::size_t slave, TimePoint now);
+    void mailbox_finish(std::size_t slave, TimePoint now);
+    void mailbox_fail(std::size_t slave, std::error_code ec, std::string sentence, TimePoint now);
+    void dispatch_emergency(std::size_t slave, std::span<const std::uint8_t> coe);
+    void deliver_finished();
+    void probes_add();
+    void probes_done(bool lost);
 
     IEcatLink& link_;
     IClock& clock_;
@@ -359,8 +432,18 @@ private:
     std::size_t output_size_ = 0;
     std::uint16_t expected_wkc_ = 0;
     std::optional<std::uint16_t> last_wkc_mismatch_;
-    std::array<Datagram, 1> cyclic_{};
+    std::vector<Datagram> frame_; ///< datagrams of the frame in flight (LRW first when cyclic)
+    std::size_t frame_used_ = 0;
     std::optional<std::uint8_t> cyclic_index_;
+    std::vector<std::unique_ptr<detail::MailboxChannel>> channels_;
+    std::vector<std::unique_ptr<detail::CoeTransfer>> finished_;
+    std::size_t mailbox_first_ = 0; ///< round robin: whose datagram goes first
+    bool probe_pending_ = false;
+    bool probe_fresh_ = false;
+    int probe_first_ = -1; ///< position of the first probe datagram in the frame
+    std::uint16_t probe_wkc_ = 0;
+    std::uint16_t probed_wkc_ = 0;
+    std::vector<AlProbe> al_probes_;
     ProcessDataStats stats_;
     std::optional<std::size_t> dc_reference_;
 };

@@ -1,0 +1,468 @@
+// SPDX-License-Identifier: Apache-2.0
+// Master mailbox channels: per-slave state machines that carry CoE transfers one datagram per
+// frame (write SM0, read SM1, mailbox repeat), in the cyclic frame or in mailbox-only frames,
+// with per-step timeouts and emergencies (ETG.1000.4 §6.7, ETG.1000.6 §5.6).
+#include "coe_transfer.hpp"
+
+#include <codrive/ethercat/error.hpp>
+#include <codrive/ethercat/master.hpp>
+#include <codrive/ethercat/registers.hpp>
+
+#include <fmt/format.h>
+
+#include <algorithm>
+
+namespace codrive::ethercat {
+
+using detail::MailboxChannel;
+using detail::MailboxPhase;
+
+Master::~Master() = default;
+
+MailboxChannel& Master::channel(std::size_t slave) {
+    while (channels_.size() <= slave) {
+        channels_.push_back(std::make_unique<MailboxChannel>());
+    }
+    return *channels_[slave];
+}
+
+std::size_t Master::mailbox_transfers(std::size_t slave) const {
+    return slave < channels_.size() ? channels_[slave]->queue.size() : 0;
+}
+
+VoidResult Master::submit(std::size_t slave, std::unique_ptr<detail::CoeTransfer> t) {
+    if (auto c = check_slave(slave); !c) {
+        return c;
+    }
+    if (!slaves_[slave].sii.has_coe() || !slaves_[slave].sii.has_mailbox()) {
+        return set_error(make_error_code(EcatErrc::MailboxNotSupported),
+                         fmt::format("{}: the slave does not support CoE", slave_label(slave)));
+    }
+    t->label = slave_label(slave);
+    channel(slave).queue.push_back(std::move(t));
+    return {};
+}
+
+VoidResult Master::sdo_upload_async(std::size_t slave, std::uint16_t index, std::uint8_t subindex,
+                                    CoeDone done, bool complete_access) {
+    auto t = detail::make_sdo_upload(index, subindex, complete_access);
+    t->done = std::move(done);
+    return submit(slave, std::move(t));
+}
+
+VoidResult Master::sdo_download_async(std::size_t slave, std::uint16_t index, std::uint8_t subindex,
+                                      std::vector<std::uint8_t> data, CoeDone done,
+                                      bool complete_access) {
+    const std::size_t mbx = slave < slaves_.size() ? slaves_[slave].sii.rx_mailbox_size : 0;
+    auto t = detail::make_sdo_download(index, subindex, std::move(data), complete_access, mbx);
+    t->done = std::move(done);
+    return submit(slave, std::move(t));
+}
+
+Datagram& Master::add_datagram(Command c, std::uint16_t adp, std::uint16_t ado, std::size_t size) {
+    if (frame_used_ == frame_.size()) {
+        frame_.emplace_back();
+    }
+    Datagram& d = frame_[frame_used_++];
+    d.command = c;
+    d.address = static_cast<std::uint32_t>(adp) | (static_cast<std::uint32_t>(ado) << 16);
+    d.data.resize(size); // keeps its capacity: no allocation once the frame has been this big
+    std::fill(d.data.begin(), d.data.end(), std::uint8_t{0});
+    d.wkc = 0;
+    d.irq = 0;
+    d.circulated = false;
+    return d;
+}
+
+std::size_t Master::frame_room() const {
+    std::size_t used = kEthernetHeaderSize + kEcatHeaderSize;
+    for (std::size_t i = 0; i < frame_used_; ++i) {
+        used += frame_[i].wire_size();
+    }
+    return used >= kMaxFrameSize ? 0 : kMaxFrameSize - used;
+}
+
+void Master::mailbox_start(std::size_t slave, TimePoint now) {
+    MailboxChannel& ch = channel(slave);
+    ch.active = true;
+    ch.queue.front()->first(ch.request);
+    mailbox_send(slave, now);
+}
+
+void Master::mailbox_send(std::size_t slave, TimePoint now) {
+    MailboxChannel& ch = channel(slave);
+    const SiiInfo& sii = slaves_[slave].sii;
+    MailboxMessage m;
+    m.header.type = MailboxType::Coe;
+    m.header.counter = next_counter(slave);
+    m.payload = ch.request;
+    ch.out = m.encode(sii.rx_mailbox_size);
+    ch.started = now;
+    ch.deadline = now + config_.mailbox_timeout;
+    ch.repeats_left = std::max(1, config_.frame_retries);
+    ch.sm0_full = false;
+    if (ch.out.size() > sii.rx_mailbox_size) {
+        mailbox_fail(slave, make_error_code(EcatErrc::MailboxError),
+                     fmt::format("{}: {}: a {}-byte mailbox message does not fit the {}-byte "
+                                 "mailbox",
+                                 slave_label(slave), ch.queue.front()->what, ch.out.size(),
+                                 sii.rx_mailbox_size),
+                     now);
+        return;
+    }
+    ch.phase = MailboxPhase::Write;
+}
+
+void Master::mailbox_finish(std::size_t slave, TimePoint now) {
+    MailboxChannel& ch = channel(slave);
+    finished_.push_back(std::move(ch.queue.front()));
+    ch.queue.pop_front();
+    ch.active = false;
+    ch.phase = MailboxPhase::Idle;
+    ch.next_poll = now;
+}
+
+void Master::mailbox_fail(std::size_t slave, std::error_code ec, std::string sentence,
+                          TimePoint now) {
+    MailboxChannel& ch = channel(slave);
+    auto& t = *ch.queue.front();
+    t.outcome.error = ec;
+    t.outcome.sentence = std::move(sentence);
+    t.outcome.data.clear();
+    mailbox_finish(slave, now);
+}
+
+void Master::mailbox_add(TimePoint now) {
+    const std::size_t n = slaves_.size();
+    for (std::size_t k = 0; k < n; ++k) {
+        const std::size_t i = (mailbox_first_ + k) % n;
+        MailboxChannel& ch = channel(i);
+        ch.datagram = -1;
+        const SlaveInfo& s = slaves_[i];
+        if (!s.sii.has_mailbox()) {
+            continue;
+        }
+        if (ch.active && now >= ch.deadline) {
+            // The transfer's own timeout: only this transfer fails; the frame goes on.
+            const auto& t = *ch.queue.front();
+            const char* why = ch.sm0_full                       ? "receive mailbox SM0 stayed full"
+                              : ch.phase == MailboxPhase::Write ? "request frames lost"
+                                                                : "mailbox silent";
+            mailbox_fail(i, make_error_code(EcatErrc::MailboxTimeout),
+                         fmt::format("{}: CoE {} timed out after {:.0f} ms ({})", t.label, t.what,
+                                     to_ms(config_.mailbox_timeout), why),
+                         now);
+        } else if (!ch.active && ch.phase != MailboxPhase::Idle && now >= ch.deadline) {
+            ch.phase = MailboxPhase::Idle; // an emergency poll that could not finish its repeat
+        }
+        if (!ch.active && !ch.queue.empty()) {
+            mailbox_start(i, now);
+        }
+        if (!ch.active && ch.phase == MailboxPhase::Idle) {
+            const bool running =
+                s.state == AlState::PreOp || s.state == AlState::SafeOp || s.state == AlState::Op;
+            if (!s.sii.has_coe() || !running || now < ch.next_poll) {
+                continue;
+            }
+            ch.phase = MailboxPhase::Read; // emergency poll
+            ch.deadline = now + config_.mailbox_timeout;
+            ch.repeats_left = std::max(1, config_.frame_retries);
+        }
+        const auto sm1 = static_cast<std::uint16_t>(reg::sm(1));
+        std::size_t size = 0;
+        switch (ch.phase) {
+        case MailboxPhase::Write:
+            size = ch.out.size();
+            break;
+        case MailboxPhase::Read:
+            size = s.sii.tx_mailbox_size;
+            break;
+        default:
+            size = 1;
+            break;
+        }
+        if (kDatagramOverhead + size > frame_room()) {
+            continue; // no room in this frame: next cycle (round robin moves the start)
+        }
+        ch.datagram = static_cast<int>(frame_used_);
+        switch (ch.phase) {
+        case MailboxPhase::Write: {
+            Datagram& d =
+                add_datagram(Command::Fpwr, s.station_address, s.sii.rx_mailbox_offset, size);
+            std::copy(ch.out.begin(), ch.out.end(), d.data.begin());
+            break;
+        }
+        case MailboxPhase::Read:
+            // Reading the whole SM1 buffer empties it; WKC 0 means nothing was there.
+            add_datagram(Command::Fprd, s.station_address, s.sii.tx_mailbox_offset, size);
+            break;
+        case MailboxPhase::RepeatRead:
+            add_datagram(Command::Fprd, s.station_address,
+                         static_cast<std::uint16_t>(sm1 + SyncManager::kActivateOffset), 1);
+            break;
+        case MailboxPhase::RepeatWrite:
+            add_datagram(Command::Fpwr, s.station_address,
+                         static_cast<std::uint16_t>(sm1 + SyncManager::kActivateOffset), 1)
+                .data[0] = ch.repeat_want;
+            break;
+        case MailboxPhase::RepeatAck:
+            add_datagram(Command::Fprd, s.station_address,
+                         static_cast<std::uint16_t>(sm1 + SyncManager::kPdiControlOffset), 1);
+            break;
+        case MailboxPhase::Idle:
+            ch.datagram = -1;
+            break;
+        }
+    }
+    if (n > 0) {
+        mailbox_first_ = (mailbox_first_ + 1) % n;
+    }
+}
+
+void Master::mailbox_done(bool lost, TimePoint now) {
+    for (std::size_t i = 0; i < channels_.size() && i < slaves_.size(); ++i) {
+        MailboxChannel& ch = *channels_[i];
+        if (ch.datagram < 0) {
+            continue;
+        }
+        const Datagram& d = frame_[static_cast<std::size_t>(ch.datagram)];
+        ch.datagram = -1;
+        const bool ok = !lost && d.wkc == 1;
+        switch (ch.phase) {
+        case MailboxPhase::Write:
+            // Lost: written or not, the same message (same counter) goes again; a slave that got
+            // it drops the copy (ETG.1000.6 §5.6.1). WKC 0: SM0 still full.
+            if (ok) {
+                ch.phase = MailboxPhase::Read;
+            } else if (!lost) {
+                ch.sm0_full = true;
+            }
+            break;
+        case MailboxPhase::Read:
+            if (lost) {
+                // The read may have emptied SM1 on its way: ask the slave to write that message
+                // again instead of losing it (ETG.1000.4 §6.7.2).
+                if (ch.repeats_left > 0) {
+                    --ch.repeats_left;
+                    ch.phase = MailboxPhase::RepeatRead;
+                }
+            } else if (d.wkc == 1) {
+                mailbox_message(i, d.data, now);
+            } else if (!ch.active) {
+                ch.phase = MailboxPhase::Idle;
+                ch.next_poll = now + config_.emergency_poll;
+            }
+            break;
+        case MailboxPhase::RepeatRead:
+            if (ok) {
+                ch.repeat_want =
+                    static_cast<std::uint8_t>(d.data[0] ^ SyncManager::kActivateRepeatRequest);
+                ch.phase = MailboxPhase::RepeatWrite;
+            }
+            break;
+        case MailboxPhase::RepeatWrite:
+            if (ok) { // a lost write goes again with the same absolute value
+                ++mailbox_repeats_;
+                ch.phase = MailboxPhase::RepeatAck;
+            }
+            break;
+        case MailboxPhase::RepeatAck:
+            if (ok && ((d.data[0] & SyncManager::kPdiRepeatAck) != 0) ==
+                          ((ch.repeat_want & SyncManager::kActivateRepeatRequest) != 0)) {
+                ch.phase = MailboxPhase::Read;
+                ch.repeated = true;
+            }
+            break;
+        case MailboxPhase::Idle:
+            break;
+        }
+    }
+}
+
+void Master::dispatch_emergency(std::size_t slave, std::span<const std::uint8_t> coe) {
+    if (coe.size() < kCoeHeaderSize + 8) {
+        return;
+    }
+    emcy::EmcyMessage e;
+    e.node = static_cast<NodeId>(std::min<std::size_t>(slave + 1, 127));
+    e.error_code = get_le<std::uint16_t>(coe.data() + 2);
+    e.error_register = coe[4];
+    std::copy_n(coe.begin() + 5, 5, e.manufacturer.begin());
+    if (emergency_handler_) {
+        emergency_handler_(slave, e);
+    }
+}
+
+void Master::mailbox_message(std::size_t slave, std::span<const std::uint8_t> sm1, TimePoint now) {
+    MailboxChannel& ch = channel(slave);
+    if (sm1.size() < kMailboxHeaderSize) {
+        return;
+    }
+    const MailboxHeader h = MailboxHeader::decode(sm1.data());
+    if (kMailboxHeaderSize + h.length > sm1.size()) {
+        if (ch.active) {
+            mailbox_fail(slave, make_error_code(EcatErrc::MailboxError),
+                         fmt::format("{}: {}: malformed mailbox header (length {} in a {}-byte "
+                                     "mailbox)",
+                                     slave_label(slave), ch.queue.front()->what, h.length,
+                                     sm1.size()),
+                         now);
+        }
+        return;
+    }
+    const auto payload = sm1.subspan(kMailboxHeaderSize, h.length);
+    auto& last = slaves_[slave].mailbox_rx_counter;
+    // After a repeat the slave may hand over the message we already have (the lost frame never
+    // reached it): same counter, so it is dropped (ETG.1000.6 §5.6.1).
+    const bool duplicate = ch.repeated && h.counter != 0 && h.counter == last;
+    last = h.counter;
+    ch.repeated = false;
+    if (duplicate) {
+        return;
+    }
+    if (h.type == MailboxType::Error) {
+        const std::uint16_t code =
+            payload.size() >= 4 ? get_le<std::uint16_t>(payload.data() + 2) : 0;
+        if (ch.active) {
+            mailbox_fail(slave, make_error_code(EcatErrc::MailboxError),
+                         fmt::format("{}: {}: mailbox error 0x{:04X} ({})", slave_label(slave),
+                                     ch.queue.front()->what, code, mailbox_error_text(code)),
+                         now);
+        }
+        return;
+    }
+    if (h.type != MailboxType::Coe || payload.size() < kCoeHeaderSize) {
+        ++stats_.stray_mailbox_messages;
+        return;
+    }
+    const CoeService got = coe_service(get_le<std::uint16_t>(payload.data()));
+    if (got == CoeService::Emergency) {
+        dispatch_emergency(slave, payload);
+        return;
+    }
+    if (!ch.active) {
+        ++stats_.stray_mailbox_messages; // e.g. a late answer to a transfer that timed out
+        return;
+    }
+    auto& t = *ch.queue.front();
+    // The server's SDO abort travels as an SDO *request* (ETG.1000.6 §5.6.2.7).
+    const bool abort = t.service() == CoeService::SdoResponse && got == CoeService::SdoRequest &&
+                       payload.size() > 2 &&
+                       (payload[2] & sdo_cmd::kSpecifierMask) == sdo_cmd::kAbort;
+    if (got != t.service() && !abort) {
+        ++stats_.stray_mailbox_messages;
+        return;
+    }
+    switch (t.on_reply(payload, ch.request)) {
+    case detail::CoeTransfer::Step::Send:
+        mailbox_send(slave, now);
+        break;
+    case detail::CoeTransfer::Step::Wait:
+        ch.deadline = now + config_.mailbox_timeout;
+        break;
+    case detail::CoeTransfer::Step::Done:
+    case detail::CoeTransfer::Step::Failed:
+        mailbox_finish(slave, now);
+        break;
+    }
+}
+
+void Master::deliver_finished() {
+    if (finished_.empty()) {
+        return;
+    }
+    // Callbacks may queue more transfers: take the list first.
+    auto done = std::move(finished_);
+    finished_.clear();
+    for (auto& t : done) {
+        if (t->done) {
+            t->done(std::move(t->outcome));
+        }
+    }
+}
+
+VoidResult Master::run_mailbox_cycle() {
+    const TimePoint now = clock_.now();
+    frame_used_ = 0;
+    mailbox_add(now);
+    if (frame_used_ == 0) {
+        deliver_finished(); // timeouts found by mailbox_add()
+        return {};
+    }
+    const auto frame = std::span<Datagram>(frame_.data(), frame_used_);
+    const std::uint8_t idx = next_index();
+    for (auto& d : frame) {
+        d.index = idx;
+    }
+    auto n = encode_frame(frame, tx_buffer_);
+    if (!n) {
+        return set_error(n.error(),
+                         fmt::format("cannot build an EtherCAT frame: {}", n.error().message()));
+    }
+    if (auto s = link_.send(std::span<const std::uint8_t>(tx_buffer_).first(*n)); !s) {
+        return set_error(s.error(),
+                         fmt::format("cannot send on {}: {}", link_.name(), s.error().message()));
+    }
+    const TimePoint deadline = clock_.now() + config_.frame_timeout;
+    bool lost = true;
+    while (true) {
+        auto r = link_.receive(rx_buffer_, deadline);
+        if (!r) {
+            if (r.error() != CoreErrc::Timeout) {
+                return set_error(r.error(), fmt::format("cannot receive on {}: {}", link_.name(),
+                                                        r.error().message()));
+            }
+            break;
+        }
+        const auto got = std::span<const std::uint8_t>(rx_buffer_).first(*r);
+        const auto fi = frame_index(got);
+        if (fi && *fi == idx && decode_frame_into(got, frame)) {
+            lost = false;
+            break;
+        }
+        ++stats_.stale_frames;
+    }
+    mailbox_done(lost, clock_.now());
+    deliver_finished();
+    return {};
+}
+
+void Master::run_mailbox_until_idle(std::size_t slave) {
+    while (mailbox_transfers(slave) > 0) {
+        if (auto r = run_mailbox_cycle(); !r) {
+            // The link itself failed: end the slave's transfers with that sentence.
+            const TimePoint now = clock_.now();
+            MailboxChannel& ch = channel(slave);
+            while (!ch.queue.empty()) {
+                if (!ch.active) {
+                    ch.active = true;
+                }
+                mailbox_fail(slave, r.error(), last_error_, now);
+            }
+            deliver_finished();
+            return;
+        }
+        if (mailbox_transfers(slave) > 0) {
+            link_.idle(config_.mailbox_poll);
+        }
+    }
+}
+
+Result<std::vector<std::uint8_t>> Master::run_transfer(std::size_t slave,
+                                                       std::unique_ptr<detail::CoeTransfer> t) {
+    std::optional<CoeOutcome> out;
+    t->done = [&out](CoeOutcome o) { out = std::move(o); };
+    if (auto s = submit(slave, std::move(t)); !s) {
+        return fail(s.error());
+    }
+    while (!out) {
+        run_mailbox_until_idle(slave);
+    }
+    if (out->error) {
+        last_error_ = out->sentence;
+        return fail(out->error);
+    }
+    return std::move(out->data);
+}
+
+} // namespace codrive::ethercat

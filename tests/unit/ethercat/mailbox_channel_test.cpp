@@ -1,0 +1,224 @@
+// SPDX-License-Identifier: Apache-2.0
+// The master's mailbox channels on the in-process segment with the fake clock: CoE transfers
+// ride in the cyclic frame one step per cycle, a mute mailbox fails only its own transfer, lost
+// frames are counted and never waited for, emergencies come in through the cycle.
+#include <codrive/ethercat/error.hpp>
+#include <codrive/ethercat/master.hpp>
+#include <codrive/sim/ecat/drive_profiles.hpp>
+#include <codrive/sim/ecat/segment.hpp>
+
+#include <codrive/core/sdo_abort.hpp>
+
+#include <gtest/gtest.h>
+
+namespace codrive::ethercat {
+namespace {
+
+using sim::ecat::EcatSegment;
+using sim::ecat::make_drive_slave;
+using sim::ecat::SegmentLink;
+
+constexpr Duration kCycle = milliseconds(1);
+
+class MailboxChannels : public ::testing::Test {
+protected:
+    MailboxChannels() {
+        segment_.add(make_drive_slave("fio", 11));
+        segment_.add(make_drive_slave("akd2g", 22));
+        segment_.add(make_drive_slave("ds-bvs", 33));
+    }
+    void to_op() {
+        ASSERT_TRUE(master_.scan()) << master_.last_error();
+        ASSERT_TRUE(master_.set_state_all(AlState::Op)) << master_.last_error();
+    }
+    /// One control cycle as the controller runs it: the frame may take half the period.
+    /// Returns the exchange's result; counts the cycles whose frame took longer than that.
+    Result<std::uint16_t> cycle() {
+        const TimePoint start = clock_.now();
+        Result<std::uint16_t> r = fail(EcatErrc::NotConfigured);
+        if (auto s = master_.send_process_data(); s) {
+            r = master_.receive_process_data(start + kCycle / 2);
+        }
+        if (clock_.now() - start > kCycle / 2) {
+            ++late_cycles_;
+        }
+        for (std::size_t i = 0; i < segment_.size(); ++i) {
+            (void)segment_.slave(i).tick(clock_.now()); // the SM watchdog runs on time
+        }
+        clock_.set(start + kCycle);
+        return r;
+    }
+
+    FakeClock clock_;
+    EcatSegment segment_;
+    SegmentLink link_{segment_, clock_};
+    Master master_{link_, clock_};
+    int late_cycles_ = 0;
+};
+
+TEST_F(MailboxChannels, MuteMailboxFailsOnlyItsOwnTransferAndNeverCostsACycle) {
+    to_op();
+    segment_.slave(2).faults().mailbox_silent = true; // DS-BVS: requests consumed, no answers
+    std::optional<CoeOutcome> mute;
+    std::optional<CoeOutcome> healthy;
+    const TimePoint asked = clock_.now();
+    TimePoint mute_failed{};
+    ASSERT_TRUE(master_.sdo_upload_async(2, 0x1018, 1, [&](CoeOutcome o) {
+        mute = std::move(o);
+        mute_failed = clock_.now();
+    }));
+    ASSERT_TRUE(master_.sdo_upload_async(0, 0x1018, 2, [&](CoeOutcome o) { healthy = o; }));
+    EXPECT_FALSE(mute || healthy) << "completions run from the cycle, never inside the call";
+    int cycles = 0;
+    for (; cycles < 1200 && !mute; ++cycles) {
+        auto w = cycle();
+        ASSERT_TRUE(w) << "cycle " << cycles << ": " << master_.last_error();
+        EXPECT_EQ(*w, 9);
+    }
+    // The healthy slave's answer came within a few cycles, the mute one failed on its own
+    // timeout with its sentence, and no cycle waited for either.
+    ASSERT_TRUE(healthy);
+    EXPECT_FALSE(healthy->error) << healthy->sentence;
+    ASSERT_EQ(healthy->data.size(), 4U);
+    EXPECT_EQ(get_le<std::uint32_t>(healthy->data.data()), 0x0002BA67U);
+    ASSERT_TRUE(mute);
+    EXPECT_EQ(mute->error, EcatErrc::MailboxTimeout);
+    EXPECT_EQ(mute->sentence, "slave 2 (DS-BVS): CoE SDO upload 0x1018:01 timed out after 1000 ms "
+                              "(mailbox silent)");
+    EXPECT_GE(mute_failed - asked, seconds(1));
+    EXPECT_LE(mute_failed - asked, seconds(1) + 2 * kCycle);
+    EXPECT_EQ(late_cycles_, 0);
+    EXPECT_EQ(master_.stats().lost_frames, 0U);
+    EXPECT_EQ(master_.stats().wkc_errors, 0U);
+    EXPECT_GT(master_.stats().mailbox_datagrams, 1000U) << "the mailbox rode in the cyclic frame";
+    for (std::size_t i = 0; i < 3; ++i) {
+        EXPECT_EQ(segment_.slave(i).state(), AlState::Op) << master_.slave_label(i);
+        EXPECT_EQ(segment_.slave(i).watchdog_expiries(), 0U) << master_.slave_label(i);
+    }
+    // The mute slave's channel is free again: once its mailbox answers, so does the next one.
+    segment_.slave(2).faults().mailbox_silent = false;
+    std::optional<CoeOutcome> again;
+    ASSERT_TRUE(master_.sdo_upload_async(2, 0x1018, 1, [&](CoeOutcome o) { again = o; }));
+    for (int i = 0; i < 50 && !again; ++i) {
+        ASSERT_TRUE(cycle()) << master_.last_error();
+    }
+    ASSERT_TRUE(again);
+    EXPECT_FALSE(again->error) << again->sentence;
+}
+
+TEST_F(MailboxChannels, SegmentedTransfersAdvanceOneStepPerCycle) {
+    to_op();
+    std::string text;
+    for (int i = 0; i < 40; ++i) {
+        text += "segment by cycle|";
+    }
+    std::optional<CoeOutcome> written;
+    ASSERT_TRUE(master_.sdo_download_async(1, 0x5FFF, 0,
+                                           std::vector<std::uint8_t>(text.begin(), text.end()),
+                                           [&](CoeOutcome o) { written = o; }));
+    std::optional<CoeOutcome> read;
+    bool read_started = false;
+    int cycles = 0;
+    for (; cycles < 500 && !read; ++cycles) {
+        ASSERT_TRUE(cycle()) << master_.last_error();
+        if (written && !read_started) {
+            ASSERT_FALSE(written->error) << written->sentence;
+            read_started = true;
+            ASSERT_TRUE(master_.sdo_upload_async(1, 0x5FFF, 0, [&](CoeOutcome o) { read = o; }));
+        }
+    }
+    ASSERT_TRUE(read);
+    ASSERT_FALSE(read->error) << read->sentence;
+    EXPECT_EQ(std::string(read->data.begin(), read->data.end()), text);
+    // 680 bytes through a 128-byte mailbox: several segments each way, each a write and a read
+    // of its own cycle.
+    EXPECT_GE(cycles, 2 * 2 * 6);
+    EXPECT_EQ(late_cycles_, 0);
+}
+
+TEST_F(MailboxChannels, LostFramesAreCountedNeverWaitedForAndTheMailboxRecovers) {
+    to_op();
+    std::optional<CoeOutcome> vendor;
+    ASSERT_TRUE(master_.sdo_upload_async(1, 0x1018, 1, [&](CoeOutcome o) { vendor = o; }));
+    ASSERT_TRUE(cycle()); // the request is written
+    // The frame that carries the answer out of SM1 is lost: the channel asks for a repeat.
+    link_.lose_mailbox_answers(1, 1);
+    int lost = 0;
+    for (int i = 0; i < 40 && !vendor; ++i) {
+        if (i == 5) {
+            link_.drop_next(3); // three cyclic frames in a row lost on the wire
+        }
+        auto w = cycle();
+        if (!w) {
+            EXPECT_EQ(w.error(), EcatErrc::NoResponse);
+            ++lost;
+        }
+    }
+    ASSERT_TRUE(vendor);
+    ASSERT_FALSE(vendor->error) << vendor->sentence;
+    EXPECT_EQ(get_le<std::uint32_t>(vendor->data.data()), 0x6AU);
+    EXPECT_EQ(master_.mailbox_repeats(), 1U);
+    EXPECT_GE(lost, 1);
+    EXPECT_EQ(master_.stats().lost_frames, static_cast<std::uint64_t>(lost));
+    EXPECT_GE(master_.stats().max_consecutive_lost, 1U);
+    EXPECT_EQ(master_.stats().consecutive_lost, 0U);
+    // A lost frame costs its own cycle's wait only up to the deadline given (half the period).
+    EXPECT_EQ(late_cycles_, 0);
+    // Three in a row, all counted.
+    link_.drop_next(3);
+    for (int i = 0; i < 3; ++i) {
+        EXPECT_FALSE(cycle());
+    }
+    EXPECT_EQ(master_.stats().consecutive_lost, 3U);
+    EXPECT_GE(master_.stats().max_consecutive_lost, 3U);
+    ASSERT_TRUE(cycle());
+    EXPECT_EQ(master_.stats().consecutive_lost, 0U);
+}
+
+TEST_F(MailboxChannels, EmergencyAndAbortComeInThroughTheCycle) {
+    to_op();
+    std::vector<std::string> seen;
+    master_.on_emergency([&](std::size_t slave, const emcy::EmcyMessage& m) {
+        seen.push_back(master_.describe_emergency(slave, m));
+    });
+    segment_.slave(0).app().inject_fault(0x2310);
+    for (int i = 0; i < 30 && seen.empty(); ++i) {
+        ASSERT_TRUE(cycle());
+    }
+    ASSERT_EQ(seen.size(), 1U);
+    EXPECT_EQ(seen[0].rfind("slave 0 (FIO Drive Control): EMCY 0x2310 ", 0), 0U) << seen[0];
+    std::optional<CoeOutcome> missing;
+    ASSERT_TRUE(master_.sdo_upload_async(1, 0x2345, 7, [&](CoeOutcome o) { missing = o; }));
+    for (int i = 0; i < 30 && !missing; ++i) {
+        ASSERT_TRUE(cycle());
+    }
+    ASSERT_TRUE(missing);
+    EXPECT_EQ(missing->error, SdoAbort::NoObject);
+    EXPECT_EQ(missing->sentence, "slave 1 (AKD2G): SDO upload 0x2345:07 aborted 0x06020000 "
+                                 "(object does not exist in the object dictionary)");
+}
+
+TEST_F(MailboxChannels, WorkingCounterProbesRideInTheNextCyclicFrame) {
+    to_op();
+    segment_.slave(1).faults().silent = true;
+    auto w = cycle();
+    ASSERT_FALSE(w);
+    EXPECT_EQ(w.error(), EcatErrc::WorkingCounter);
+    EXPECT_FALSE(master_.take_al_probes());
+    (void)cycle(); // carries the AL status reads
+    ASSERT_TRUE(master_.take_al_probes());
+    EXPECT_EQ(master_.describe_wkc(master_.probed_wkc(), master_.al_probes()),
+              "cyclic LRW working counter 6, expected 9: slave 1 (AKD2G) does not answer");
+    EXPECT_EQ(late_cycles_, 0);
+}
+
+TEST_F(MailboxChannels, RequestsToASlaveWithoutCoeAreRefusedAtOnce) {
+    to_op();
+    auto r = master_.sdo_upload_async(7, 0x1018, 1, [](CoeOutcome) { FAIL() << "not called"; });
+    ASSERT_FALSE(r);
+    EXPECT_EQ(r.error(), EcatErrc::NoSuchSlave);
+    EXPECT_EQ(master_.last_error(), "there is no slave at position 7 (3 slaves found)");
+}
+
+} // namespace
+} // namespace codrive::ethercat
