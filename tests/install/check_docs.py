@@ -193,8 +193,10 @@ class Cli:
 
 def split_command(text):
     """A documented command: text up to a '#' comment, a pipe or '&&', tokenised like a shell."""
-    text = re.split(r"\s+#\s|\s*&&\s*|\s\|\s|\s*;\s*$", text)[0].strip()
+    text = re.split(r"\s+#\s|\s*&&\s*|\s\|\s*(?=(?:head|tail|grep|tee|less|sort|wc)\b)|\s*;\s*$",
+                    text)[0].strip()
     text = re.sub(r"^\$\s+", "", text)
+    text = re.sub(r"\s+&$", "", text)
     try:
         return shlex.split(text)
     except ValueError:
@@ -202,7 +204,8 @@ def split_command(text):
 
 
 def documented_commands():
-    """(origin, text) for every codrive tool invocation in a fenced block or inline code span."""
+    """(origin, text, is_inline) for every codrive tool invocation in a fenced block or inline
+    code span."""
     tool_re = r"(?:[\w./-]*/)?(?:%s)" % "|".join(re.escape(t) for t in sorted(TOOLS, key=len,
                                                                          reverse=True))
     found = []
@@ -211,23 +214,25 @@ def documented_commands():
         with open(md, encoding="utf-8") as f:
             for n, line in enumerate(f, 1):
                 if re.match(r"^\s*```", line):
-                    in_block = None if in_block else re.match(r"^\s*```(\S*)", line).group(1)
+                    in_block = None if in_block is not None else re.match(r"^\s*```(\S*)", line).group(1)
                     continue
                 if in_block is not None:
                     if in_block in ("", "sh", "bash", "console", "text"):
-                        m = re.match(r"^\s*(?:\$\s+)?(?:sudo\s+)?(?:.*run-in-vcan\.sh\s+(?:-\S+\s+)*)?"
+                        m = re.match(r"^\s*(?:\$\s+)?(?:sudo\s+)?(?:.*(?:run-in-vcan|session)\.sh\s+(?:-\S+\s+)*)?"
                                      r"(%s)(\s.*)?$" % tool_re, line.rstrip("\n"))
                         if m and not re.match(r"^\s*%s\s*:" % tool_re, line):
-                            found.append((f"{rel(md)}:{n}", line[m.start(1):].rstrip("\n")))
+                            found.append((f"{rel(md)}:{n}", line[m.start(1):].rstrip("\n"), False))
                     continue
                 for span in re.findall(r"`([^`]+)`", line):
                     if re.match(r"^%s\s+-?-?\w" % tool_re, span):
-                        found.append((f"{rel(md)}:{n}", span))
+                        found.append((f"{rel(md)}:{n}", span, True))
     return found
 
 
-def check_command(cli, text):
-    """Returns None if the command line fits the tool's --help, else the reason."""
+def check_command(cli, text, mention=False):
+    """Returns None if the command line fits the tool's --help, else the reason. A mention (an
+    inline code span in prose) that ends in an option without its value, e.g. `codrive scan
+    --ethercat`, is checked like a synopsis: its subcommands and options must exist."""
     argv = split_command(text)
     if not argv:
         return "empty command"
@@ -248,10 +253,16 @@ def check_command(cli, text):
             break
         chain.append(rest[nxt])
         rest = rest[:nxt] + rest[nxt + 1:]
-    # Every option named must exist on this command or a parent.
+    # Every option named must exist on this command, a parent or (synopsis `a|b|c`) one of the
+    # alternative subcommands and their subcommands.
     known = set()
     for i in range(1, len(chain) + 1):
         known |= cli.info(chain[:i])[2]
+    todo = [chain + [a] for t in rest if "|" in t for a in t.split("|") if a in cli.info(chain)[4]]
+    while todo:
+        sub = todo.pop()
+        known |= cli.info(sub)[2]
+        todo += [sub + [s] for s in cli.info(sub)[4]]
     known |= {"--help", "-h"}
     for tok in rest:
         for alt in tok.split("|"):
@@ -261,6 +272,8 @@ def check_command(cli, text):
     if subs and not any(t in subs or "|" in t for t in rest) and not synopsis:
         if cli.info(chain)[3] == []:
             return f"`{' '.join(chain)}` needs a subcommand ({', '.join(subs)})"
+    if mention and rest and option_value_counts(cli, chain).get(rest[-1], 0):
+        synopsis = True  # `codrive scan --ethercat` in prose names the option, gives no value
     if synopsis:
         return None
     # A literal command: CLI11 parses it for real up to --help (options, values, subcommands),
@@ -307,8 +320,8 @@ def check_commands(bindir):
     cli = Cli(bindir)
     failed = 0
     commands = documented_commands()
-    for origin, text in commands:
-        why = check_command(cli, text)
+    for origin, text, mention in commands:
+        why = check_command(cli, text, mention)
         if why:
             failed += 1
             print(f"FAILED: {origin}: `{text}`: {why}")
