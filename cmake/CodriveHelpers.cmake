@@ -59,8 +59,14 @@ function(codrive_add_tool)
     cmake_parse_arguments(ARG "" "NAME" "SOURCES;DEPS" ${ARGN})
     add_executable(${ARG_NAME} ${ARG_SOURCES})
     target_link_libraries(${ARG_NAME} PRIVATE ${ARG_DEPS})
-    # One truth for `--version`: the project() version.
-    target_compile_definitions(${ARG_NAME} PRIVATE CODRIVE_VERSION="${PROJECT_VERSION}")
+    # One truth for `--version`: the project() version, given to the tool's main.cpp only (so
+    # the other sources keep the compile flags every build shares).
+    foreach(src IN LISTS ARG_SOURCES)
+        if(src MATCHES "(^|/)main\\.cpp$")
+            set_property(SOURCE ${src} APPEND PROPERTY
+                         COMPILE_DEFINITIONS CODRIVE_VERSION="${PROJECT_VERSION}")
+        endif()
+    endforeach()
     codrive_set_warnings(${ARG_NAME})
     install(TARGETS ${ARG_NAME} RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
 endfunction()
