@@ -150,30 +150,33 @@ def check_snippets(prefix, work):
 # Command lines and --help
 # ------------------------------------------------------------------------------------------------
 def help_text(bindir, argv):
+    if not os.access(os.path.join(bindir, argv[0]), os.X_OK):
+        return 127, f"{argv[0]}: not found in {bindir}"
     r = subprocess.run([os.path.join(bindir, argv[0])] + argv[1:] + ["--help"],
                        capture_output=True, text=True, stdin=subprocess.DEVNULL, timeout=30)
     return r.returncode, r.stdout + r.stderr
 
 
 def help_sections(text):
-    """Options, positionals and subcommands listed by a CLI11 --help text."""
+    """Options, positionals and subcommands listed by a CLI11 --help text ("Options:",
+    "Positionals:", "Subcommands:" sections; an entry is a line indented by two spaces whose first
+    word is the name, e.g. `  -i,--iface TEXT Excludes: --ethercat`)."""
     options, positionals, subcommands = set(), [], []
     section = None
     for line in text.splitlines():
-        head = line.strip()
-        if re.match(r"^[A-Z ]+:$", head):
-            section = head[:-1]
+        if re.match(r"^[A-Za-z ]+:$", line.strip()) and not line.startswith("   "):
+            section = line.strip()[:-1].upper()
             continue
-        if not line.startswith("  ") or line.startswith("       ") and section != "POSITIONALS":
+        if not re.match(r"^  \S", line):
             continue
-        first = line.split()[0] if line.split() else ""
+        words = line.split()
+        first = words[0]
         if section == "OPTIONS":
-            for tok in re.split(r"[ ,]+", line.strip().split("  ")[0]):
-                if tok.startswith("-"):
-                    options.add(tok.split("=")[0])
-        elif section == "POSITIONALS" and first and not first.startswith("-"):
-            positionals.append((first, "..." in line.split("  ")[0] or "TEXT ..." in line))
-        elif section == "SUBCOMMANDS" and first and not first.startswith("-"):
+            options |= {n.split("=")[0] for n in first.split(",") if n.startswith("-")}
+        elif section == "POSITIONALS":
+            spec = re.split(r"\s{2,}", line.strip())[0]
+            positionals.append((first, "..." in spec))
+        elif section == "SUBCOMMANDS":
             subcommands.append(first)
     return options, positionals, subcommands
 
@@ -264,12 +267,15 @@ def check_command(cli, text, mention=False):
         known |= cli.info(sub)[2]
         todo += [sub + [s] for s in cli.info(sub)[4]]
     known |= {"--help", "-h"}
+    # Options a tool handles before its parser and names in its description (codrive-sim
+    # --ethercat hands over to codrive-ecat-sim) are in the --help text too.
+    known |= set(re.findall(r"(?<![\w-])(--[a-z][\w-]*)", cli.info(chain[:1])[1]))
     for tok in rest:
         for alt in tok.split("|"):
             opt = alt.split("=")[0].strip("[]")
             if re.match(r"^--?[A-Za-z]", opt) and opt not in known:
                 return f"`{' '.join(chain)}` has no option {opt}"
-    if subs and not any(t in subs or "|" in t for t in rest) and not synopsis:
+    if subs and not any(t in subs or "|" in t for t in rest) and not synopsis and not mention:
         if cli.info(chain)[3] == []:
             return f"`{' '.join(chain)}` needs a subcommand ({', '.join(subs)})"
     if mention and rest and option_value_counts(cli, chain).get(rest[-1], 0):
@@ -299,19 +305,17 @@ def check_command(cli, text, mention=False):
 
 
 def option_value_counts(cli, chain):
-    """Options that take a value (CLI11 shows a TYPE after them: TEXT, INT, UINT, FLOAT, ...)."""
+    """Options that take a value: CLI11 prints a type after the names (TEXT, INT, UINT, FLOAT...)."""
     counts = {}
     for i in range(1, len(chain) + 1):
         text = cli.info(chain[:i])[1]
         for line in text.splitlines():
-            m = re.match(r"^\s+(-[^ ].*?)\s{2,}", line + "  ")
-            if not m:
+            if not re.match(r"^  -", line):
                 continue
-            spec = m.group(1)
-            names = [t for t in re.split(r"[ ,]+", spec) if t.startswith("-")]
-            value = 1 if re.search(r"\b(TEXT|INT|UINT|FLOAT|NUMBER|FILE|DIR|PATH|ENUM|BOOLEAN|"
-                                   r"INT64|UINT64|[A-Z]{3,})\b", spec) else 0
-            for name in names:
+            words = line.split()
+            value = 1 if len(words) > 1 and re.match(r"^[A-Z][A-Z0-9_]*(=|$|:)", words[1]) and \
+                not words[1].endswith(":") else 0
+            for name in words[0].split(","):
                 counts[name.split("=")[0]] = value
     return counts
 
