@@ -122,10 +122,10 @@ docs_check commands --bin "$prefix/bin"
 docs_check pages --bin "$prefix/bin"
 
 # The vcan session template (docs/vcan.md) in a guest, with the installed tools.
-if out=$(PATH=$prefix/bin:$PATH bash "$root/vcan-scripts/run-in-vcan.sh" --ifaces 1 \
+if out=$(PATH=$prefix/bin:$PATH bash "$root/vcan-scripts/run-in-vcan.sh" --ifaces 1 --timeout 300 \
     bash "$root/vcan-scripts/examples/session.sh" 2>&1) &&
-    grep -q 'node  *1 ' <<<"$out"; then
-    pass "vcan-scripts/examples/session.sh: codrive-sim up, codrive scan found node 1"
+    grep -Eq '^ +1 +[a-z-]+ +0x00020192 ' <<<"$out" && grep -q ' found$' <<<"$out"; then
+    pass "vcan-scripts/examples/session.sh in a guest: codrive-sim ready, codrive scan found node 1"
 else
     printf '%s\n' "$out" | tail -15
     fail "vcan-scripts/examples/session.sh"

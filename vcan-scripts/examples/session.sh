@@ -62,6 +62,6 @@ if (($# > 0)); then
 fi
 # ---- 2. your commands (docs/cli/) -----------------------------------------------------------
 codrive scan -i "$iface"
-codrive sdo read -i "$iface" -n 1 0x1008:0 --type str
-codrive drive -i "$iface" -n 2 status
+# e.g.: codrive sdo read -i "$iface" -n 1 0x1008:0 --type str
+#       codrive drive -i "$iface" -n 1 --axis 2 status
 # ---------------------------------------------------------------------------------------------
