@@ -46,6 +46,9 @@ function(codrive_add_module)
         $<INSTALL_INTERFACE:${CMAKE_INSTALL_INCLUDEDIR}>
         PRIVATE ${CMAKE_CURRENT_SOURCE_DIR}/src)
     target_link_libraries(${target} PUBLIC ${ARG_DEPS} PRIVATE ${ARG_PRIVATE_DEPS})
+    # The public headers use C++20 (std::span, concepts): a consumer gets -std=c++20 from the
+    # exported target even when its own project does not ask for it.
+    target_compile_features(${target} PUBLIC cxx_std_20)
     codrive_set_warnings(${target})
     install(DIRECTORY include/ DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
     set_property(GLOBAL APPEND PROPERTY CODRIVE_EXPORTED_TARGETS ${target})
@@ -56,6 +59,14 @@ function(codrive_add_tool)
     cmake_parse_arguments(ARG "" "NAME" "SOURCES;DEPS" ${ARGN})
     add_executable(${ARG_NAME} ${ARG_SOURCES})
     target_link_libraries(${ARG_NAME} PRIVATE ${ARG_DEPS})
+    # One truth for `--version`: the project() version, given to the tool's main.cpp only (so
+    # the other sources keep the compile flags every build shares).
+    foreach(src IN LISTS ARG_SOURCES)
+        if(src MATCHES "(^|/)main\\.cpp$")
+            set_property(SOURCE ${src} APPEND PROPERTY
+                         COMPILE_DEFINITIONS CODRIVE_VERSION="${PROJECT_VERSION}")
+        endif()
+    endforeach()
     codrive_set_warnings(${ARG_NAME})
     install(TARGETS ${ARG_NAME} RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
 endfunction()

@@ -276,6 +276,7 @@ int main(int argc, char** argv) {
                  "slaves (runs codrive-ecat-sim).\n"
                  "Signals: SIGUSR1 toggles STO on every axis, SIGUSR2 resets every node, "
                  "SIGINT/SIGTERM stop."};
+    app.set_version_flag("--version", "codrive-sim " CODRIVE_VERSION);
     Options o;
     app.add_option("-i,--interface", o.iface, "CAN interface (vcan0, can0)")->required();
     app.add_option("--node", o.nodes, "ID:PROFILE[:AXES], repeatable (profiles: akd2g, ds-bvs)")

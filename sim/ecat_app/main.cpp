@@ -42,6 +42,7 @@ int main(int argc, char** argv) {
     CLI::App app{"codrive-ecat-sim: simulated EtherCAT slaves (FIO, AKD2G, DS-BVS) on a raw "
                  "Ethernet interface (e.g. one end of a veth pair). The CAN simulator is the "
                  "separate codrive-sim."};
+    app.set_version_flag("--version", "codrive-ecat-sim " CODRIVE_VERSION);
     std::string iface;
     std::vector<std::string> profiles;
     int mute_on_signal = -1;

@@ -21,7 +21,7 @@ bool register_command(CommandInstaller installer) {
 int main(int argc, char** argv) {
     CLI::App app{"codrive: CANopen and EtherCAT master for CiA 402 drives"};
     app.require_subcommand(1);
-    app.set_version_flag("--version", "codrive 0.1.0");
+    app.set_version_flag("--version", "codrive " CODRIVE_VERSION);
     int exit_code = codrive::cli::kExitOk;
     for (auto& install : codrive::cli::commands()) {
         install(app, exit_code);

@@ -66,6 +66,7 @@ bool split_node_arg(const std::string& arg, NodeId& node, std::string& rest) {
 int main(int argc, char** argv) {
     CLI::App app{"codrive-dump: decode CANopen traffic live from SocketCAN interfaces or from "
                  "candump logs and pcap files"};
+    app.set_version_flag("--version", "codrive-dump " CODRIVE_VERSION);
     std::vector<std::string> ifaces;
     std::string read_file;
     std::string write_file;
