@@ -57,6 +57,9 @@ int main(int argc, char** argv) {
     const Eigen::VectorXd jerk = Eigen::VectorXd::Constant(2, 40000000.0);
     int failures = 0;
     for (const auto& corner : corners) {
+        if (c.stop_requested()) {
+            break; // Ctrl-C: no further corner, the shutdown below stops the axes
+        }
         const Eigen::VectorXd end = origin + corner;
         bool done = false;
         auto started = motion.start(end, v, acc, jerk, drives::ProfileShape::JerkLimited,
@@ -78,5 +81,8 @@ int main(int argc, char** argv) {
     }
     c.shutdown();
     fmt::print("{}\n", c.stats().to_string());
+    if (c.stop_requested()) {
+        return 128 + c.stop_signal();
+    }
     return failures == 0 ? 0 : 1;
 }
