@@ -15,6 +15,7 @@
 
 #include <csignal>
 #include <cstring>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -40,16 +41,23 @@ struct Demo {
     /// Runs an asynchronous axis operation to its end.
     bool wait(const std::string& what, const std::function<void(Axis::Done)>& op,
               Duration timeout = seconds(10)) {
-        bool done = false;
-        std::string error;
-        op([&](DriveVoid r) {
-            done = true;
-            error = r ? "" : r.error().message;
+        // Shared with the callback: on Ctrl-C the wait ends first and the shutdown cancels the
+        // operation later.
+        auto done = std::make_shared<bool>(false);
+        auto error = std::make_shared<std::string>();
+        op([done, error](DriveVoid r) {
+            *done = true;
+            *error = r ? "" : r.error().message;
         });
-        c.run_until([&] { return done; }, timeout);
+        c.run_until([&] { return *done; }, timeout);
         if (c.stop_requested()) {
             return false; // not a failure of the step: main() stops the demo
         }
+        return finished(what, *done, *error, timeout);
+    }
+
+    /// Records how a wait ended: "ok", or a failure with its sentence.
+    bool finished(const std::string& what, bool done, std::string error, Duration timeout) {
         if (!done) {
             error = what + ": did not finish within " + fmt::format("{:.0f} ms", to_ms(timeout));
         }
@@ -97,16 +105,16 @@ struct Demo {
     }
 
     bool sdo_write_u8(NodeId node, std::uint16_t index, std::uint8_t sub, std::uint8_t v) {
-        bool done = false;
-        std::string error;
+        auto done = std::make_shared<bool>(false); // outlives a wait ended by Ctrl-C
+        auto error = std::make_shared<std::string>();
         c.master().sdo().client(node).write<std::uint8_t>(
-            index, sub, v, [&](sdo::SdoResult<void> r) {
-                done = true;
-                error = r ? "" : r.error().to_string();
+            index, sub, v, [done, error](sdo::SdoResult<void> r) {
+                *done = true;
+                *error = r ? "" : r.error().to_string();
             });
-        c.run_until([&] { return done; }, seconds(2));
-        if (!done || !error.empty()) {
-            failures.push_back(done ? error : "SDO write did not finish");
+        c.run_until([&] { return *done; }, seconds(2));
+        if (!*done || !error->empty()) {
+            failures.push_back(*done ? *error : "SDO write did not finish");
             return false;
         }
         return true;

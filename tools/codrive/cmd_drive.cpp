@@ -18,6 +18,7 @@
 #include <atomic>
 #include <csignal>
 #include <functional>
+#include <memory>
 #include <thread>
 
 namespace codrive::cli {
@@ -108,7 +109,8 @@ const drives::Profile* identify(DriveWire& w) {
             product = *r;
         }
     });
-    w.run_until([&] { return pending == 0 || stop_requested(); }, seconds(5));
+    // Not cut short by a signal: the callbacks above hold this frame's locals.
+    w.run_until([&] { return pending == 0; }, seconds(5));
     if (stop_requested()) {
         return nullptr;
     }
@@ -151,23 +153,29 @@ int stop_on_signal(const DriveArgs& a, DriveWire& w, drives::Axis& axis) {
 /// The action on one axis, then one status line. Transport-neutral: the same on both wires.
 int operate(const DriveArgs& a, DriveWire& w, drives::Axis& axis, const drives::Profile& profile) {
     auto wait = [&](const std::function<void(drives::Axis::Done)>& op) -> bool {
-        bool done = false;
-        std::string err;
-        op([&](drives::DriveVoid r) {
-            done = true;
-            err = r ? "" : r.error().message;
+        // Shared with the callback: a signal ends the wait before the operation, which the safe
+        // stop then cancels (its callback runs after this returns).
+        struct Outcome {
+            bool done = false;
+            std::string err;
+        };
+        auto out = std::make_shared<Outcome>();
+        op([out](drives::DriveVoid r) {
+            out->done = true;
+            out->err = r ? "" : r.error().message;
         });
-        w.run_until([&] { return done || stop_requested(); }, milliseconds(a.timeout_ms + 2000));
+        w.run_until([&] { return out->done || stop_requested(); },
+                    milliseconds(a.timeout_ms + 2000));
         if (stop_requested()) {
             return false; // the caller stops the axis
         }
-        if (!done) {
-            err = "the operation did not finish";
+        if (!out->done) {
+            out->err = "the operation did not finish";
         }
-        if (!err.empty()) {
-            fmt::print(stderr, "codrive: {}\n", err);
+        if (!out->err.empty()) {
+            fmt::print(stderr, "codrive: {}\n", out->err);
         }
-        return err.empty();
+        return out->err.empty();
     };
 
     if (!w.run_until([&] { return axis.has_statusword() || stop_requested(); }, seconds(3)) ||
