@@ -13,6 +13,8 @@
 #include <csignal>
 #include <cstdio>
 #include <fstream>
+#include <functional>
+#include <memory>
 #include <string>
 #include <unistd.h>
 
@@ -109,6 +111,20 @@ bool has(const Process& p, const std::string& text) {
     return p.output().find(text) != std::string::npos;
 }
 
+/// has(), read at most every 50 ms: the wire's wait calls its predicate after every frame, and
+/// each read of the output is a file read (slow in the guest).
+std::function<bool()> output_has(const Process& p, const std::string& text) {
+    auto next = std::make_shared<TimePoint>();
+    return [&p, text, next] {
+        const TimePoint now = SteadyClock::now();
+        if (now < *next) {
+            return false;
+        }
+        *next = now + 50ms;
+        return has(p, text);
+    };
+}
+
 void run_command_stops_safely(int sig) {
     CODRIVE_REQUIRE_VCAN("vcan0");
     Process sim({tool_path("codrive-sim"), "-i", "vcan0", "--node", "1:akd2g:1"});
@@ -117,7 +133,7 @@ void run_command_stops_safely(int sig) {
     ASSERT_TRUE(wire.ok());
     const std::string bus = write_bus_file();
     Process run({tool_path("codrive"), "run", bus, "--enable", "--refresh", "1000"});
-    ASSERT_TRUE(wire.wait([&] { return has(run, "node 1 axis 1: enabled"); }, 30s)) << run.output();
+    ASSERT_TRUE(wire.wait(output_has(run, "node 1 axis 1: enabled"), 30s)) << run.output();
     ASSERT_TRUE(wire.wait(
         [&] {
             const auto& sw = wire.statuswords(1);
@@ -232,7 +248,7 @@ TEST(VcanSafeStop, DemoProgramStopsSafelyOnSigint) {
     ASSERT_TRUE(wire.ok());
     Process demo(
         {example_path("demo"), std::string(CODRIVE_SOURCE_DIR) + "/vcan-scripts/demo-bus.yml"});
-    ASSERT_TRUE(wire.wait([&] { return has(demo, "== homing"); }, 60s)) << demo.output();
+    ASSERT_TRUE(wire.wait(output_has(demo, "== homing"), 60s)) << demo.output();
     wire.run_for(100ms);
     ASSERT_TRUE(demo.running()) << demo.output();
     const auto [ms, status] = stop_with(demo, wire, SIGINT);
