@@ -128,7 +128,7 @@ std::function<bool()> output_has(const Process& p, const std::string& text) {
 void run_command_stops_safely(int sig) {
     CODRIVE_REQUIRE_VCAN("vcan0");
     Process sim({tool_path("codrive-sim"), "-i", "vcan0", "--node", "1:akd2g:1"});
-    ASSERT_TRUE(sim.wait_for_output("ready", 10s)) << sim.output();
+    ASSERT_TRUE(sim.wait_for_output("ready", 30s)) << sim.output();
     CanWire wire;
     ASSERT_TRUE(wire.ok());
     const std::string bus = write_bus_file();
@@ -172,7 +172,7 @@ TEST(VcanSafeStop, RunCommandStopsSafelyOnSigterm) {
 TEST(VcanSafeStop, RunCommandInterruptedDuringBootUpExits130AndLeavesNodesPreOperational) {
     CODRIVE_REQUIRE_VCAN("vcan0");
     Process sim({tool_path("codrive-sim"), "-i", "vcan0", "--node", "1:akd2g:1"});
-    ASSERT_TRUE(sim.wait_for_output("ready", 10s)) << sim.output();
+    ASSERT_TRUE(sim.wait_for_output("ready", 30s)) << sim.output();
     CanWire wire;
     ASSERT_TRUE(wire.ok());
     const std::string bus =
@@ -198,7 +198,7 @@ TEST(VcanSafeStop, RunCommandInterruptedDuringBootUpExits130AndLeavesNodesPreOpe
 TEST(VcanSafeStop, DriveCommandHoldingAnAxisStopsItOnSigintAndSigterm) {
     CODRIVE_REQUIRE_VCAN("vcan0");
     Process sim({tool_path("codrive-sim"), "-i", "vcan0", "--node", "1:akd2g:1"});
-    ASSERT_TRUE(sim.wait_for_output("ready", 10s)) << sim.output();
+    ASSERT_TRUE(sim.wait_for_output("ready", 30s)) << sim.output();
     for (const int sig : {SIGINT, SIGTERM}) {
         SCOPED_TRACE(sig == SIGINT ? "jog, SIGINT" : "move, SIGTERM");
         CanWire wire;
@@ -243,7 +243,7 @@ TEST(VcanSafeStop, DemoProgramStopsSafelyOnSigint) {
     CODRIVE_REQUIRE_VCAN("vcan0");
     Process sim(
         {tool_path("codrive-sim"), "-i", "vcan0", "--node", "1:akd2g", "--node", "2:ds-bvs"});
-    ASSERT_TRUE(sim.wait_for_output("node 2", 10s)) << sim.output();
+    ASSERT_TRUE(sim.wait_for_output("node 2", 30s)) << sim.output();
     CanWire wire;
     ASSERT_TRUE(wire.ok());
     Process demo(
