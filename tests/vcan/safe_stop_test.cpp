@@ -178,7 +178,10 @@ TEST(VcanSafeStop, RunCommandInterruptedDuringBootUpExits130AndLeavesNodesPreOpe
     const std::string bus =
         write_bus_file("  - id: 5\n    profile: akd2g\n    sdo_timeout_ms: 3000\n");
     Process run({tool_path("codrive"), "run", bus, "--enable"});
-    wire.run_for(1500ms);
+    // Node 1 heartbeats once its boot-up wrote 1017h: the boot-up is under way (node 5's takes
+    // 3 probes of 3 s), so the signal handlers are installed.
+    ASSERT_TRUE(wire.wait([&] { return wire.hb_state(1).has_value(); }, 30s)) << run.output();
+    wire.run_for(300ms);
     ASSERT_TRUE(run.running()) << "the boot-up ended before the signal\n" << run.output();
     const auto [ms, status] = stop_with(run, wire, SIGINT);
     std::printf("codrive run during boot-up: SIGINT to exit: %.0f ms, exit status %d\n", ms,
