@@ -391,8 +391,8 @@ void install_drive(CLI::App& app, int& exit_code) {
     cmd->add_option("--axis", a->axis, "Axis of a multi-axis drive (AKD2G: 1 or 2)")
         ->capture_default_str();
     cmd->footer("SIGINT/SIGTERM: an axis the command has commanded gets quick stop, then "
-                "disable voltage (within 1 s); exit status 130/143. Exit status: 0 done, 1 "
-                "failed, 2 bad arguments, 3 no interface.");
+                "disable voltage (within 1 s; see docs/safe-stop.md); exit status 130/143. Exit "
+                "status: 0 done, 1 failed, 2 bad arguments, 3 no interface.");
     cmd->add_option("action", a->action, "status|enable|disable|reset|home|move|jog")
         ->required()
         ->check(CLI::IsMember({"status", "enable", "disable", "reset", "home", "move", "jog"}));

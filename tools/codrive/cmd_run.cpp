@@ -112,11 +112,11 @@ int run_bus(const RunArgs& a) {
 void install_run(CLI::App& app, int& exit_code) {
     auto a = std::make_shared<RunArgs>();
     auto* cmd = app.add_subcommand(
-        "run", "Boot a bus from its file and show live axis status until Ctrl-C (SIGINT) or "
-               "SIGTERM, then shut down safely: quick stop, disable, NMT pre-operational, "
-               "EtherCAT PRE-OP. Exit status: 0 after a clean stop (also on a signal), 1 "
-               "boot-up failed or an axis did not confirm its stop, 2 bad bus file, 130/143 "
-               "SIGINT/SIGTERM during the boot-up");
+        "run", "Boot a bus from its file and show live axis status until Ctrl-C or SIGTERM");
+    cmd->footer("Ctrl-C (SIGINT) or SIGTERM: safe shutdown (quick stop, disable, NMT "
+                "pre-operational, EtherCAT PRE-OP; see docs/safe-stop.md). Exit status: 0 after a "
+                "clean stop (also on a signal), 1 boot-up failed or an axis did not confirm its "
+                "stop, 2 bad bus file, 130/143 SIGINT/SIGTERM during the boot-up.");
     cmd->add_option("file", a->file, "Bus file (YAML, see docs/bus-file.md)")->required();
     cmd->add_option("--duration", a->duration_s,
                     "Stop after this many seconds (default: until "
