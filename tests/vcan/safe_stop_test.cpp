@@ -168,7 +168,7 @@ TEST(VcanSafeStop, RunCommandStopsSafelyOnSigterm) {
 }
 
 // A signal while a node is still booting (node 5 does not exist: its boot-up waits on SDO
-// timeouts of 3 s): start() gives up at once and leaves the nodes pre-operational.
+// timeouts of 3 s): start() gives up at once and sends every node NMT pre-operational.
 TEST(VcanSafeStop, RunCommandInterruptedDuringBootUpExits130AndLeavesNodesPreOperational) {
     CODRIVE_REQUIRE_VCAN("vcan0");
     Process sim({tool_path("codrive-sim"), "-i", "vcan0", "--node", "1:akd2g:1"});
@@ -178,11 +178,12 @@ TEST(VcanSafeStop, RunCommandInterruptedDuringBootUpExits130AndLeavesNodesPreOpe
     const std::string bus =
         write_bus_file("  - id: 5\n    profile: akd2g\n    sdo_timeout_ms: 3000\n");
     Process run({tool_path("codrive"), "run", bus, "--enable"});
-    // Node 1 heartbeats once its boot-up wrote 1017h: the boot-up is under way (node 5's takes
-    // 3 probes of 3 s), so the signal handlers are installed.
-    ASSERT_TRUE(wire.wait([&] { return wire.hb_state(1).has_value(); }, 30s)) << run.output();
+    // Node 5's boot-up probes it over SDO (3 probes of 3 s): the boot-up is under way and the
+    // signal handlers are installed.
+    ASSERT_TRUE(wire.wait([&] { return wire.sdo_requests(5) > 0; }, 30s)) << run.output();
     wire.run_for(300ms);
     ASSERT_TRUE(run.running()) << "the boot-up ended before the signal\n" << run.output();
+    const std::size_t nmt_before = wire.nmt().size();
     const auto [ms, status] = stop_with(run, wire, SIGINT);
     std::printf("codrive run during boot-up: SIGINT to exit: %.0f ms, exit status %d\n", ms,
                 status);
@@ -190,9 +191,16 @@ TEST(VcanSafeStop, RunCommandInterruptedDuringBootUpExits130AndLeavesNodesPreOpe
     EXPECT_LT(ms, 2000.0) << run.output();
     EXPECT_EQ(status, 130) << run.output();
     EXPECT_TRUE(has(run, "stopped by request during the boot-up")) << run.output();
-    EXPECT_TRUE(
-        wire.wait([&] { return wire.hb_state(1) == codrive::testing::kNmtPreOperational; }, 1s))
-        << "node 1 heartbeat state " << int(wire.hb_state(1).value_or(0xFF));
+    // NMT enter pre-operational (0x80) to all nodes, and no NMT start (0x01) after it.
+    bool pre_op = false;
+    for (std::size_t i = nmt_before; i < wire.nmt().size(); ++i) {
+        const auto [cs, node] = wire.nmt()[i];
+        if (cs == 0x80 && node == 0) {
+            pre_op = true;
+        }
+        EXPECT_FALSE(pre_op && cs == 0x01) << "NMT start after the stop";
+    }
+    EXPECT_TRUE(pre_op) << "no NMT enter pre-operational after the signal";
     std::remove(bus.c_str());
 }
 

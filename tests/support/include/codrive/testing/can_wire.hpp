@@ -16,6 +16,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace codrive::testing {
@@ -55,6 +56,12 @@ public:
     [[nodiscard]] std::optional<std::uint8_t> hb_state(NodeId node) const { return hb_[node]; }
     [[nodiscard]] std::uint64_t tpdos(NodeId node) const { return tpdo_[node]; }
     [[nodiscard]] std::uint64_t syncs() const { return syncs_; }
+    /// SDO requests (0x600 + node) any client sent to `node`.
+    [[nodiscard]] std::uint64_t sdo_requests(NodeId node) const { return sdo_rx_[node]; }
+    /// NMT commands seen (CiA 301 §7.2.8.3.1): command specifier and node (0 = all), in order.
+    [[nodiscard]] const std::vector<std::pair<std::uint8_t, std::uint8_t>>& nmt() const {
+        return nmt_;
+    }
     /// Controlwords (6040h) the master sent to `node`, in order, consecutive repeats folded:
     /// the first two bytes of RPDO1 (every drive layout maps 6040h first) and expedited SDO
     /// downloads to 6040h:00.
@@ -103,7 +110,9 @@ private:
         }
         const std::uint32_t fn = f.id & 0x780;
         const auto node = static_cast<NodeId>(f.id & 0x7F);
-        if (f.id == 0x80) {
+        if (f.id == 0x000 && f.len == 2) {
+            nmt_.emplace_back(f.data[0], f.data[1]);
+        } else if (f.id == 0x80) {
             ++syncs_;
         } else if (fn == 0x080 && f.len >= 2) {
             emcy_[node].push_back(get_le<std::uint16_t>(f.data.data()));
@@ -116,9 +125,12 @@ private:
             }
         } else if (fn == 0x200 && f.len >= 2) {
             fold(cw_[node], get_le<std::uint16_t>(f.data.data()));
-        } else if (fn == 0x600 && f.len == 8 && (f.data[0] & 0xE0) == 0x20 &&
-                   (f.data[0] & 0x02) != 0 && get_le<std::uint16_t>(&f.data[1]) == 0x6040 &&
-                   f.data[3] == 0) {
+        }
+        if (fn == 0x600) {
+            ++sdo_rx_[node];
+        }
+        if (fn == 0x600 && f.len == 8 && (f.data[0] & 0xE0) == 0x20 && (f.data[0] & 0x02) != 0 &&
+            get_le<std::uint16_t>(&f.data[1]) == 0x6040 && f.data[3] == 0) {
             // CiA 301 §7.2.4.3.3: initiate download, expedited (ccs 1, e = 1).
             fold(cw_[node], get_le<std::uint16_t>(&f.data[4]));
         }
@@ -132,6 +144,8 @@ private:
     std::array<std::uint64_t, 128> tpdo_{};
     std::array<std::vector<std::uint16_t>, 128> cw_{};
     std::array<std::vector<std::uint16_t>, 128> sw_{};
+    std::array<std::uint64_t, 128> sdo_rx_{};
+    std::vector<std::pair<std::uint8_t, std::uint8_t>> nmt_;
     std::uint64_t syncs_ = 0;
 };
 
