@@ -57,6 +57,9 @@ int main(int argc, char** argv) {
     const Eigen::VectorXd jerk = Eigen::VectorXd::Constant(2, 40000000.0);
     int failures = 0;
     for (const auto& corner : corners) {
+        if (c.stop_requested()) {
+            break; // Ctrl-C: no further corner; the shutdown below stops the axes
+        }
         const Eigen::VectorXd end = origin + corner;
         bool done = false;
         auto started = motion.start(end, v, acc, jerk, drives::ProfileShape::JerkLimited,
@@ -76,7 +79,11 @@ int main(int argc, char** argv) {
                    corner[0], corner[1], motion.cycles(), ex, ey);
         failures += (std::abs(ex) > 1000 || std::abs(ey) > 1000) ? 1 : 0;
     }
+    c.set_cycle_callback(nullptr); // the motion's callback holds the loop's locals
     c.shutdown();
     fmt::print("{}\n", c.stats().to_string());
+    if (c.stop_requested()) {
+        return 128 + c.stop_signal();
+    }
     return failures == 0 ? 0 : 1;
 }

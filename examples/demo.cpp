@@ -3,7 +3,8 @@
 // file and walks through what a motion controller does: boot report, enable, homing, a
 // coordinated two-axis CSP move, a velocity move, an injected fault diagnosed with the vendor's
 // text and recovered, a live status table, and a summary. Exit status 0 only if every step
-// worked.   codrive-demo BUS.yml [--fault-node N]
+// worked; on SIGINT/SIGTERM it stops where it is with the safe shutdown and exits 128 + the
+// signal number (130, 143).   codrive-demo BUS.yml [--fault-node N]
 #include <codrive/controller/controller.hpp>
 #include <codrive/drives/coordinated.hpp>
 #include <codrive/drives/profile.hpp>
@@ -12,7 +13,9 @@
 
 #include <fmt/format.h>
 
+#include <csignal>
 #include <cstring>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -38,13 +41,23 @@ struct Demo {
     /// Runs an asynchronous axis operation to its end.
     bool wait(const std::string& what, const std::function<void(Axis::Done)>& op,
               Duration timeout = seconds(10)) {
-        bool done = false;
-        std::string error;
-        op([&](DriveVoid r) {
-            done = true;
-            error = r ? "" : r.error().message;
+        // Shared with the callback: on Ctrl-C the wait ends first and the shutdown cancels the
+        // operation later.
+        auto done = std::make_shared<bool>(false);
+        auto error = std::make_shared<std::string>();
+        op([done, error](DriveVoid r) {
+            *done = true;
+            *error = r ? "" : r.error().message;
         });
-        c.run_until([&] { return done; }, timeout);
+        c.run_until([&] { return *done; }, timeout);
+        if (c.stop_requested()) {
+            return false; // not a failure of the step: main() stops the demo
+        }
+        return finished(what, *done, *error, timeout);
+    }
+
+    /// Records how a wait ended: "ok", or a failure with its sentence.
+    bool finished(const std::string& what, bool done, std::string error, Duration timeout) {
         if (!done) {
             error = what + ": did not finish within " + fmt::format("{:.0f} ms", to_ms(timeout));
         }
@@ -81,17 +94,27 @@ struct Demo {
         }
     }
 
+    /// SIGINT/SIGTERM: the safe shutdown now, then exit status 128 + the signal.
+    int stop_now() const {
+        c.set_cycle_callback(nullptr);
+        step(fmt::format("{} received: safe shutdown (quick stop, disable, NMT pre-operational)",
+                         c.stop_signal() == SIGTERM ? "SIGTERM" : "SIGINT"));
+        c.shutdown();
+        table();
+        return 128 + (c.stop_signal() != 0 ? c.stop_signal() : SIGINT);
+    }
+
     bool sdo_write_u8(NodeId node, std::uint16_t index, std::uint8_t sub, std::uint8_t v) {
-        bool done = false;
-        std::string error;
+        auto done = std::make_shared<bool>(false); // outlives a wait ended by Ctrl-C
+        auto error = std::make_shared<std::string>();
         c.master().sdo().client(node).write<std::uint8_t>(
-            index, sub, v, [&](sdo::SdoResult<void> r) {
-                done = true;
-                error = r ? "" : r.error().to_string();
+            index, sub, v, [done, error](sdo::SdoResult<void> r) {
+                *done = true;
+                *error = r ? "" : r.error().to_string();
             });
-        c.run_until([&] { return done; }, seconds(2));
-        if (!done || !error.empty()) {
-            failures.push_back(done ? error : "SDO write did not finish");
+        c.run_until([&] { return *done; }, seconds(2));
+        if (!*done || !error->empty()) {
+            failures.push_back(*done ? *error : "SDO write did not finish");
             return false;
         }
         return true;
@@ -133,7 +156,7 @@ int main(int argc, char** argv) {
     d.step("boot-up: identity check, configuration, PDO mapping, NMT start");
     if (auto r = c.start(); !r) {
         fmt::print(stderr, "codrive-demo: {}\n", r.error());
-        return 1;
+        return c.stop_signal() != 0 ? 128 + c.stop_signal() : 1;
     }
     for (const auto& r : c.boot_reports()) {
         fmt::print("{}", r.to_string());
@@ -149,6 +172,9 @@ int main(int argc, char** argv) {
                 return true;
             },
             seconds(3))) {
+        if (c.stop_requested()) {
+            return d.stop_now();
+        }
         fmt::print(stderr, "codrive-demo: not every axis reported a statusword by PDO\n");
         return 1;
     }
@@ -158,6 +184,9 @@ int main(int argc, char** argv) {
     for (const auto& a : axes) {
         Axis* ax = a.axis;
         d.wait(a.name + " enable", [&](Axis::Done done) { ax->enable(std::move(done)); });
+    }
+    if (c.stop_requested()) {
+        return d.stop_now();
     }
 
     // The first two CSP axes form the gantry; the first CSV axis is the spindle.
@@ -200,6 +229,9 @@ int main(int argc, char** argv) {
             ax->set_mode(drives::cia402::Mode::CyclicSyncPosition, std::move(done));
         });
     }
+    if (c.stop_requested()) {
+        return d.stop_now();
+    }
 
     if (gantry.size() == 2) {
         d.step("coordinated two-axis CSP move (jerk-limited, one set-point per axis per SYNC)");
@@ -224,7 +256,7 @@ int main(int argc, char** argv) {
             d.say("FAILED: " + started.error().message);
         } else {
             int ticks = 0;
-            while (!done && ticks < 100) {
+            while (!done && ticks < 100 && !c.stop_requested()) {
                 c.run_for(milliseconds(250));
                 ++ticks;
                 if (ticks % 2 == 0) {
@@ -232,6 +264,9 @@ int main(int argc, char** argv) {
                 }
             }
             c.run_for(milliseconds(100));
+            if (c.stop_requested()) {
+                return d.stop_now();
+            }
             if (!done || !error.empty()) {
                 d.failures.push_back(done ? error : "coordinated move did not finish");
             }
@@ -255,6 +290,9 @@ int main(int argc, char** argv) {
         spindle->set_target_velocity(0);
         c.run_for(milliseconds(300));
     }
+    if (c.stop_requested()) {
+        return d.stop_now();
+    }
 
     d.step(fmt::format("inject an over-current fault on node {} axis 1 and recover", fault_node));
     Axis* victim = c.axis(fault_node, 1);
@@ -272,6 +310,9 @@ int main(int argc, char** argv) {
         d.wait("fault reset", [&](Axis::Done done) { victim->fault_reset(std::move(done)); });
         d.wait("enable again", [&](Axis::Done done) { victim->enable(std::move(done)); });
         d.table();
+    }
+    if (c.stop_requested()) {
+        return d.stop_now();
     }
 
     d.step("safe shutdown: quick stop, disable, NMT pre-operational");

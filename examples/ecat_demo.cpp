@@ -1,14 +1,33 @@
 // SPDX-License-Identifier: Apache-2.0
 // The EtherCAT demo: a bus file with an `ethercat:` segment, one drive enabled and moved in CSP
-// over the CoE transport, status printed while it moves, safe shutdown, summary.
+// over the CoE transport, status printed while it moves, safe shutdown, summary. SIGINT/SIGTERM
+// end it early with the same safe shutdown and exit status 128 + the signal number.
 //   codrive-ecat_demo BUS.yml [DISTANCE]
 #include <codrive/controller/controller.hpp>
 
+#include <csignal>
 #include <cstdio>
 #include <cstdlib>
 #include <string>
 
 using namespace codrive;
+
+namespace {
+
+/// SIGINT/SIGTERM arrived: the safe shutdown (quick stop, disable, PRE-OP), exit 128 + signal.
+int stopped(controller::Controller& c) {
+    c.set_cycle_callback(nullptr);
+    std::printf("== %s received: shutdown (quick stop, disable, PRE-OP)\n",
+                c.stop_signal() == SIGTERM ? "SIGTERM" : "SIGINT");
+    c.shutdown();
+    for (const auto& a : c.axes()) {
+        std::printf("  %s is %s\n", a.name.c_str(),
+                    std::string(drives::cia402::to_string(a.axis->state())).c_str());
+    }
+    return 128 + (c.stop_signal() != 0 ? c.stop_signal() : SIGINT);
+}
+
+} // namespace
 
 int main(int argc, char** argv) {
     if (argc < 2) {
@@ -27,7 +46,7 @@ int main(int argc, char** argv) {
     std::printf("== bring-up (ESM to OP, PDO layout from the profile)\n");
     if (auto started = c.start(); !started) {
         std::fprintf(stderr, "%s\n", started.error().c_str());
-        return 1;
+        return c.stop_signal() != 0 ? 128 + c.stop_signal() : 1;
     }
     drives::Axis* axis = nullptr;
     for (const auto& a : c.axes()) {
@@ -37,6 +56,9 @@ int main(int argc, char** argv) {
         }
     }
     if (axis == nullptr || !c.run_until([&] { return axis->has_statusword(); }, seconds(2))) {
+        if (c.stop_requested()) {
+            return stopped(c);
+        }
         std::fprintf(stderr, "no EtherCAT axis with a cyclic statusword\n");
         return 1;
     }
@@ -49,6 +71,9 @@ int main(int argc, char** argv) {
         done = true;
     });
     if (!c.run_until([&] { return done; }, seconds(3)) || !error.empty()) {
+        if (c.stop_requested()) {
+            return stopped(c);
+        }
         std::fprintf(stderr, "enable failed: %s\n", done ? error.c_str() : "timeout");
         return 1;
     }
@@ -62,13 +87,16 @@ int main(int argc, char** argv) {
         offset = distance > 0 ? std::min(offset + 50, distance) : std::max(offset - 50, distance);
         axis->set_target_position(start + offset);
     });
-    for (int i = 0; i < 200 && offset != distance; ++i) {
+    for (int i = 0; i < 200 && offset != distance && !c.stop_requested(); ++i) {
         c.run_for(milliseconds(250));
         std::printf("  target %8d  actual %8d  %s\n", start + offset,
                     axis->position_actual().value_or(0),
                     std::string(drives::cia402::to_string(axis->state())).c_str());
     }
     c.run_for(milliseconds(200));
+    if (c.stop_requested()) {
+        return stopped(c);
+    }
     const std::int32_t end = axis->position_actual().value_or(0);
     std::printf("  %s moved from %d to %d\n", axis->name().c_str(), start, end);
     c.set_cycle_callback(nullptr);

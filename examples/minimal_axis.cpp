@@ -55,5 +55,5 @@ int main(int argc, char** argv) {
     std::printf("%s moved from %d to %d\n", axis->name().c_str(), start,
                 axis->position_actual().value_or(0));
     c.shutdown();
-    return 0;
+    return c.stop_requested() ? 128 + c.stop_signal() : 0; // Ctrl-C: stopped safely, 130
 }

@@ -11,6 +11,7 @@
 #include <codrive/core/socket_can_bus.hpp>
 #include <codrive/drives/canopen_transport.hpp>
 #include <codrive/drives/profile.hpp>
+#include <codrive/drives/safe_stop.hpp>
 #include <codrive/master/master.hpp>
 #include <codrive/pdo/configure.hpp>
 #include <codrive/pdo/master.hpp>
@@ -90,13 +91,9 @@ private:
 
 namespace {
 
-Controller* g_signal_target = nullptr;
-
-extern "C" void on_stop_signal(int) {
-    if (g_signal_target != nullptr) {
-        g_signal_target->request_stop();
-    }
-}
+/// The controller SIGINT/SIGTERM stop (stop_on_signals()); atomic because the handler reads it.
+std::atomic<Controller*> g_signal_target{nullptr};
+static_assert(std::atomic<Controller*>::is_always_lock_free, "read in a signal handler");
 
 pdo::PdoConfig to_pdo(const master::PdoConfig& c) {
     pdo::PdoConfig p;
@@ -145,9 +142,8 @@ Controller::~Controller() {
     if (started_ && !stopped_) {
         shutdown();
     }
-    if (g_signal_target == this) {
-        g_signal_target = nullptr;
-    }
+    Controller* self = this;
+    (void)g_signal_target.compare_exchange_strong(self, nullptr);
     for (auto& b : buses_) {
         for (auto& [id, n] : b->nodes) {
             for (auto& a : n->axes) {
@@ -494,30 +490,39 @@ tl::expected<void, std::string> Controller::start() {
         });
         loop_->add_timed(seg.get());
     }
-    // Boot every bus's nodes in parallel.
-    std::size_t pending = buses_.size();
-    bool all_ok = true;
+    if (stop_requested_) {
+        return abandon_start("stopped by request before the boot-up");
+    }
+    // Boot every bus's nodes in parallel. The counters are members: a boot-up abandoned by a
+    // stop request or its timeout must not leave callbacks pointing into this stack frame.
+    boot_pending_ = buses_.size();
+    boot_ok_ = true;
     for (auto& bptr : buses_) {
         Bus* bp = bptr.get();
-        bp->master->boot_all(
-            [this, bp, &pending, &all_ok](const std::vector<master::BootReport>& r) {
-                for (const auto& rep : r) {
-                    reports_.push_back(rep);
-                    emit(rep.to_string());
-                    all_ok = all_ok && rep.ok;
-                    if (rep.ok) {
-                        if (auto it = bp->nodes.find(rep.node); it != bp->nodes.end()) {
-                            after_boot(*bp, *it->second);
-                        }
+        bp->master->boot_all([this, bp](const std::vector<master::BootReport>& r) {
+            for (const auto& rep : r) {
+                reports_.push_back(rep);
+                emit(rep.to_string());
+                boot_ok_ = boot_ok_ && rep.ok;
+                if (rep.ok) {
+                    if (auto it = bp->nodes.find(rep.node); it != bp->nodes.end()) {
+                        after_boot(*bp, *it->second);
                     }
                 }
-                --pending;
-            });
+            }
+            --boot_pending_;
+        });
     }
-    if (!loop_->run_until([&] { return pending == 0; }, options_.boot_timeout)) {
+    const bool booted = loop_->run_until([&] { return boot_pending_ == 0 || stop_requested_; },
+                                         options_.boot_timeout);
+    if (stop_requested_) {
+        return abandon_start("stopped by request during the boot-up");
+    }
+    if (!booted) {
         return tl::unexpected(
             fmt::format("boot-up did not finish within {:.0f} ms", to_ms(options_.boot_timeout)));
     }
+    const bool all_ok = boot_ok_;
     if (!all_ok) {
         std::string msg = "boot-up failed:";
         for (const auto& r : reports_) {
@@ -624,9 +629,7 @@ void Controller::set_cycle_callback(CycleCallback cb) {
 void Controller::cyclic_main() {
     cyclic_warnings_ = apply_realtime(options_.realtime);
     cyclic_ready_.store(true, std::memory_order_release);
-    std::size_t stopping = 0; // axes still stopping
     bool safe_stop_started = false;
-    TimePoint safe_stop_deadline = kNever;
     while (!cyclic_exit_.load(std::memory_order_acquire)) {
         // Sleep until the earliest SYNC (at most 20 ms, to notice a stop request).
         TimePoint wake = SteadyClock::now() + milliseconds(20);
@@ -677,16 +680,15 @@ void Controller::cyclic_main() {
         }
         if (safe_stop_requested_.load(std::memory_order_acquire) && !safe_stop_started) {
             safe_stop_started = true;
-            safe_stop_deadline = now + options_.shutdown_timeout;
-            cyclic_begin_safe_stop(stopping);
+            begin_safe_stop(now);
         }
-        if (safe_stop_started && (stopping == 0 || now >= safe_stop_deadline)) {
+        if (safe_stop_started && safe_stop_over(now)) {
+            end_safe_stop();
             for (auto& b : buses_) {
                 b->sync->stop();
             }
             axes_safe_.store(true, std::memory_order_release);
             safe_stop_started = false;
-            safe_stop_deadline = kNever;
         }
     }
 }
@@ -709,57 +711,55 @@ void Controller::on_sync(Bus& b, const CycleInfo& info) {
     publish_cyclic_stats(false);
 }
 
-void Controller::cyclic_begin_safe_stop(std::size_t& pending) {
-    // CiA 402 §6.3: quick stop brings a moving axis down on the quick-stop ramp; disable voltage
-    // then opens the power stage. Axes not enabled only need disable voltage.
-    for_each_axis([this, &pending](drives::Axis& a) {
+void Controller::begin_safe_stop(TimePoint now) {
+    safe_stop_ = SafeStop{true, 0, now + options_.shutdown_timeout};
+    for_each_axis([this](drives::Axis& a) {
         drives::Axis* ax = &a;
-        const auto s = ax->state();
-        if (s == drives::cia402::State::OperationEnabled) {
-            ++pending;
-            ax->cancel();
-            ax->quick_stop(
-                [this, ax, &pending](drives::DriveVoid r) {
-                    if (!r && !dedicated()) {
-                        emit(fmt::format("{}: quick stop during shutdown failed: {}", ax->name(),
-                                         r.error().message));
-                    }
-                    ax->disable([&pending](drives::DriveVoid) { --pending; });
-                },
-                options_.shutdown_timeout / 2);
-        } else if (s == drives::cia402::State::SwitchedOn ||
-                   s == drives::cia402::State::ReadyToSwitchOn ||
-                   s == drives::cia402::State::QuickStopActive) {
-            ++pending;
-            ax->cancel();
-            ax->disable([&pending](drives::DriveVoid) { --pending; },
-                        options_.shutdown_timeout / 2);
+        ++safe_stop_.pending; // before: done may run before safe_stop() returns
+        const bool started = drives::safe_stop(
+            a, safe_stop_.deadline, RealClock::instance(), [this, ax](drives::DriveVoid r) {
+                if (!safe_stop_.active) {
+                    return; // cancelled by end_safe_stop(): the shutdown is over
+                }
+                if (!r && !dedicated()) {
+                    emit(fmt::format("{}: safe stop during shutdown failed: {}", ax->name(),
+                                     r.error().message));
+                }
+                --safe_stop_.pending;
+            });
+        if (!started) {
+            --safe_stop_.pending;
         }
     });
 }
 
-void Controller::shutdown() {
-    if (!started_ || stopped_) {
-        return;
-    }
-    stopped_ = true;
-    if (dedicated()) {
-        // The axes belong to the cyclic thread: it stops them while this thread keeps serving
-        // their SDO accesses, then it stops SYNC and exits.
-        safe_stop_requested_.store(true, std::memory_order_release);
-        (void)loop_->run_until([&] { return axes_safe_.load(std::memory_order_acquire); },
-                               options_.shutdown_timeout + milliseconds(100));
-        cyclic_exit_.store(true, std::memory_order_release);
-        if (cyclic_thread_.joinable()) {
-            cyclic_thread_.join();
+bool Controller::safe_stop_over(TimePoint now) const {
+    return safe_stop_.pending == 0 || now >= safe_stop_.deadline;
+}
+
+void Controller::end_safe_stop() {
+    // Out of time: the operations still running on drives that did not answer end here, so no
+    // callback of this shutdown runs during a later run_for().
+    safe_stop_.active = false;
+    for_each_axis([](drives::Axis& a) {
+        if (a.busy()) {
+            a.cancel();
         }
-        loop_->remove_timed(pump_.get());
-        pump_acyclic(); // the last PDO events
-    } else {
-        std::size_t pending = 0;
-        cyclic_begin_safe_stop(pending);
-        loop_->run_until([&] { return pending == 0; }, options_.shutdown_timeout);
+    });
+    safe_stop_.pending = 0;
+}
+
+void Controller::run_loop_until(const std::function<bool()>& pred, TimePoint deadline) {
+    while (!pred()) {
+        const TimePoint now = loop_->now();
+        if (now >= deadline) {
+            return;
+        }
+        (void)loop_->run_until(pred, deadline - now);
     }
+}
+
+void Controller::stop_buses() {
     for (auto& b : buses_) {
         (void)b->master->nmt().enter_pre_operational(0);
         if (b->sync) {
@@ -771,7 +771,62 @@ void Controller::shutdown() {
         loop_->remove_timed(seg.get());
     }
     // Let the NMT frames and any queued frames leave.
-    (void)loop_->run_until(loop_->now() + milliseconds(20));
+    const TimePoint flushed = loop_->now() + milliseconds(20);
+    run_loop_until([] { return false; }, flushed);
+}
+
+tl::expected<void, std::string> Controller::abandon_start(std::string why) {
+    // The boot-up state machines must not start a node after the NMT command below: they get
+    // no more frames and no more ticks.
+    for (auto& b : buses_) {
+        if (b->master) {
+            loop_->remove_timed(b->master.get());
+            b->bus->set_frame_handler(nullptr);
+            b->bus->set_event_handler(nullptr);
+        }
+    }
+    stop_buses();
+    if (caller_schedule_) {
+        caller_schedule_->restore();
+        caller_schedule_.reset();
+    }
+    return tl::unexpected(std::move(why));
+}
+
+void Controller::shutdown() {
+    if (!started_ || stopped_) {
+        return;
+    }
+    stopped_ = true;
+    if (dedicated()) {
+        // The axes belong to the cyclic thread: it stops them while this thread keeps serving
+        // their SDO accesses, then it stops SYNC and exits.
+        safe_stop_requested_.store(true, std::memory_order_release);
+        run_loop_until([&] { return axes_safe_.load(std::memory_order_acquire); },
+                       loop_->now() + options_.shutdown_timeout + milliseconds(100));
+        cyclic_exit_.store(true, std::memory_order_release);
+        if (cyclic_thread_.joinable()) {
+            cyclic_thread_.join();
+        }
+        if (safe_stop_.active) {
+            end_safe_stop(); // the cyclic thread did not get to it; it has exited now
+        }
+        loop_->remove_timed(pump_.get());
+        pump_acyclic(); // the last PDO events
+    } else {
+        begin_safe_stop(loop_->now());
+        run_loop_until([&] { return safe_stop_over(loop_->now()); }, safe_stop_.deadline);
+        end_safe_stop();
+    }
+    for_each_axis([this](drives::Axis& a) {
+        if (drives::needs_safe_stop(a.state())) {
+            emit(fmt::format("{}: still {} after the safe shutdown: the drive did not confirm "
+                             "quick stop and disable within {:.0f} ms",
+                             a.name(), drives::cia402::to_string(a.state()),
+                             to_ms(options_.shutdown_timeout)));
+        }
+    });
+    stop_buses();
     if (caller_schedule_) {
         caller_schedule_->restore();
         caller_schedule_.reset();
@@ -800,14 +855,26 @@ bool Controller::run_until(const std::function<bool()>& pred, Duration timeout) 
 void Controller::request_stop() {
     stop_requested_ = true;
     if (loop_) {
-        loop_->stop();
+        loop_->stop(); // an atomic store and an eventfd write: async-signal-safe
+    }
+}
+
+void Controller::on_signal(int sig) {
+    if (Controller* c = g_signal_target.load(); c != nullptr) {
+        int none = 0;
+        (void)c->stop_signal_.compare_exchange_strong(none, sig); // the first signal counts
+        c->request_stop();
     }
 }
 
 void Controller::stop_on_signals() {
     g_signal_target = this;
-    std::signal(SIGINT, on_stop_signal);
-    std::signal(SIGTERM, on_stop_signal);
+    struct sigaction sa {};
+    sa.sa_handler = &Controller::on_signal;
+    sigemptyset(&sa.sa_mask);
+    sa.sa_flags = SA_RESTART; // stdio and blocking calls elsewhere need not handle EINTR
+    (void)::sigaction(SIGINT, &sa, nullptr);
+    (void)::sigaction(SIGTERM, &sa, nullptr);
 }
 
 void Controller::post(std::function<void()> fn) {

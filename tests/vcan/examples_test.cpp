@@ -6,15 +6,13 @@
 #include <gtest/gtest.h>
 
 using namespace std::chrono_literals;
+using codrive::testing::example_path;
 using codrive::testing::Process;
 using codrive::testing::run;
 using codrive::testing::tool_path;
 
 namespace {
 
-std::string example(const std::string& name) {
-    return std::string(CODRIVE_BUILD_DIR) + "/examples/codrive-" + name;
-}
 std::string bus_file() {
     return std::string(CODRIVE_SOURCE_DIR) + "/tests/data/bus/akd2g-csp.yml";
 }
@@ -29,7 +27,7 @@ struct SimulatedAkd2g {
 TEST(VcanExamples, MinimalAxisEnablesAndMoves) {
     CODRIVE_REQUIRE_VCAN("vcan0");
     SimulatedAkd2g drive;
-    auto r = run({example("minimal_axis"), bus_file(), "1", "50000"}, 60s);
+    auto r = run({example_path("minimal_axis"), bus_file(), "1", "50000"}, 60s);
     EXPECT_EQ(r.status, 0) << r.output;
     EXPECT_NE(r.output.find("moved from 0 to 50000"), std::string::npos) << r.output;
 }
@@ -37,7 +35,7 @@ TEST(VcanExamples, MinimalAxisEnablesAndMoves) {
 TEST(VcanExamples, CspCoordinatedTracesASquare) {
     CODRIVE_REQUIRE_VCAN("vcan0");
     SimulatedAkd2g drive;
-    auto r = run({example("csp_coordinated"), bus_file(), "100000"}, 90s);
+    auto r = run({example_path("csp_coordinated"), bus_file(), "100000"}, 90s);
     EXPECT_EQ(r.status, 0) << r.output;
     EXPECT_NE(r.output.find("corner (0, 0) reached"), std::string::npos) << r.output;
     std::printf("%s", r.output.c_str());
@@ -46,7 +44,7 @@ TEST(VcanExamples, CspCoordinatedTracesASquare) {
 TEST(VcanExamples, DiagnosticsReportsNodesAndStatistics) {
     CODRIVE_REQUIRE_VCAN("vcan0");
     SimulatedAkd2g drive;
-    auto r = run({example("diagnostics"), bus_file(), "1"}, 60s);
+    auto r = run({example_path("diagnostics"), bus_file(), "1"}, 60s);
     EXPECT_EQ(r.status, 0) << r.output;
     EXPECT_NE(r.output.find("node   1  operational"), std::string::npos) << r.output;
     EXPECT_NE(r.output.find("== statistics"), std::string::npos) << r.output;

@@ -5,17 +5,13 @@
 //
 // The master is this binary running SoakVcanMaster.DISABLED_Run (soak_test.cpp); the drives
 // are codrive-sim processes; the test watches the wire on its own socket.
-#include <codrive/core/endian.hpp>
-#include <codrive/core/event_loop.hpp>
-#include <codrive/core/socket_can_bus.hpp>
-#include <codrive/sdo/client.hpp>
+#include <codrive/testing/can_wire.hpp>
 #include <codrive/testing/process.hpp>
 #include <codrive/testing/vcan.hpp>
 
 #include <gtest/gtest.h>
 #include <linux/can/error.h>
 
-#include <array>
 #include <climits>
 #include <csignal>
 #include <cstdlib>
@@ -62,93 +58,11 @@ bool wait_running(Process& master) {
     return false;
 }
 
-/// What the test sees on vcan0: EMCY codes, heartbeat states and TPDO frames per node.
-class Wire {
-public:
-    Wire() {
-        auto loop = EventLoop::create();
-        auto bus = SocketCanBus::open("vcan0");
-        if (!loop || !bus) {
-            return;
-        }
-        loop_ = std::move(*loop);
-        bus_ = std::move(*bus);
-        bus_->set_frame_handler([this](const Frame& f, TimePoint t) { on_frame(f, t); });
-        (void)bus_->attach(*loop_);
-    }
-    [[nodiscard]] bool ok() const { return bus_ != nullptr; }
-
-    bool wait(const std::function<bool()>& pred, Duration timeout) {
-        return loop_->run_until(pred, timeout);
-    }
-    void run_for(Duration d) { (void)loop_->run_until(loop_->now() + d); }
-
-    [[nodiscard]] bool emcy_seen(NodeId node, std::uint16_t code) const {
-        for (auto c : emcy_[node]) {
-            if (c == code) {
-                return true;
-            }
-        }
-        return false;
-    }
-    [[nodiscard]] std::optional<std::uint8_t> hb_state(NodeId node) const { return hb_[node]; }
-    [[nodiscard]] std::uint64_t tpdos(NodeId node) const { return tpdo_[node]; }
-    [[nodiscard]] std::uint64_t syncs() const { return syncs_; }
-
-    /// Reads an object of `node` by SDO (expedited); nullopt on failure.
-    std::optional<std::uint16_t> read_u16(NodeId node, std::uint16_t index) {
-        sdo::ClientConfig cc;
-        cc.node = node;
-        cc.timeout = 500ms;
-        client_ = std::make_unique<sdo::SdoClient>(*bus_, RealClock::instance(), cc);
-        loop_->add_timed(client_.get());
-        std::optional<sdo::SdoResult<std::uint16_t>> r;
-        client_->read<std::uint16_t>(index, 0,
-                                     [&](sdo::SdoResult<std::uint16_t> v) { r = std::move(v); });
-        loop_->run_until([&] { return r.has_value(); }, 2s);
-        loop_->remove_timed(client_.get());
-        client_.reset();
-        if (!r || !*r) {
-            return std::nullopt;
-        }
-        return **r;
-    }
-
-    VoidResult send(const Frame& f) { return bus_->send(f); }
-
-private:
-    void on_frame(const Frame& f, TimePoint t) {
-        if (client_) {
-            client_->on_frame(f, t);
-        }
-        if (f.error() || f.extended()) {
-            return;
-        }
-        const std::uint32_t fn = f.id & 0x780;
-        const auto node = static_cast<NodeId>(f.id & 0x7F);
-        if (f.id == 0x80) {
-            ++syncs_;
-        } else if (fn == 0x080 && f.len >= 2) {
-            emcy_[node].push_back(get_le<std::uint16_t>(f.data.data()));
-        } else if (fn == 0x700 && f.len == 1) {
-            hb_[node] = static_cast<std::uint8_t>(f.data[0] & 0x7F);
-        } else if (fn == 0x180 || fn == 0x280 || fn == 0x380 || fn == 0x480) {
-            ++tpdo_[node];
-        }
-    }
-
-    std::unique_ptr<EventLoop> loop_;
-    std::unique_ptr<SocketCanBus> bus_;
-    std::unique_ptr<sdo::SdoClient> client_;
-    std::array<std::vector<std::uint16_t>, 128> emcy_{};
-    std::array<std::optional<std::uint8_t>, 128> hb_{};
-    std::array<std::uint64_t, 128> tpdo_{};
-    std::uint64_t syncs_ = 0;
-};
+using Wire = codrive::testing::CanWire;
 
 constexpr std::uint16_t kHeartbeatLostEmcy = 0x8130; // CiA 301 "life guard / heartbeat error"
-constexpr std::uint8_t kPreOperational = 0x7F;
-constexpr std::uint8_t kOperational = 0x05;
+constexpr std::uint8_t kPreOperational = codrive::testing::kNmtPreOperational;
+constexpr std::uint8_t kOperational = codrive::testing::kNmtOperational;
 
 } // namespace
 

@@ -9,16 +9,46 @@
 #include <codrive/drives/axis.hpp>
 #include <codrive/drives/canopen_transport.hpp>
 #include <codrive/drives/profile.hpp>
+#include <codrive/drives/safe_stop.hpp>
 #include <codrive/ethercat/coe_transport.hpp>
 #include <codrive/master/master.hpp>
 
 #include <fmt/format.h>
 
+#include <atomic>
+#include <csignal>
 #include <functional>
+#include <memory>
 #include <thread>
 
 namespace codrive::cli {
 namespace {
+
+/// SIGINT/SIGTERM while the command runs (0: none). The waits below end on it.
+std::atomic<int> g_signal{0};
+static_assert(std::atomic<int>::is_always_lock_free, "written by a signal handler");
+
+extern "C" void on_drive_signal(int sig) {
+    int none = 0;
+    (void)g_signal.compare_exchange_strong(none, sig);
+}
+
+/// Time for the safe stop on a signal (quick stop, then disable), as the controller's default
+/// shutdown_timeout.
+constexpr Duration kStopBudget = seconds(1);
+
+void catch_stop_signals() {
+    struct sigaction sa {};
+    sa.sa_handler = on_drive_signal;
+    sigemptyset(&sa.sa_mask);
+    sa.sa_flags = SA_RESTART;
+    (void)::sigaction(SIGINT, &sa, nullptr);
+    (void)::sigaction(SIGTERM, &sa, nullptr);
+}
+
+bool stop_requested() {
+    return g_signal.load() != 0;
+}
 
 struct DriveArgs {
     std::string iface;
@@ -79,7 +109,11 @@ const drives::Profile* identify(DriveWire& w) {
             product = *r;
         }
     });
+    // Not cut short by a signal: the callbacks above hold this frame's locals.
     w.run_until([&] { return pending == 0; }, seconds(5));
+    if (stop_requested()) {
+        return nullptr;
+    }
     if (!device_type) {
         fmt::print(stderr, "codrive: {}\n", error.empty() ? w.who + ": no answer" : error);
         return nullptr;
@@ -89,26 +123,66 @@ const drives::Profile* identify(DriveWire& w) {
     return profile != nullptr ? profile : &drives::generic_profile();
 }
 
+/// SIGINT/SIGTERM arrived: once the command has commanded the axis (every action but
+/// `status`), it leaves it without torque — quick stop if enabled, then disable voltage — and
+/// exits 128 + the signal number.
+int stop_on_signal(const DriveArgs& a, DriveWire& w, drives::Axis& axis) {
+    const int sig = g_signal.load();
+    fmt::print(stderr, "codrive: {} received\n", sig == SIGTERM ? "SIGTERM" : "SIGINT");
+    if (a.action != "status" && axis.has_statusword()) {
+        bool over = false;
+        std::string err;
+        if (drives::safe_stop(axis, RealClock::instance().now() + kStopBudget,
+                              RealClock::instance(), [&](drives::DriveVoid r) {
+                                  over = true;
+                                  err = r ? "" : r.error().message;
+                              })) {
+            w.run_until([&] { return over; }, kStopBudget + milliseconds(100));
+            if (!over || !err.empty()) {
+                fmt::print(stderr, "codrive: safe stop failed: {}\n",
+                           over ? err : "the drive did not confirm it in time");
+                axis.cancel();
+            }
+        }
+        fmt::print(stderr, "codrive: {} axis {}: {}, statusword 0x{:04X}\n", w.who, a.axis,
+                   drives::cia402::to_string(axis.state()), axis.statusword());
+    }
+    return 128 + sig;
+}
+
 /// The action on one axis, then one status line. Transport-neutral: the same on both wires.
 int operate(const DriveArgs& a, DriveWire& w, drives::Axis& axis, const drives::Profile& profile) {
     auto wait = [&](const std::function<void(drives::Axis::Done)>& op) -> bool {
-        bool done = false;
-        std::string err;
-        op([&](drives::DriveVoid r) {
-            done = true;
-            err = r ? "" : r.error().message;
+        // Shared with the callback: a signal ends the wait before the operation, which the safe
+        // stop then cancels (its callback runs after this returns).
+        struct Outcome {
+            bool done = false;
+            std::string err;
+        };
+        auto out = std::make_shared<Outcome>();
+        op([out](drives::DriveVoid r) {
+            out->done = true;
+            out->err = r ? "" : r.error().message;
         });
-        w.run_until([&] { return done; }, milliseconds(a.timeout_ms + 2000));
-        if (!done) {
-            err = "the operation did not finish";
+        w.run_until([&] { return out->done || stop_requested(); },
+                    milliseconds(a.timeout_ms + 2000));
+        if (stop_requested()) {
+            return false; // the caller stops the axis
         }
-        if (!err.empty()) {
-            fmt::print(stderr, "codrive: {}\n", err);
+        if (!out->done) {
+            out->err = "the operation did not finish";
         }
-        return err.empty();
+        if (!out->err.empty()) {
+            fmt::print(stderr, "codrive: {}\n", out->err);
+        }
+        return out->err.empty();
     };
 
-    if (!w.run_until([&] { return axis.has_statusword(); }, seconds(3))) {
+    if (!w.run_until([&] { return axis.has_statusword() || stop_requested(); }, seconds(3)) ||
+        stop_requested()) {
+        if (stop_requested()) {
+            return stop_on_signal(a, w, axis);
+        }
         fmt::print(stderr, "codrive: {} axis {}: no statusword (0x{:04X}) over SDO\n", w.who,
                    a.axis, axis.index(0x6041));
         return kExitFailure;
@@ -119,6 +193,9 @@ int operate(const DriveArgs& a, DriveWire& w, drives::Axis& axis, const drives::
         // Each invocation is a new master: enable() makes the axis command what the drive
         // does (or brings it there), so no stale controlword 0 disables it.
         ok = wait([&](auto done) { axis.enable(std::move(done)); });
+        if (stop_requested()) {
+            return stop_on_signal(a, w, axis);
+        }
         if (!ok) {
             return kExitFailure;
         }
@@ -151,12 +228,16 @@ int operate(const DriveArgs& a, DriveWire& w, drives::Axis& axis, const drives::
                  axis.set_mode(drives::cia402::Mode::ProfileVelocity, std::move(done));
              }) &&
              wait([&](auto done) { axis.run_velocity(a.jog_velocity, std::move(done)); });
-        w.run_until([] { return false; },
+        w.run_until([] { return stop_requested(); },
                     std::chrono::duration_cast<Duration>(std::chrono::duration<double>(a.jog_s)));
-        ok = ok && wait([&](auto done) { axis.run_velocity(0, std::move(done)); });
+        ok = ok && !stop_requested() &&
+             wait([&](auto done) { axis.run_velocity(0, std::move(done)); });
     } else if (a.action == "move") {
         fmt::print(stderr, "codrive: move needs --pp TARGET or --pv VELOCITY\n");
         return kExitUsage;
+    }
+    if (stop_requested()) {
+        return stop_on_signal(a, w, axis);
     }
     w.run_until([] { return false; }, milliseconds(50));
     // Without process data the position comes from one SDO read.
@@ -221,7 +302,7 @@ int run_drive_can(const DriveArgs& a) {
     };
     const drives::Profile* profile = identify(w);
     if (profile == nullptr) {
-        return kExitFailure;
+        return stop_requested() ? 128 + g_signal.load() : kExitFailure;
     }
     m.emcy().set_text_provider(node, drives::emcy_text_provider(*profile));
     drives::Axis axis(transport, axis_config(a, *profile));
@@ -275,7 +356,7 @@ int run_drive_ecat(const DriveArgs& a) {
     };
     const drives::Profile* profile = identify(w);
     if (profile == nullptr) {
-        return kExitFailure;
+        return stop_requested() ? 128 + g_signal.load() : kExitFailure;
     }
     const auto texts = drives::emcy_text_provider(*profile);
     m.on_emergency([&](std::size_t from, const emcy::EmcyMessage& e) {
@@ -296,6 +377,7 @@ int run_drive(const DriveArgs& a) {
         fmt::print(stderr, "codrive: drive needs -i IFACE (CAN) or --ethercat IFACE\n");
         return kExitUsage;
     }
+    catch_stop_signals();
     return a.ethercat.empty() ? run_drive_can(a) : run_drive_ecat(a);
 }
 
@@ -308,6 +390,9 @@ void install_drive(CLI::App& app, int& exit_code) {
     cmd->add_option("-n,--node", a->node, "Node id (EtherCAT: slave position from 1)")->required();
     cmd->add_option("--axis", a->axis, "Axis of a multi-axis drive (AKD2G: 1 or 2)")
         ->capture_default_str();
+    cmd->footer("SIGINT/SIGTERM: an axis the command has commanded gets quick stop, then "
+                "disable voltage (within 1 s; see docs/safe-stop.md); exit status 130/143. Exit "
+                "status: 0 done, 1 failed, 2 bad arguments, 3 no interface.");
     cmd->add_option("action", a->action, "status|enable|disable|reset|home|move|jog")
         ->required()
         ->check(CLI::IsMember({"status", "enable", "disable", "reset", "home", "move", "jog"}));

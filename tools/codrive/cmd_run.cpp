@@ -5,8 +5,10 @@
 
 #include <codrive/controller/controller.hpp>
 #include <codrive/drives/profile.hpp>
+#include <codrive/drives/safe_stop.hpp>
 #include <codrive/master/master.hpp>
 
+#include <csignal>
 #include <fmt/format.h>
 #include <unistd.h>
 
@@ -58,7 +60,8 @@ int run_bus(const RunArgs& a) {
     });
     if (auto r = c.start(); !r) {
         fmt::print(stderr, "codrive: {}\n", r.error());
-        return kExitFailure;
+        // A signal during the boot-up: the nodes were left pre-operational by start().
+        return c.stop_signal() != 0 ? 128 + c.stop_signal() : kExitFailure;
     }
     for (const auto& r : c.boot_reports()) {
         fmt::print("{}", r.to_string());
@@ -88,14 +91,32 @@ int run_bus(const RunArgs& a) {
             break;
         }
     }
+    if (c.stop_requested()) {
+        fmt::print("codrive: {} received: safe shutdown (quick stop, disable, NMT "
+                   "pre-operational)\n",
+                   c.stop_signal() == SIGTERM ? "SIGTERM" : "SIGINT");
+        std::fflush(stdout);
+    }
     c.shutdown();
     fmt::print("{}{}\n", status_table(c), c.stats().to_string());
+    // Exit status 0 also on SIGINT/SIGTERM (the documented way to end a run), but not when an
+    // axis did not confirm its safe stop.
+    for (const auto& ref : c.axes()) {
+        if (drives::needs_safe_stop(ref.axis->state())) {
+            return kExitFailure;
+        }
+    }
     return kExitOk;
 }
 
 void install_run(CLI::App& app, int& exit_code) {
     auto a = std::make_shared<RunArgs>();
-    auto* cmd = app.add_subcommand("run", "Boot a bus from its file and show live axis status");
+    auto* cmd = app.add_subcommand(
+        "run", "Boot a bus from its file and show live axis status until Ctrl-C or SIGTERM");
+    cmd->footer("Ctrl-C (SIGINT) or SIGTERM: safe shutdown (quick stop, disable, NMT "
+                "pre-operational, EtherCAT PRE-OP; see docs/safe-stop.md). Exit status: 0 after a "
+                "clean stop (also on a signal), 1 boot-up failed or an axis did not confirm its "
+                "stop, 2 bad bus file, 130/143 SIGINT/SIGTERM during the boot-up.");
     cmd->add_option("file", a->file, "Bus file (YAML, see docs/bus-file.md)")->required();
     cmd->add_option("--duration", a->duration_s,
                     "Stop after this many seconds (default: until "

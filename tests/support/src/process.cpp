@@ -128,4 +128,8 @@ std::string tool_path(const std::string& name) {
     return std::string(CODRIVE_BUILD_DIR) + "/tools/" + name;
 }
 
+std::string example_path(const std::string& name) {
+    return std::string(CODRIVE_BUILD_DIR) + "/examples/codrive-" + name;
+}
+
 } // namespace codrive::testing

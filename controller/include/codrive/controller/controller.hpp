@@ -115,18 +115,29 @@ public:
     /// their boot report lines. Warnings (real-time settings) go to the event callback.
     tl::expected<void, std::string> start();
     /// Safe shutdown: every enabled axis gets quick stop then disable, every node NMT
-    /// pre-operational, SYNC stops. Returns within shutdown_timeout (+ a few ms). Idempotent.
+    /// pre-operational, SYNC stops, EtherCAT segments back to PRE-OP. Returns within
+    /// shutdown_timeout + about 120 ms even when drives never answer (their axes are then named
+    /// in an event); a stop request or signal arriving meanwhile does not cut it short.
+    /// Idempotent. See docs/controller.md "Safe shutdown".
     void shutdown();
 
     /// Runs the loop until request_stop() (signal-safe) or shutdown; then shuts down safely.
     void run();
-    /// Runs the loop for a while / until pred is true.
+    /// Runs the loop for a while / until pred is true. Both return at once when a stop was
+    /// requested (check running() or stop_requested() after them), so a program's own loop
+    /// ends on a signal instead of spinning.
     void run_for(Duration d);
     bool run_until(const std::function<bool()>& pred, Duration timeout);
-    /// Async-signal-safe: makes run() return after a safe shutdown.
+    /// Async-signal-safe: makes run(), run_for(), run_until() and a start() still booting return;
+    /// run() then shuts down safely (other callers call shutdown() or destroy the controller).
     void request_stop();
-    /// Installs SIGINT/SIGTERM handlers that call request_stop() on this controller.
+    /// Installs SIGINT/SIGTERM handlers that call request_stop() on this controller (and
+    /// remember the signal: stop_signal()).
     void stop_on_signals();
+    /// True once request_stop() was called or a signal arrived (after stop_on_signals()).
+    [[nodiscard]] bool stop_requested() const { return stop_requested_.load(); }
+    /// The signal that requested the stop (SIGINT, SIGTERM); 0 if none did.
+    [[nodiscard]] int stop_signal() const { return stop_signal_.load(); }
     /// Runs fn on the loop thread (thread-safe).
     void post(std::function<void()> fn);
 
@@ -152,7 +163,9 @@ public:
     /// run() returned.
     [[nodiscard]] ControllerStats stats() const;
     [[nodiscard]] EventLoop& loop() { return *loop_; }
-    [[nodiscard]] bool running() const { return started_ && !stopped_; }
+    /// True after a successful start() until a stop is requested or shutdown() runs:
+    /// `while (c.running()) c.run_for(...)` ends on Ctrl-C.
+    [[nodiscard]] bool running() const { return started_ && !stopped_ && !stop_requested_.load(); }
     [[nodiscard]] const master::BusConfig& config(std::size_t bus = 0) const;
     /// Number of CAN buses and of EtherCAT segments.
     [[nodiscard]] std::size_t can_bus_count() const { return buses_.size(); }
@@ -175,7 +188,21 @@ private:
     }
     tl::expected<void, std::string> start_cyclic_thread();
     void cyclic_main();
-    void cyclic_begin_safe_stop(std::size_t& pending);
+    /// The safe stop of every axis (on the thread that owns the axes: the loop thread, or the
+    /// cyclic thread in dedicated mode). Its state is a member, not a local, because the axes'
+    /// callbacks outlive a safe stop that ran out of time until end_safe_stop() cancels them.
+    void begin_safe_stop(TimePoint now);
+    [[nodiscard]] bool safe_stop_over(TimePoint now) const;
+    void end_safe_stop();
+    /// NMT pre-operational to every node, SYNC off, segments to PRE-OP, frames flushed.
+    void stop_buses();
+    /// start() was interrupted or failed after the buses opened: freeze the boot-up and leave
+    /// every node pre-operational and every segment in PRE-OP.
+    tl::expected<void, std::string> abandon_start(std::string why);
+    /// Runs the loop until pred or deadline; unlike EventLoop::run_until a stop() (a second
+    /// signal) does not end it early.
+    void run_loop_until(const std::function<bool()>& pred, TimePoint deadline);
+    static void on_signal(int sig);
     void pump_acyclic();
     void for_each_axis(const std::function<void(drives::Axis&)>& fn);
     /// Cycle owner: aggregates the cyclic counters into the snapshot stats() reads.
@@ -189,6 +216,15 @@ private:
     CycleCallback cycle_cb_;
     EventCallback event_cb_;
     std::atomic<bool> stop_requested_{false};
+    std::atomic<int> stop_signal_{0};
+    struct SafeStop {
+        bool active = false;
+        std::size_t pending = 0; ///< axes whose stop has not ended
+        TimePoint deadline = kNever;
+    };
+    SafeStop safe_stop_;
+    std::size_t boot_pending_ = 0; ///< buses still booting (start())
+    bool boot_ok_ = true;
     // Dedicated-cyclic mode.
     std::unique_ptr<Pump> pump_;
     std::thread cyclic_thread_;

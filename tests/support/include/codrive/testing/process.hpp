@@ -46,5 +46,7 @@ RunResult run(std::vector<std::string> argv,
 
 /// Path of a built tool: build_dir/tools/<name> etc.
 std::string tool_path(const std::string& name);
+/// Path of a built example program: build_dir/examples/codrive-<name>.
+std::string example_path(const std::string& name);
 
 } // namespace codrive::testing
