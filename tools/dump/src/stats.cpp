@@ -108,7 +108,8 @@ void Stats::on_pdo(NodeId node, bool tpdo, std::int64_t ts_ns) {
     n.seen = true;
     ++(tpdo ? n.tpdo : n.rpdo);
     const std::int64_t slot = ts_ns / kSlotNs;
-    const auto i = static_cast<std::size_t>(slot % static_cast<std::int64_t>(kSlots));
+    constexpr auto kN = static_cast<std::int64_t>(kSlots);
+    const auto i = static_cast<std::size_t>(((slot % kN) + kN) % kN); // a trace may start < 0
     if (n.slot_ids[i] != slot) {
         n.slot_ids[i] = slot;
         n.tpdo_slots[i] = 0;
