@@ -121,7 +121,6 @@ TEST(CliHost, EveryCanToolSaysOnceWhyTheInterfaceCannotBeOpened) {
     const std::string codrive = testing::tool_path("codrive");
     expect_one_open_sentence(testing::run({codrive, "nmt", "-i", kNoIface, "start", "all"}, 20s),
                              kNoIface);
-    expect_one_open_sentence(testing::run({codrive, "bus", "info", "-i", kNoIface}, 20s), kNoIface);
     expect_one_open_sentence(testing::run({codrive, "scan", "-i", kNoIface}, 20s), kNoIface);
     expect_one_open_sentence(
         testing::run({codrive, "sdo", "read", "-i", kNoIface, "-n", "1", "0x1000:00"}, 20s),
