@@ -15,6 +15,7 @@
 
 using namespace codrive;
 using namespace std::chrono_literals;
+namespace ct = codrive::testing;
 
 namespace {
 
@@ -50,7 +51,7 @@ std::size_t count_of(const std::string& text, const std::string& what) {
 }
 
 // What a user must read when `iface` cannot be opened on this machine.
-void expect_one_open_sentence(const testing::RunResult& r, const std::string& iface) {
+void expect_one_open_sentence(const ct::RunResult& r, const std::string& iface) {
     EXPECT_NE(r.status, 0) << r.output;
     EXPECT_EQ(count_of(r.output, "cannot open " + iface + ":"), 1U) << r.output;
     if (!socketcan_available()) {
@@ -86,7 +87,7 @@ ethercat:
   slaves:
     - {position: 0, profile: fio, name: [a]}
 )");
-    const auto r = testing::run({testing::tool_path("codrive"), "run", "--check", f.path()}, 20s);
+    const auto r = ct::run({ct::tool_path("codrive"), "run", "--check", f.path()}, 20s);
     EXPECT_EQ(r.status, 2) << r.output;
     EXPECT_NE(r.output.find(f.path() + ":6: node 1 writes must be a list"), std::string::npos)
         << r.output;
@@ -112,37 +113,35 @@ nodes:
     axes:
       - {axis: 1, mode: csp}
 )");
-    const auto r = testing::run({testing::tool_path("codrive"), "run", "--check", f.path()}, 20s);
+    const auto r = ct::run({ct::tool_path("codrive"), "run", "--check", f.path()}, 20s);
     EXPECT_EQ(r.status, 0) << r.output;
     EXPECT_NE(r.output.find(f.path() + ": OK"), std::string::npos) << r.output;
 }
 
 TEST(CliHost, EveryCanToolSaysOnceWhyTheInterfaceCannotBeOpened) {
-    const std::string codrive = testing::tool_path("codrive");
-    expect_one_open_sentence(testing::run({codrive, "nmt", "-i", kNoIface, "start", "all"}, 20s),
+    const std::string codrive = ct::tool_path("codrive");
+    expect_one_open_sentence(ct::run({codrive, "nmt", "-i", kNoIface, "start", "all"}, 20s),
                              kNoIface);
-    expect_one_open_sentence(testing::run({codrive, "scan", "-i", kNoIface}, 20s), kNoIface);
+    expect_one_open_sentence(ct::run({codrive, "scan", "-i", kNoIface}, 20s), kNoIface);
     expect_one_open_sentence(
-        testing::run({codrive, "sdo", "read", "-i", kNoIface, "-n", "1", "0x1000:00"}, 20s),
+        ct::run({codrive, "sdo", "read", "-i", kNoIface, "-n", "1", "0x1000:00"}, 20s), kNoIface);
+    expect_one_open_sentence(
+        ct::run({ct::tool_path("codrive-sim"), "-i", kNoIface, "--node", "1:akd2g"}, 20s),
         kNoIface);
-    expect_one_open_sentence(
-        testing::run({testing::tool_path("codrive-sim"), "-i", kNoIface, "--node", "1:akd2g"}, 20s),
-        kNoIface);
-    expect_one_open_sentence(
-        testing::run({testing::tool_path("codrive-dump"), kNoIface, "-n", "1"}, 20s), kNoIface);
+    expect_one_open_sentence(ct::run({ct::tool_path("codrive-dump"), kNoIface, "-n", "1"}, 20s),
+                             kNoIface);
     TempBusFile f("run.yml", R"(bus: {interface: nocan9, sync_period_us: 1000}
 nodes:
   - id: 1
     profile: akd2g
 )");
-    expect_one_open_sentence(testing::run({codrive, "run", "--duration", "1", f.path()}, 20s),
-                             kNoIface);
+    expect_one_open_sentence(ct::run({codrive, "run", "--duration", "1", f.path()}, 20s), kNoIface);
 }
 
 TEST(CliHost, SimulatorRefusesAFaultForANodeItDoesNotSimulateBeforeReady) {
-    const auto r = testing::run({testing::tool_path("codrive-sim"), "-i", kNoIface, "--node",
-                                 "1:akd2g", "--fault", "3:sto"},
-                                20s);
+    const auto r = ct::run(
+        {ct::tool_path("codrive-sim"), "-i", kNoIface, "--node", "1:akd2g", "--fault", "3:sto"},
+        20s);
     EXPECT_EQ(r.status, 2) << r.output;
     EXPECT_NE(r.output.find("--fault 3:sto names node 3, which is not simulated"),
               std::string::npos)
@@ -152,9 +151,9 @@ TEST(CliHost, SimulatorRefusesAFaultForANodeItDoesNotSimulateBeforeReady) {
 }
 
 TEST(CliHost, DumpQuietStatsPrintsOnlyTheTable) {
-    const auto r = testing::run({testing::tool_path("codrive-dump"), "-q", "--stats", "-r",
-                                 std::string(CODRIVE_SOURCE_DIR) + "/tests/data/traces/stats.log"},
-                                20s);
+    const auto r = ct::run({ct::tool_path("codrive-dump"), "-q", "--stats", "-r",
+                            std::string(CODRIVE_SOURCE_DIR) + "/tests/data/traces/stats.log"},
+                           20s);
     EXPECT_EQ(r.status, 0) << r.output;
     EXPECT_EQ(r.output.rfind("node  NMT state", 0), 0U) << "the table comes first: " << r.output;
     EXPECT_NE(r.output.find("466 frames (0 error frames)"), std::string::npos) << r.output;
