@@ -144,6 +144,9 @@ Controller::~Controller() {
     }
     Controller* self = this;
     (void)g_signal_target.compare_exchange_strong(self, nullptr);
+    if (limiter_) {
+        loop_->remove_timed(limiter_.get());
+    }
     for (auto& b : buses_) {
         for (auto& [id, n] : b->nodes) {
             for (auto& a : n->axes) {
@@ -165,8 +168,17 @@ Controller::~Controller() {
     }
 }
 
-tl::expected<std::unique_ptr<Controller>, std::string>
-Controller::from_file(const std::string& path, ControllerOptions options) {
+namespace {
+
+struct LoadedBusFile {
+    std::vector<master::BusConfig> buses;
+    std::vector<EcatSegmentConfig> segments;
+    std::vector<std::string> findings; ///< "bus.yml:14: ..."
+};
+
+// Parses both parts of a bus file and collects every finding of both; opens no bus.
+LoadedBusFile load_bus_file(const std::string& path) {
+    LoadedBusFile out;
     const auto resolver =
         master::eds_resolver([](const master::NodeEntry& n,
                                 std::string& error) -> std::shared_ptr<const ObjectDictionary> {
@@ -182,32 +194,45 @@ Controller::from_file(const std::string& path, ControllerOptions options) {
         });
     std::ifstream in(path);
     if (!in) {
-        return tl::unexpected(fmt::format("{}: cannot read the bus file", path));
+        out.findings.push_back(fmt::format("{}: cannot read the bus file", path));
+        return out;
     }
     std::stringstream text;
     text << in.rdbuf();
     const BusFileSections sections = split_bus_file(text.str(), path);
-    std::string errors;
-    for (const auto& e : sections.errors) {
-        errors += e + "\n";
-    }
-    std::vector<master::BusConfig> v;
+    out.findings = sections.errors;
     if (sections.has_can) {
         auto r = master::parse_bus_config(sections.can_text, path, resolver);
-        if (!r.config) {
-            errors += r.to_string();
-        } else {
-            v.push_back(std::move(*r.config));
+        for (const auto& f : r.errors) {
+            out.findings.push_back(f.to_string());
+        }
+        if (r.config) {
+            out.buses.push_back(std::move(*r.config));
         }
     }
-    if (!errors.empty()) {
+    if (sections.ethercat) {
+        out.segments.push_back(*sections.ethercat);
+    }
+    return out;
+}
+
+} // namespace
+
+std::vector<std::string> check_bus_file(const std::string& path) {
+    return load_bus_file(path).findings;
+}
+
+tl::expected<std::unique_ptr<Controller>, std::string>
+Controller::from_file(const std::string& path, ControllerOptions options) {
+    LoadedBusFile loaded = load_bus_file(path);
+    if (!loaded.findings.empty()) {
+        std::string errors;
+        for (const auto& f : loaded.findings) {
+            errors += f + "\n";
+        }
         return tl::unexpected(errors);
     }
-    std::vector<EcatSegmentConfig> segments;
-    if (sections.ethercat) {
-        segments.push_back(*sections.ethercat);
-    }
-    return create(std::move(v), std::move(segments), std::move(options));
+    return create(std::move(loaded.buses), std::move(loaded.segments), std::move(options));
 }
 
 tl::expected<std::unique_ptr<Controller>, std::string>
@@ -229,11 +254,28 @@ Controller::create(std::vector<master::BusConfig> buses, std::vector<EcatSegment
             fmt::format("cannot create the event loop: {}", loop.error().message()));
     }
     c->loop_ = std::move(*loop);
+    if (c->options_.event_summary_interval > Duration::zero()) {
+        Controller* raw = c.get();
+        c->limiter_ = std::make_unique<EventRateLimiter>(
+            [raw](std::string_view text) {
+                if (raw->event_cb_) {
+                    raw->event_cb_(std::string(text));
+                }
+            },
+            c->options_.event_summary_interval);
+        c->loop_->add_timed(c->limiter_.get());
+    }
     return c;
 }
 
 void Controller::emit(const std::string& text) {
-    if (event_cb_) {
+    emit(text, text);
+}
+
+void Controller::emit(const std::string& text, const std::string& key) {
+    if (limiter_) {
+        limiter_->offer(key, text, loop_->now());
+    } else if (event_cb_) {
         event_cb_(text);
     }
 }
@@ -247,8 +289,7 @@ tl::expected<void, std::string> Controller::open_bus(Bus& b, std::size_t index) 
     so.rcvbuf_bytes = options_.rcvbuf_bytes;
     auto s = SocketCanBus::open(b.config.iface, so);
     if (!s) {
-        return tl::unexpected(
-            fmt::format("cannot open {}: {}", b.config.iface, s.error().message()));
+        return tl::unexpected(describe_can_open_error(b.config.iface, s.error()));
     }
     if (auto r = (*s)->attach(*loop_); !r) {
         return tl::unexpected(
@@ -435,7 +476,8 @@ tl::expected<void, std::string> Controller::start() {
             });
         } else {
             b.master->add_listener([bp](const Frame& f, TimePoint t) { bp->pdo->on_frame(f, t); });
-            b.pdo->set_event_handler([this](const pdo::PdoEvent& e) { emit(pdo::to_string(e)); });
+            b.pdo->set_event_handler(
+                [this](const pdo::PdoEvent& e) { emit(pdo::to_string(e), pdo::event_key(e)); });
         }
         b.master->set_event_handler([this, bp](const master::MasterEvent& e) {
             if (e.kind == master::MasterEventKind::BusEvent) {
@@ -455,7 +497,10 @@ tl::expected<void, std::string> Controller::start() {
                     }
                 }
             }
-            emit(e.text);
+            emit(e.text,
+                 e.node == 0
+                     ? fmt::format("bus {}: {}", bp->config.iface, master::to_string(e.kind))
+                     : fmt::format("node {}: {}", e.node, master::to_string(e.kind)));
         });
         loop_->add_timed(b.master.get());
         if (!dedicated()) {
@@ -600,7 +645,7 @@ void Controller::pump_acyclic() {
         }
         pdo::PdoEvent e;
         while (b->pdo_events.pop(e)) {
-            emit(pdo::to_string(e));
+            emit(pdo::to_string(e), pdo::event_key(e));
         }
     }
     const TimePoint now = loop_->now();

@@ -105,6 +105,18 @@ private:
         }
     }
 
+    // A name or mode written as a list or a map is a finding at its line, not an empty string.
+    std::optional<std::string> text(const YAML::Node& n, const std::string& what) {
+        if (n.IsScalar()) {
+            return n.Scalar();
+        }
+        error(line_of(n), fmt::format("{} must be a single value, but it is {}", what,
+                                      n.IsMap()        ? "a map"
+                                      : n.IsSequence() ? "a list"
+                                                       : "empty"));
+        return std::nullopt;
+    }
+
     static std::optional<long long> number(const YAML::Node& n) {
         if (!n.IsScalar()) {
             return std::nullopt;
@@ -138,13 +150,14 @@ private:
         }
         e.position = static_cast<unsigned>(*pos);
         if (n["name"]) {
-            e.name = n["name"].as<std::string>("");
+            e.name = text(n["name"], fmt::format("slave {}: `name`", e.position)).value_or("");
         }
         const drives::Profile* profile = nullptr;
         if (n["profile"]) {
-            e.profile = n["profile"].as<std::string>("");
-            profile = drives::find_profile(e.profile);
-            if (profile == nullptr) {
+            const auto name = text(n["profile"], fmt::format("slave {}: `profile`", e.position));
+            e.profile = name.value_or("");
+            profile = name ? drives::find_profile(e.profile) : nullptr;
+            if (name && profile == nullptr) {
                 error(line_of(n["profile"]),
                       fmt::format("slave {}: unknown profile `{}` (known: akd2g, ds-bvs, fio, "
                                   "generic)",
@@ -188,19 +201,25 @@ private:
             ax.axis = static_cast<unsigned>(*v);
         }
         if (a["mode"]) {
-            const auto text = a["mode"].as<std::string>("");
-            ax.mode = master::parse_mode_name(text);
+            const auto written =
+                text(a["mode"], fmt::format("slave {} axis {}: `mode`", e.position, ax.axis));
+            if (!written) {
+                return;
+            }
+            const std::string& mode_text = *written;
+            ax.mode = master::parse_mode_name(mode_text);
             if (!ax.mode) {
                 error(line_of(a["mode"]),
                       fmt::format("slave {} axis {}: unknown mode `{}` (use pp, pv, pt, hm, ip, "
                                   "csp, csv, cst or a number)",
-                                  e.position, ax.axis, text));
+                                  e.position, ax.axis, mode_text));
                 return;
             }
             if (profile != nullptr && !profile->supports_mode(*ax.mode)) {
-                error(line_of(a["mode"]), fmt::format("slave {} axis {}: the {} does not support "
-                                                      "mode `{}`",
-                                                      e.position, ax.axis, profile->title, text));
+                error(line_of(a["mode"]),
+                      fmt::format("slave {} axis {}: the {} does not support "
+                                  "mode `{}`",
+                                  e.position, ax.axis, profile->title, mode_text));
                 return;
             }
         }

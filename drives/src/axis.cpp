@@ -190,6 +190,15 @@ void Axis::update_status(std::uint16_t value) {
                                                   last_error_code_ = *r;
                                               }
                                           });
+    } else if (next == State::Fault && profile_->fault_code_in_1003) {
+        // No 603Fh (AKD2G): the newest 1003h entry is the last EMCY, its code in bits 0..15.
+        // 1003h is one object for the whole device, not per axis.
+        std::weak_ptr<bool> alive = alive_;
+        transport_.read_as<std::uint32_t>(0x1003, 1, [this, alive](DriveResult<std::uint32_t> r) {
+            if (!alive.expired() && r && (*r & 0xFFFFU) != 0) {
+                last_error_code_ = static_cast<std::uint16_t>(*r & 0xFFFFU);
+            }
+        });
     }
     if (state_handler_) {
         state_handler_(prev, next);
@@ -597,6 +606,19 @@ std::string Axis::diagnose() const {
     }
     if ((statusword_ & sw::kInternalLimit) != 0) {
         return "internal limit active (statusword bit 11)";
+    }
+    if (!op_) {
+        // Nothing was asked of the drive: a resting state is an answer, not a failure.
+        switch (state_) {
+        case State::SwitchOnDisabled:
+            return "SWITCH ON DISABLED: power stage off, ready to be enabled";
+        case State::ReadyToSwitchOn:
+            return "READY TO SWITCH ON: power stage off, ready to be enabled";
+        case State::SwitchedOn:
+            return "SWITCHED ON: power stage on, operation not enabled yet";
+        default:
+            break;
+        }
     }
     return fmt::format("the drive did not follow controlword 0x{:04X} (statusword 0x{:04X})",
                        controlword(), statusword_);

@@ -275,6 +275,7 @@ Profile make_akd2g() {
     p.layouts = kLayouts;
     p.object_overrides = kOverrides;
     p.absent_objects = kAbsent;
+    p.fault_code_in_1003 = true; // §5.2.3: no 603Fh; 1003h:01 = the last EMCY's first 4 bytes
     p.quirks.pdo_maps_volatile = true;
     p.quirks.sto_in_statusword_bit8 = true;
     p.quirks.voltage_bit4_is_dc_bus = true;

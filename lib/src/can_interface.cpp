@@ -3,9 +3,13 @@
 #include <codrive/core/can_interface.hpp>
 
 #include <cerrno>
+#include <cstring>
 #include <fmt/format.h>
 #include <libsocketcan.h>
 #include <linux/can/netlink.h>
+#include <linux/if_link.h>
+#include <linux/netlink.h>
+#include <linux/rtnetlink.h>
 #include <net/if.h>
 #include <sys/ioctl.h>
 #include <sys/socket.h>
@@ -38,6 +42,57 @@ bool link_up(const std::string& name) {
     return up;
 }
 
+// The link kind rtnetlink reports (IFLA_LINKINFO / IFLA_INFO_KIND): "can" for a can-dev
+// controller, "vcan", "vxcan", ...; empty if it cannot be read. Only "can" links carry the CAN
+// link data (bit timing, state, error counters) libsocketcan asks for: for any other kind
+// libsocketcan prints "no link data found" to stderr once per query, so those are not asked.
+std::string link_kind(const std::string& name) {
+    const unsigned index = if_nametoindex(name.c_str());
+    const int fd = ::socket(AF_NETLINK, SOCK_RAW | SOCK_CLOEXEC, NETLINK_ROUTE);
+    if (index == 0 || fd < 0) {
+        if (fd >= 0) {
+            ::close(fd);
+        }
+        return {};
+    }
+    struct {
+        nlmsghdr header;
+        ifinfomsg info;
+    } request{};
+    request.header.nlmsg_len = NLMSG_LENGTH(sizeof(ifinfomsg));
+    request.header.nlmsg_type = RTM_GETLINK;
+    request.header.nlmsg_flags = NLM_F_REQUEST;
+    request.header.nlmsg_seq = 1;
+    request.info.ifi_family = AF_UNSPEC;
+    request.info.ifi_index = static_cast<int>(index);
+    std::string kind;
+    alignas(nlmsghdr) char buffer[16384];
+    if (::send(fd, &request, request.header.nlmsg_len, 0) >= 0) {
+        const ssize_t got = ::recv(fd, buffer, sizeof buffer, 0);
+        auto* h = reinterpret_cast<nlmsghdr*>(buffer);
+        if (got > 0 && NLMSG_OK(h, static_cast<unsigned>(got)) && h->nlmsg_type == RTM_NEWLINK) {
+            auto* info = static_cast<ifinfomsg*>(NLMSG_DATA(h));
+            int len = static_cast<int>(h->nlmsg_len) - static_cast<int>(NLMSG_LENGTH(sizeof *info));
+            for (auto* a = IFLA_RTA(info); RTA_OK(a, len); a = RTA_NEXT(a, len)) {
+                if (a->rta_type != IFLA_LINKINFO) {
+                    continue;
+                }
+                int inner = static_cast<int>(RTA_PAYLOAD(a));
+                for (auto* k = static_cast<rtattr*>(RTA_DATA(a)); RTA_OK(k, inner);
+                     k = RTA_NEXT(k, inner)) {
+                    if (k->rta_type == IFLA_INFO_KIND) {
+                        kind.assign(
+                            static_cast<const char*>(RTA_DATA(k)),
+                            ::strnlen(static_cast<const char*>(RTA_DATA(k)), RTA_PAYLOAD(k)));
+                    }
+                }
+            }
+        }
+    }
+    ::close(fd);
+    return kind;
+}
+
 } // namespace
 
 bool CanInterface::exists() const {
@@ -51,6 +106,9 @@ Result<CanInterfaceInfo> CanInterface::info() const {
     CanInterfaceInfo info;
     info.name = name_;
     info.up = link_up(name_);
+    if (link_kind(name_) != "can") {
+        return info; // vcan, vxcan: no bit timing, state or error counters to report
+    }
     can_bittiming bt{};
     if (can_get_bittiming(name_.c_str(), &bt) == 0 && bt.bitrate != 0) {
         info.bitrate = bt.bitrate;

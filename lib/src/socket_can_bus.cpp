@@ -66,6 +66,22 @@ Frame from_kernel(const canfd_frame& kf, std::size_t nbytes) {
 
 } // namespace
 
+std::string describe_can_open_error(const std::string& ifname, const std::error_code& ec) {
+    std::string hint;
+    if (ec == CoreErrc::NoSocketCan) {
+        // The socket() call failed with EAFNOSUPPORT: no CAN in this kernel at all (e.g. a
+        // container host). A guest kernel with vcan is the way to run the tools here.
+        hint = " (if the kernel has the modules: modprobe can-raw; otherwise run the tool inside "
+               "a vcan guest with vcan-scripts/run-in-vcan.sh, see docs/vcan.md)";
+    } else if (ec == CoreErrc::NoSuchInterface) {
+        hint = " (check `ip link`; vcan-scripts/vcan-up.sh creates vcan0..vcan3, see "
+               "docs/vcan.md)";
+    } else if (ec == CoreErrc::InterfaceDown) {
+        hint = " (bring it up: ip link set " + ifname + " up)";
+    }
+    return "cannot open " + ifname + ": " + ec.message() + hint;
+}
+
 bool socketcan_available() {
     const int fd = ::socket(PF_CAN, SOCK_RAW | SOCK_CLOEXEC, CAN_RAW);
     if (fd < 0) {

@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cmath>
 #include <filesystem>
 #include <fmt/format.h>
 #include <fstream>
@@ -37,6 +38,16 @@ std::size_t edit_distance(const std::string& a, const std::string& b) {
         std::swap(prev, cur);
     }
     return prev[b.size()];
+}
+
+bool parse_double(const std::string& t, double& out) {
+    try {
+        std::size_t used = 0;
+        out = std::stod(t, &used);
+        return used == t.size() && std::isfinite(out);
+    } catch (const std::exception&) {
+        return false;
+    }
 }
 
 class Loader {
@@ -104,6 +115,65 @@ private:
 
     void error(int at, std::string message) {
         errors_.push_back(ConfigFinding{file_, at, std::move(message)});
+    }
+
+    static const char* kind_of(const YAML::Node& n) {
+        if (n.IsMap()) {
+            return "a map";
+        }
+        if (n.IsSequence()) {
+            return "a list";
+        }
+        if (n.IsNull()) {
+            return "empty";
+        }
+        return "a single value";
+    }
+
+    // A value that must be one scalar (a name, a path, an object): a list or a map there is a
+    // finding at the value's line naming the key, and the caller carries on with the rest.
+    std::optional<std::string> text(const YAML::Node& n, const std::string& what) {
+        if (!n.IsScalar()) {
+            error(line(n),
+                  fmt::format("{} must be a single value, but it is {}", what, kind_of(n)));
+            return std::nullopt;
+        }
+        return n.Scalar();
+    }
+
+    std::optional<bool> boolean(const YAML::Node& n, const std::string& what) {
+        if (n.IsScalar()) {
+            const std::string v = lower(n.Scalar());
+            if (v == "true" || v == "yes" || v == "on") {
+                return true;
+            }
+            if (v == "false" || v == "no" || v == "off") {
+                return false;
+            }
+        }
+        error(line(n), fmt::format("{} must be true or false, not {}", what,
+                                   n.IsScalar() ? "`" + n.Scalar() + "`" : kind_of(n)));
+        return std::nullopt;
+    }
+
+    // A list where yaml-cpp would otherwise iterate a map as pairs and throw "invalid node".
+    bool is_list(const YAML::Node& n, const std::string& what, const char* example) {
+        if (n.IsSequence()) {
+            return true;
+        }
+        error(line(n), fmt::format("{} must be a list (each item starts with `- `, e.g. {}), but "
+                                   "it is {}",
+                                   what, example, kind_of(n)));
+        return false;
+    }
+
+    bool is_map(const YAML::Node& n, const std::string& what, const char* example) {
+        if (n.IsMap()) {
+            return true;
+        }
+        error(line(n),
+              fmt::format("{} must be a map (e.g. {}), but it is {}", what, example, kind_of(n)));
+        return false;
     }
 
     void check_keys(const YAML::Node& map, std::initializer_list<const char*> known,
@@ -182,7 +252,8 @@ private:
                 number<std::uint32_t>(bus["sdo_timeout_ms"], "bus.sdo_timeout_ms", 1, 600'000)
                     .value_or(0));
         }
-        if (const YAML::Node m = bus["master"]) {
+        if (const YAML::Node m = bus["master"];
+            m && is_map(m, "`bus.master`", "`master: {node_id: 127, heartbeat_ms: 100}`")) {
             check_keys(m, {"node_id", "heartbeat_ms"}, "`bus.master`");
             if (m["node_id"]) {
                 cfg.master_id =
@@ -214,19 +285,22 @@ private:
         }
         const std::string who = fmt::format("node {}", e.id);
         if (n["name"]) {
-            e.name = n["name"].as<std::string>("");
+            e.name = text(n["name"], who + " name").value_or("");
         }
         if (n["profile"]) {
-            e.profile = lower(n["profile"].as<std::string>(""));
+            e.profile = lower(text(n["profile"], who + " profile").value_or(""));
         }
         if (n["eds"]) {
-            std::filesystem::path p(n["eds"].as<std::string>(""));
-            if (p.is_relative()) {
-                p = std::filesystem::path(file_).parent_path() / p;
+            if (auto eds = text(n["eds"], who + " eds")) {
+                std::filesystem::path p(*eds);
+                if (p.is_relative()) {
+                    p = std::filesystem::path(file_).parent_path() / p;
+                }
+                e.eds_path = p.lexically_normal().string();
             }
-            e.eds_path = p.lexically_normal().string();
         }
-        if (const YAML::Node id = n["identity"]) {
+        if (const YAML::Node id = n["identity"];
+            id && is_map(id, who + " identity", "`identity: {vendor_id: 0x6A}`")) {
             check_keys(id, {"device_type", "vendor_id", "product_code", "revision", "serial"},
                        who + " identity");
             auto get = [&](const char* k) -> std::optional<std::uint32_t> {
@@ -256,14 +330,24 @@ private:
                 number<std::uint32_t>(n["sdo_timeout_ms"], who + " sdo_timeout_ms", 1, 600'000)
                     .value_or(0));
         }
-        if (const YAML::Node g = n["guarding"]) {
+        if (const YAML::Node g = n["guarding"];
+            g &&
+            is_map(g, who + " guarding", "`guarding: {guard_time_ms: 100, life_time_factor: 3}`")) {
             check_keys(g, {"guard_time_ms", "life_time_factor"}, who + " guarding");
-            e.guard_time = milliseconds(
-                number<std::uint16_t>(g["guard_time_ms"], who + " guarding.guard_time_ms", 1, 65535)
-                    .value_or(0));
-            e.life_time_factor = number<std::uint8_t>(g["life_time_factor"],
-                                                      who + " guarding.life_time_factor", 1, 255)
-                                     .value_or(0);
+            if (!g["guard_time_ms"] || !g["life_time_factor"]) {
+                error(line(g), fmt::format("{} guarding needs both `guard_time_ms` and "
+                                           "`life_time_factor`",
+                                           who));
+            } else {
+                e.guard_time =
+                    milliseconds(number<std::uint16_t>(g["guard_time_ms"],
+                                                       who + " guarding.guard_time_ms", 1, 65535)
+                                     .value_or(0));
+                e.life_time_factor =
+                    number<std::uint8_t>(g["life_time_factor"], who + " guarding.life_time_factor",
+                                         1, 255)
+                        .value_or(0);
+            }
             if (e.heartbeat.count() > 0) {
                 error(line(g), fmt::format("{} has both heartbeat_ms and guarding (CiA 301: use "
                                            "one error control protocol; remove one)",
@@ -271,7 +355,7 @@ private:
             }
         }
         if (n["start"]) {
-            e.start = n["start"].as<bool>(true);
+            e.start = boolean(n["start"], who + " start").value_or(true);
         }
         std::shared_ptr<const ObjectDictionary> od;
         if (!e.profile.empty() || !e.eds_path.empty()) {
@@ -294,12 +378,15 @@ private:
                 }
             }
         }
-        if (const YAML::Node writes = n["writes"]) {
+        if (const YAML::Node writes = n["writes"];
+            writes &&
+            is_list(writes, who + " writes", "`- {object: 0x6060:00, type: i8, value: 8}`")) {
             for (const auto& w : writes) {
                 parse_write(w, e, od.get());
             }
         }
-        if (const YAML::Node axes = n["axes"]) {
+        if (const YAML::Node axes = n["axes"];
+            axes && is_list(axes, who + " axes", "`- {axis: 1, mode: csp}`")) {
             unsigned next = 1;
             for (const auto& a : axes) {
                 parse_axis(a, e, next++);
@@ -400,7 +487,7 @@ private:
                     "sync_start", "map"},
                    who + " " + p.name());
         if (v["enabled"]) {
-            p.enabled = v["enabled"].as<bool>(true);
+            p.enabled = boolean(v["enabled"], who + " " + p.name() + " enabled").value_or(true);
         }
         if (v["cob_id"]) {
             p.cob_id =
@@ -409,7 +496,8 @@ private:
         if (v["transmission"]) {
             const YAML::Node t = v["transmission"];
             std::optional<std::uint8_t> tt;
-            const std::string s = lower(t.as<std::string>(""));
+            const std::string s =
+                t.IsScalar() ? lower(t.Scalar()) : std::string(); // else: number() reports it
             if (s == "sync" || s == "cyclic") {
                 tt = 1;
             } else if (s == "acyclic") {
@@ -449,7 +537,11 @@ private:
                 for (const auto& item : map) {
                     PdoEntryConfig ent;
                     ent.line = line(item);
-                    ent.text = item.as<std::string>("");
+                    auto written = text(item, fmt::format("{} {} map entry", who, p.name()));
+                    if (!written) {
+                        continue;
+                    }
+                    ent.text = *written;
                     std::string why;
                     if (!resolve_object(ent.text, od, ent.index, ent.subindex, &ent.bits, why)) {
                         error(ent.line, fmt::format("{} {}: {}", who, p.name(), why));
@@ -524,20 +616,30 @@ private:
         }
         check_keys(w, {"object", "type", "value"}, who + " write");
         std::string why;
-        if (!w["object"] || !resolve_object(w["object"].as<std::string>(""), od, wc.index,
-                                            wc.subindex, nullptr, why)) {
-            error(wc.line,
-                  fmt::format("{} write: {}", who, why.empty() ? "missing `object:`" : why));
+        if (!w["object"]) {
+            error(wc.line, fmt::format("{} write: missing `object:`", who));
+            return;
+        }
+        const auto object = text(w["object"], who + " write object");
+        if (!object) {
+            return;
+        }
+        if (!resolve_object(*object, od, wc.index, wc.subindex, nullptr, why)) {
+            error(line(w["object"]), fmt::format("{} write: {}", who, why));
             return;
         }
         const SubObject* s = od != nullptr ? od->find(wc.index, wc.subindex) : nullptr;
         std::optional<DataType> type;
         if (w["type"]) {
-            type = data_type_from_name(w["type"].as<std::string>(""));
+            const auto name = text(w["type"], who + " write type");
+            if (!name) {
+                return;
+            }
+            type = data_type_from_name(*name);
             if (!type) {
                 error(line(w["type"]), fmt::format("{} write: unknown type `{}` (use u8 u16 u32 "
                                                    "u64 i8 i16 i32 i64 f32 f64 str)",
-                                                   who, w["type"].as<std::string>("")));
+                                                   who, *name));
                 return;
             }
         } else if (s != nullptr) {
@@ -564,12 +666,17 @@ private:
                                        wc.subindex));
             return;
         }
-        auto v = Value::parse(*type, w["value"].as<std::string>(""));
+        const auto value_text = text(w["value"], fmt::format("{} write to 0x{:04X}:{:02X} value",
+                                                             who, wc.index, wc.subindex));
+        if (!value_text) {
+            return;
+        }
+        auto v = Value::parse(*type, *value_text);
         if (!v) {
             error(line(w["value"]),
                   fmt::format("{} write to 0x{:04X}:{:02X}: `{}` is not a valid {} ({})", who,
-                              wc.index, wc.subindex, w["value"].as<std::string>(""),
-                              codrive::to_string(*type), v.error().message()));
+                              wc.index, wc.subindex, *value_text, codrive::to_string(*type),
+                              v.error().message()));
             return;
         }
         wc.value = std::move(*v);
@@ -590,24 +697,34 @@ private:
             ax.axis = number<unsigned>(a["axis"], who + " axis", 1, 8).value_or(1);
         }
         if (a["mode"]) {
-            ax.mode = parse_mode_name(a["mode"].as<std::string>(""));
-            if (!ax.mode) {
-                error(line(a["mode"]), fmt::format("{} axis {}: unknown mode `{}` (use pp, pv, pt, "
-                                                   "hm, ip, csp, csv, cst or a number)",
-                                                   who, ax.axis, a["mode"].as<std::string>("")));
+            if (const auto mode = text(a["mode"], fmt::format("{} axis {} mode", who, ax.axis))) {
+                ax.mode = parse_mode_name(*mode);
+                if (!ax.mode) {
+                    error(line(a["mode"]), fmt::format("{} axis {}: unknown mode `{}` (use pp, pv, "
+                                                       "pt, hm, ip, csp, csv, cst or a number)",
+                                                       who, ax.axis, *mode));
+                }
             }
         }
-        if (const YAML::Node u = a["units"]) {
+        if (const YAML::Node u = a["units"];
+            u && is_map(u, fmt::format("{} axis {} units", who, ax.axis),
+                        "`units: {increments_per_unit: 1000, unit: mm}`")) {
             check_keys(u, {"increments_per_unit", "unit"}, who + " axis units");
-            if (u["increments_per_unit"]) {
-                ax.increments_per_unit = u["increments_per_unit"].as<double>(0.0);
-                if (*ax.increments_per_unit <= 0) {
-                    error(line(u["increments_per_unit"]),
-                          fmt::format("{} axis {}: increments_per_unit must be > 0", who, ax.axis));
+            if (const YAML::Node ipu = u["increments_per_unit"]) {
+                const std::string what =
+                    fmt::format("{} axis {}: increments_per_unit", who, ax.axis);
+                double value = 0;
+                if (const auto t = text(ipu, what); t && !parse_double(*t, value)) {
+                    error(line(ipu), fmt::format("{} must be a number, not `{}`", what, *t));
+                } else if (t && value <= 0) {
+                    error(line(ipu), fmt::format("{} must be > 0", what));
+                } else if (t) {
+                    ax.increments_per_unit = value;
                 }
             }
             if (u["unit"]) {
-                ax.unit = u["unit"].as<std::string>("inc");
+                ax.unit =
+                    text(u["unit"], fmt::format("{} axis {} unit", who, ax.axis)).value_or("inc");
                 static const std::set<std::string> kUnits{"m",   "mm",  "um", "rad",
                                                           "deg", "rev", "inc"};
                 if (kUnits.count(ax.unit) == 0) {

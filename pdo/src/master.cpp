@@ -51,6 +51,29 @@ std::string to_string(const PdoEvent& e) {
     return head;
 }
 
+std::string event_key(const PdoEvent& e) {
+    const char* what = "event";
+    switch (e.kind) {
+    case PdoEventKind::TpdoMissing:
+        what = "missing after SYNC";
+        break;
+    case PdoEventKind::TpdoSilent:
+        what = "silent";
+        break;
+    case PdoEventKind::TpdoRecovered:
+        what = "received again";
+        break;
+    case PdoEventKind::TpdoTooShort:
+        what = "too short";
+        break;
+    case PdoEventKind::RpdoSendFailed:
+        what = "not sent";
+        break;
+    }
+    return fmt::format("node {}: {} (0x{:X}) {}", e.node, pdo_name(e.dir, e.number), e.can_id,
+                       what);
+}
+
 PdoMaster::PdoMaster(ICanBus& bus, PdoMasterOptions options) : bus_(bus), options_(options) {}
 
 PdoMaster::~PdoMaster() = default;

@@ -9,6 +9,7 @@
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <csignal>
 #include <cstdio>
@@ -77,6 +78,17 @@ int run(const Options& o) {
             std::fprintf(stderr, "codrive-sim: %s\n", err.c_str());
             return 2;
         }
+        // Checked before the bus is opened and before any "ready": a fault aimed at a node that
+        // is not simulated would otherwise never fire while the test waits for it.
+        const bool simulated = std::any_of(specs.begin(), specs.end(),
+                                           [&f](const NodeSpec& s) { return s.node == f.node; });
+        if (!simulated) {
+            std::fprintf(stderr,
+                         "codrive-sim: --fault %s names node %u, which is not simulated (add "
+                         "--node %u:PROFILE or fix the node id)\n",
+                         text.c_str(), f.node, f.node);
+            return 2;
+        }
         faults.push_back(f);
     }
 
@@ -103,8 +115,8 @@ int run(const Options& o) {
     bus_options.rcvbuf_bytes = o.rcvbuf_bytes;
     auto bus = SocketCanBus::open(o.iface, bus_options);
     if (!bus) {
-        std::fprintf(stderr, "codrive-sim: cannot open %s: %s\n", o.iface.c_str(),
-                     bus.error().message().c_str());
+        std::fprintf(stderr, "codrive-sim: %s\n",
+                     describe_can_open_error(o.iface, bus.error()).c_str());
         return 1;
     }
     std::vector<std::unique_ptr<SimDevice>> devices;

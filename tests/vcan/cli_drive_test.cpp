@@ -30,6 +30,30 @@ TEST(VcanCli, DriveCommandEnablesMovesAndResets) {
     std::printf("%s%s%s", status.output.c_str(), enable.output.c_str(), move.output.c_str());
 }
 
+TEST(VcanCli, DriveStatusSaysWhatToDoAtRestAndNamesTheAkd2gFault) {
+    CODRIVE_REQUIRE_VCAN("vcan0");
+    // Node 5 faults at once (following error, EMCY 8611h): the AKD2G has no 603Fh, so the code
+    // must come from its error history 1003h:01 (manual §5.2.3).
+    Process sim({tool_path("codrive-sim"), "-i", "vcan0", "--node", "4:akd2g", "--node", "5:akd2g",
+                 "--fault", "5:ferr"});
+    ASSERT_TRUE(sim.wait_for_output("inject", 10s)) << sim.output();
+    const std::string codrive = tool_path("codrive");
+    auto rest = run({codrive, "drive", "-i", "vcan0", "-n", "4", "status"}, 30s);
+    EXPECT_EQ(rest.status, 0) << rest.output;
+    EXPECT_NE(rest.output.find("SWITCH ON DISABLED: power stage off, ready to be enabled; "
+                               "`codrive drive -i vcan0 -n 4 enable` enables it"),
+              std::string::npos)
+        << rest.output;
+    EXPECT_EQ(rest.output.find("did not follow"), std::string::npos) << rest.output;
+    auto fault = run({codrive, "drive", "-i", "vcan0", "-n", "5", "status"}, 30s);
+    EXPECT_NE(fault.output.find("the drive is in FAULT: error code 0x8611 (F"), std::string::npos)
+        << fault.output;
+    EXPECT_NE(fault.output.find("`codrive drive -i vcan0 -n 5 reset` clears the fault"),
+              std::string::npos)
+        << fault.output;
+    std::printf("%s%s", rest.output.c_str(), fault.output.c_str());
+}
+
 TEST(VcanCli, RunCommandBootsTheBusFileAndShowsAxes) {
     CODRIVE_REQUIRE_VCAN("vcan0");
     Process sim(

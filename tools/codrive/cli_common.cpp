@@ -9,18 +9,6 @@
 
 namespace codrive::cli {
 
-std::string describe_open_error(const std::string& ifname, const std::error_code& ec) {
-    std::string hint;
-    if (ec == CoreErrc::NoSocketCan) {
-        hint = " (load the can and can-raw modules, or run through vcan-scripts/run-in-vcan.sh)";
-    } else if (ec == CoreErrc::NoSuchInterface) {
-        hint = " (create it with vcan-scripts/vcan-up.sh or check `ip link`)";
-    } else if (ec == CoreErrc::InterfaceDown) {
-        hint = fmt::format(" (bring it up: ip link set {} up)", ifname);
-    }
-    return fmt::format("cannot open {}: {}{}", ifname, ec.message(), hint);
-}
-
 std::optional<BusSession> open_bus(const std::string& ifname, SocketCanOptions options) {
     auto loop = EventLoop::create();
     if (!loop) {
@@ -29,7 +17,7 @@ std::optional<BusSession> open_bus(const std::string& ifname, SocketCanOptions o
     }
     auto bus = SocketCanBus::open(ifname, std::move(options));
     if (!bus) {
-        fmt::print(stderr, "codrive: {}\n", describe_open_error(ifname, bus.error()));
+        fmt::print(stderr, "codrive: {}\n", describe_can_open_error(ifname, bus.error()));
         return std::nullopt;
     }
     if (auto r = (*bus)->attach(**loop); !r) {

@@ -18,12 +18,9 @@ struct BusSession {
 };
 
 /// Opens `ifname` and attaches it to a new loop. On failure prints one sentence to stderr
-/// ("codrive: cannot open vcan0: no such network interface (is it up? see `ip link`)") and
+/// (describe_can_open_error()) and
 /// returns nullopt.
 std::optional<BusSession> open_bus(const std::string& ifname, SocketCanOptions options = {});
-
-/// A sentence explaining why a CAN interface could not be opened.
-std::string describe_open_error(const std::string& ifname, const std::error_code& ec);
 
 /// Parses a node id "1".."127" (decimal or 0x hex); prints an error and returns nullopt.
 std::optional<unsigned> parse_node(const std::string& text, bool allow_all = false);

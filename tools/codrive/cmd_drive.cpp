@@ -150,6 +150,29 @@ int stop_on_signal(const DriveArgs& a, DriveWire& w, drives::Axis& axis) {
     return 128 + sig;
 }
 
+/// What to type next for a drive at rest or in FAULT ("" when there is nothing to suggest).
+std::string next_step(const DriveArgs& a, const drives::Axis& axis) {
+    using drives::cia402::State;
+    const std::string command =
+        fmt::format("codrive drive {} -n {}{}",
+                    a.ethercat.empty() ? "-i " + a.iface : "--ethercat " + a.ethercat, a.node,
+                    a.axis != 1 ? fmt::format(" --axis {}", a.axis) : std::string());
+    switch (axis.state()) {
+    case State::SwitchOnDisabled:
+    case State::ReadyToSwitchOn:
+    case State::SwitchedOn:
+        // Only when nothing stands in the way (STO, no remote control, no voltage are named by
+        // diagnose() instead of the resting state).
+        return axis.diagnose().find("power stage") != std::string::npos
+                   ? fmt::format("; `{} enable` enables it", command)
+                   : std::string();
+    case State::Fault:
+        return fmt::format("; remove the cause, then `{} reset` clears the fault", command);
+    default:
+        return {};
+    }
+}
+
 /// The action on one axis, then one status line. Transport-neutral: the same on both wires.
 int operate(const DriveArgs& a, DriveWire& w, drives::Axis& axis, const drives::Profile& profile) {
     auto wait = [&](const std::function<void(drives::Axis::Done)>& op) -> bool {
@@ -253,13 +276,14 @@ int operate(const DriveArgs& a, DriveWire& w, drives::Axis& axis, const drives::
                                            });
         w.run_until([&] { return read_done; }, seconds(2));
     }
-    fmt::print("{} axis {} ({}): {}, statusword 0x{:04X}, mode {}, position {}{}\n", w.who, a.axis,
-               profile.title, drives::cia402::to_string(axis.state()), axis.statusword(),
+    fmt::print("{} axis {} ({}): {}, statusword 0x{:04X}, mode {}, position {}{}{}\n", w.who,
+               a.axis, profile.title, drives::cia402::to_string(axis.state()), axis.statusword(),
                axis.mode_display() ? drives::cia402::mode_name(*axis.mode_display()) : "-",
                position ? std::to_string(*position) : "-",
                axis.state() == drives::cia402::State::OperationEnabled
                    ? std::string()
-                   : std::string(" — ") + axis.diagnose());
+                   : std::string(" — ") + axis.diagnose(),
+               next_step(a, axis));
     return ok ? kExitOk : kExitFailure;
 }
 

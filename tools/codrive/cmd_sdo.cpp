@@ -85,7 +85,7 @@ std::optional<Prepared> prepare(const SdoOptions& o, int& exit_code, SdoProgress
     }
     auto sdo = sdo::BlockingSdo::open(o.iface);
     if (!sdo) {
-        fmt::print(stderr, "codrive: {}\n", describe_open_error(o.iface, sdo.error()));
+        fmt::print(stderr, "codrive: {}\n", describe_can_open_error(o.iface, sdo.error()));
         exit_code = kExitNoBus;
         return std::nullopt;
     }

@@ -80,6 +80,7 @@ int main(int argc, char** argv) {
     std::vector<std::string> profile_args;
     bool stats = false;
     bool top = false;
+    bool quiet = false;
     std::uint32_t bitrate = 500000;
     unsigned sdo_timeout_ms = 1000;
     std::uint64_t count = 0;
@@ -107,6 +108,7 @@ int main(int argc, char** argv) {
                    "node from its EDS or DCF (repeatable)");
     app.add_option("--profile", profile_args, "NODE=NAME: use a drive profile for a node");
     app.add_flag("--stats", stats, "Print a per-node statistics table at the end");
+    app.add_flag("-q,--quiet", quiet, "No per-frame lines: with --stats only the table at the end");
     app.add_flag("--top", top, "Live: show the statistics table, refreshed every second");
     app.add_option("--bitrate", bitrate, "Bit rate for the bus load figure")->capture_default_str();
     app.add_option("--sdo-timeout", sdo_timeout_ms,
@@ -158,7 +160,7 @@ int main(int argc, char** argv) {
     opts.stats = stats || top;
     opts.bitrate = bitrate;
     opts.decoder.sdo_timeout_ns = static_cast<std::int64_t>(sdo_timeout_ms) * 1'000'000;
-    opts.print = (write_file.empty() || print_too) && !top;
+    opts.print = (write_file.empty() || print_too) && !top && !quiet;
     if (read_file.empty() == ifaces.empty()) {
         diag("give either interfaces to capture or -r FILE");
         return 2;
@@ -262,6 +264,7 @@ int main(int argc, char** argv) {
     lo.count = count;
     lo.stop = &g_stop;
     lo.screen = [](std::string_view s) { write_all(1, s); };
+    lo.clear_screen = ::isatty(1) != 0;
     lo.ready = [&] {
         std::string names;
         for (const auto& s : specs) {

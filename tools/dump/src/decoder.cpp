@@ -176,7 +176,7 @@ void Decoder::decode(const TraceRecord& r, Decoded& out, std::vector<Note>& note
         out.service = Service::Pdo;
         out.node = node;
         if (stats_ != nullptr) {
-            stats_->on_pdo(node, info.is_tpdo());
+            stats_->on_pdo(node, info.is_tpdo(), r.ts_ns);
         }
     }
 }

@@ -92,7 +92,7 @@ VoidResult run_live(const std::vector<LiveSpec>& specs, Dumper& dumper, const Li
         so.rcvbuf_bytes = 4 * 1024 * 1024;
         auto bus = SocketCanBus::open(s.iface, so);
         if (!bus) {
-            error = fmt::format("{}: cannot open: {}", s.iface, bus.error().message());
+            error = describe_can_open_error(s.iface, bus.error());
             return fail(bus.error());
         }
         names.push_back(s.iface);
@@ -129,7 +129,13 @@ VoidResult run_live(const std::vector<LiveSpec>& specs, Dumper& dumper, const Li
         if (o.top && SteadyClock::now() >= next_draw) {
             next_draw += o.refresh;
             if (o.screen) {
-                o.screen("\033[H\033[2J" + dumper.stats().table());
+                // Rates of the last second, on the receive timestamps' clock.
+                const std::int64_t now_ns = std::chrono::duration_cast<std::chrono::nanoseconds>(
+                                                SteadyClock::now().time_since_epoch())
+                                                .count() +
+                                            offset_ns;
+                o.screen((o.clear_screen ? std::string("\033[H\033[2J") : std::string("\n")) +
+                         dumper.stats().table(now_ns));
             }
         }
     }

@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <cmath>
 #include <iterator>
+#include <vector>
 
 namespace codrive::dump {
 
@@ -92,13 +93,62 @@ void Stats::on_sdo_abort(NodeId node) {
     ++nodes_[node].sdo_aborts;
 }
 void Stats::on_sdo_timeout(NodeId node) {
-    nodes_[node].seen = true;
+    // Not `seen`: a scan addresses all 127 ids and most never answer; they are summarised in
+    // one line, not listed as rows.
     ++nodes_[node].sdo_timeouts;
 }
-void Stats::on_pdo(NodeId node, bool tpdo) {
-    nodes_[node].seen = true;
-    ++(tpdo ? nodes_[node].tpdo : nodes_[node].rpdo);
+
+namespace {
+constexpr std::int64_t kSlotNs = 100'000'000; // 10 slots = the 1 s window of `--top` rates
+constexpr std::size_t kSlots = 10;
+} // namespace
+
+void Stats::on_pdo(NodeId node, bool tpdo, std::int64_t ts_ns) {
+    Node& n = nodes_[node];
+    n.seen = true;
+    ++(tpdo ? n.tpdo : n.rpdo);
+    const std::int64_t slot = ts_ns / kSlotNs;
+    constexpr auto kN = static_cast<std::int64_t>(kSlots);
+    const auto i = static_cast<std::size_t>(((slot % kN) + kN) % kN); // a trace may start < 0
+    if (n.slot_ids[i] != slot) {
+        n.slot_ids[i] = slot;
+        n.tpdo_slots[i] = 0;
+        n.rpdo_slots[i] = 0;
+    }
+    ++(tpdo ? n.tpdo_slots[i] : n.rpdo_slots[i]);
 }
+
+namespace {
+
+// PDOs in the 1 s before now_ns (the 10 slots ending with the current one).
+double recent_rate(const std::array<std::uint32_t, kSlots>& counts,
+                   const std::array<std::int64_t, kSlots>& ids, std::int64_t now_ns) {
+    const std::int64_t now_slot = now_ns / kSlotNs;
+    std::uint64_t sum = 0;
+    for (std::size_t i = 0; i < kSlots; ++i) {
+        if (ids[i] > now_slot - static_cast<std::int64_t>(kSlots) && ids[i] <= now_slot) {
+            sum += counts[i];
+        }
+    }
+    return static_cast<double>(sum); // per 1 s window
+}
+
+// "2, 5..127": node ids as ranges.
+std::string ranges(const std::vector<unsigned>& ids) {
+    std::string out;
+    for (std::size_t i = 0; i < ids.size();) {
+        std::size_t j = i;
+        while (j + 1 < ids.size() && ids[j + 1] == ids[j] + 1) {
+            ++j;
+        }
+        out += out.empty() ? "" : ", ";
+        out += j == i ? fmt::format("{}", ids[i]) : fmt::format("{}..{}", ids[i], ids[j]);
+        i = j + 1;
+    }
+    return out;
+}
+
+} // namespace
 
 double Stats::bus_load() const {
     const auto span = last_ns_ - first_ns_;
@@ -109,7 +159,7 @@ double Stats::bus_load() const {
            (static_cast<double>(bitrate_) * 1e-9 * static_cast<double>(span));
 }
 
-std::string Stats::table() const {
+std::string Stats::table(std::optional<std::int64_t> now_ns) const {
     fmt::memory_buffer b;
     auto it = std::back_inserter(b);
     const double secs = static_cast<double>(last_ns_ - first_ns_) / 1e9;
@@ -138,7 +188,10 @@ std::string Stats::table() const {
             n.sdo_done > 0
                 ? fmt::format("{:.1f} ms", n.sdo_rtt_sum_ns / static_cast<double>(n.sdo_done) / 1e6)
                 : "-";
-        const auto rate = [&](std::uint64_t c) {
+        const auto rate = [&](std::uint64_t c, const std::array<std::uint32_t, kSlots>& slots) {
+            if (now_ns) {
+                return fmt::format("{:.1f}", recent_rate(slots, n.slot_ids, *now_ns));
+            }
             return secs > 0 ? fmt::format("{:.1f}", static_cast<double>(c) / secs)
                             : fmt::format("{}", c);
         };
@@ -148,11 +201,24 @@ std::string Stats::table() const {
         fmt::format_to(
             it, "{:>4}  {:<15}  {:>9}  {:>8}  {:>5}  {:>5}  {:>6}  {:>8}  {:>8}  {:>8}  {}\n", i,
             state, period, jitter, n.emcy, n.sdo_done, n.sdo_aborts + n.sdo_timeouts, rtt,
-            rate(n.tpdo), rate(n.rpdo), last);
+            rate(n.tpdo, n.tpdo_slots), rate(n.rpdo, n.rpdo_slots), last);
         while (b.size() > 1 && b[b.size() - 2] == ' ') { // no trailing blanks without a last EMCY
             b[b.size() - 2] = '\n';
             b.resize(b.size() - 1);
         }
+    }
+    std::vector<unsigned> silent;
+    for (unsigned i = 1; i < nodes_.size(); ++i) {
+        if (!nodes_[i].seen && nodes_[i].sdo_timeouts > 0) {
+            silent.push_back(i);
+        }
+    }
+    if (!silent.empty()) {
+        fmt::format_to(it, "no answer to SDO requests from {} node{}: {}\n", silent.size(),
+                       silent.size() == 1 ? "" : "s", ranges(silent));
+    }
+    if (now_ns) {
+        fmt::format_to(it, "PDO rates: last 1 s\n");
     }
     // The window still open counts if it is long enough to say something.
     double peak = peak_load_;

@@ -8,6 +8,7 @@
 
 #include <codrive/core/can_bus.hpp>
 #include <codrive/core/event_loop.hpp>
+#include <codrive/core/event_rate_limiter.hpp>
 #include <codrive/drives/axis.hpp>
 #include <codrive/master/boot_report.hpp>
 #include <codrive/master/bus_config.hpp>
@@ -49,6 +50,11 @@ struct ControllerOptions {
     /// else SO_RCVBUF, which the kernel caps at net.core.rmem_max). A thread delayed for a while
     /// must not lose TPDOs or heartbeats to a full socket; 0 keeps the kernel's default.
     int rcvbuf_bytes = 1 << 20;
+    /// Repeated events of one kind from one source (a TPDO missing after every SYNC) are passed
+    /// to the event callback as the first sentence and then one summary per interval:
+    /// "node 3: TPDO1 (0x183) missing after SYNC ×412 in the last 1 s" (EventRateLimiter).
+    /// Zero passes every event on. `codrive run` uses 1 s.
+    Duration event_summary_interval = Duration::zero();
     /// Buses to use instead of opening the bus files' interfaces (tests: VirtualBus), by bus
     /// index. The controller does not own them.
     std::vector<ICanBus*> buses;
@@ -86,6 +92,11 @@ struct ControllerStats {
     std::uint64_t ecat_frame_errors = 0; ///< EtherCAT cycles with a lost frame or a WKC error
     [[nodiscard]] std::string to_string() const;
 };
+
+/// Validates a bus file (CAN part and `ethercat:` section) without opening any bus: every
+/// finding as "bus.yml:14: sentence", in file order per part; empty when the file is usable.
+/// `codrive run --check` prints these.
+[[nodiscard]] std::vector<std::string> check_bus_file(const std::string& path);
 
 /// The controller. Single-threaded: everything (SYNC, PDOs, SDO, supervision, the cyclic
 /// callback and axis operations) runs on the thread that calls run()/run_for(); services are
@@ -178,6 +189,8 @@ private:
     Controller(std::vector<master::BusConfig> buses, std::vector<EcatSegmentConfig> segments,
                ControllerOptions options);
     void emit(const std::string& text);
+    /// `key`: kind and source of the event, for the rate limiter.
+    void emit(const std::string& text, const std::string& key);
     void on_sync(Bus& bus, const CycleInfo& info);
     tl::expected<void, std::string> open_bus(Bus& b, std::size_t index);
     void setup_node(Bus& b, const master::NodeEntry& entry);
@@ -210,6 +223,7 @@ private:
 
     ControllerOptions options_;
     std::unique_ptr<EventLoop> loop_;
+    std::unique_ptr<EventRateLimiter> limiter_; ///< when event_summary_interval > 0
     std::vector<std::unique_ptr<Bus>> buses_;
     std::vector<std::unique_ptr<EcatSegment>> segments_;
     std::vector<master::BootReport> reports_;

@@ -135,6 +135,10 @@ struct Profile {
     std::span<const ObjectSpec> object_overrides;
     /// Generic CiA 402 objects this drive does not have.
     std::span<const std::uint16_t> absent_objects;
+    /// The drive has no 603Fh but keeps its error history in 1003h: sub-index 1 holds the first
+    /// four bytes of the last EMCY, the error code in bits 0..15 (CiA 301 §7.5.2.5). The axis
+    /// reads it on FAULT so messages name the fault (AKD2G manual §5.2.3).
+    bool fault_code_in_1003 = false;
     /// Manufacturer-specific axis objects: offset per axis (AKD2G: 0x100 for 50xxh → 51xxh).
     std::uint16_t manufacturer_axis_offset = 0;
 

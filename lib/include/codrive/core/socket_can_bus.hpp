@@ -113,6 +113,13 @@ private:
 /// several: e.g. controller problem + state change).
 [[nodiscard]] std::vector<BusEvent> decode_error_frame(const Frame& f);
 
+/// The one sentence every tool prints when SocketCanBus::open() fails: the interface, the cause
+/// and what to do, e.g. "cannot open can0: this kernel has no SocketCAN support (AF_CAN
+/// unavailable) (... run the tool inside a vcan guest with vcan-scripts/run-in-vcan.sh, see
+/// docs/vcan.md)".
+[[nodiscard]] std::string describe_can_open_error(const std::string& ifname,
+                                                  const std::error_code& ec);
+
 /// True if this kernel supports AF_CAN sockets at all.
 [[nodiscard]] bool socketcan_available();
 

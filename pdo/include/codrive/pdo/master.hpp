@@ -49,6 +49,9 @@ struct PdoEvent {
 /// "node 2: TPDO1 (0x182) has 4 bytes but its mapping needs 6 (frame ignored)",
 /// "node 2: RPDO1 (0x202) not sent: <bus error>".
 [[nodiscard]] std::string to_string(const PdoEvent& e);
+/// The kind and source of an event without its per-occurrence details, for rate limiting
+/// (EventRateLimiter): "node 2: TPDO1 (0x182) missing after SYNC".
+[[nodiscard]] std::string event_key(const PdoEvent& e);
 
 struct PdoMasterOptions {
     /// An event-driven TPDO with event timer T is reported silent after T × this factor.

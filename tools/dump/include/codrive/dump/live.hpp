@@ -36,7 +36,10 @@ struct LiveOptions {
     std::uint64_t count = 0;                      ///< stop after this many frames (0: never)
     const std::atomic<bool>* stop = nullptr;      ///< set by a signal handler
     std::function<void(std::string_view)> screen; ///< where `--top` draws
-    std::function<void()> ready;                  ///< called once every interface is open
+    /// Clear the screen before each `--top` table (a terminal); else tables follow each other
+    /// separated by a blank line, with no escape codes (a pipe or a file).
+    bool clear_screen = true;
+    std::function<void()> ready; ///< called once every interface is open
 };
 
 /// Captures until `stop` or `count`. Kernel receive timestamps are monotonic; they are turned

@@ -7,6 +7,7 @@
 
 #include <array>
 #include <cstdint>
+#include <optional>
 #include <string>
 
 namespace codrive::dump {
@@ -40,6 +41,10 @@ public:
         double sdo_rtt_sum_ns = 0; // double: out-of-order traces must not overflow a sum
         std::uint64_t tpdo = 0;
         std::uint64_t rpdo = 0;
+        /// PDOs per 100 ms slot of the last second (ring indexed by slot number), for `--top`.
+        std::array<std::uint32_t, 10> tpdo_slots{};
+        std::array<std::uint32_t, 10> rpdo_slots{};
+        std::array<std::int64_t, 10> slot_ids{};
     };
 
     explicit Stats(std::uint32_t bitrate = 500000) : bitrate_(bitrate) {}
@@ -50,11 +55,13 @@ public:
     void on_sdo_done(NodeId node, std::int64_t duration_ns);
     void on_sdo_abort(NodeId node);
     void on_sdo_timeout(NodeId node);
-    void on_pdo(NodeId node, bool tpdo);
+    void on_pdo(NodeId node, bool tpdo, std::int64_t ts_ns = 0);
 
-    /// The table: one row per node seen, then totals and bus load (mean over the trace, peak over
-    /// one-second windows). `now_ns` ends the last window (the last frame for files).
-    [[nodiscard]] std::string table() const;
+    /// The table: one row per node that sent something, then the nodes that were addressed but
+    /// never answered, totals and bus load (mean over the trace, peak over one-second windows).
+    /// PDO rates are the mean over the trace; with `now_ns` (live `--top`) they are the rates of
+    /// the last second before `now_ns`, so they fall to 0 when the PDOs stop.
+    [[nodiscard]] std::string table(std::optional<std::int64_t> now_ns = std::nullopt) const;
     [[nodiscard]] const Node& node(NodeId n) const { return nodes_[n]; }
     [[nodiscard]] std::uint64_t frames() const { return frames_; }
     /// Mean bus load in percent over the trace so far.

@@ -1,0 +1,73 @@
+// SPDX-License-Identifier: Apache-2.0
+// `--top` rates over the last second (not since the start), and a scan's silent ids in one line.
+#include <codrive/dump/stats.hpp>
+
+#include <gtest/gtest.h>
+
+#include <sstream>
+#include <string>
+
+using namespace codrive;
+using namespace codrive::dump;
+
+namespace {
+
+constexpr std::int64_t kMs = 1'000'000;
+constexpr std::int64_t kStart = 1'700'000'000'000 * kMs;
+
+// The row of `node` in a stats table.
+std::string row(const std::string& table, unsigned node) {
+    const std::string head = (node < 10 ? "   " : "  ") + std::to_string(node) + "  ";
+    const auto at = table.find("\n" + head);
+    if (at == std::string::npos) {
+        return {};
+    }
+    return table.substr(at + 1, table.find('\n', at + 1) - at - 1);
+}
+
+// The TPDO/s column of a row of a node without heartbeats:
+// node, state, HB period, HB jitter, EMCY, SDO, ab/to, SDO mean, TPDO/s, RPDO/s.
+std::string tpdo_rate(const std::string& r) {
+    std::istringstream in(r);
+    std::string token;
+    for (int i = 0; i <= 8 && (in >> token); ++i) {
+    }
+    return token;
+}
+
+} // namespace
+
+TEST(DumpStatsWindow, TopRatesFallToZeroOneSecondAfterThePdosStop) {
+    Stats s;
+    // Node 2: a TPDO every millisecond for 5 s, then nothing.
+    for (std::int64_t t = 0; t < 5000; ++t) {
+        s.on_frame(Frame::make(0x182, {1, 2}), kStart + t * kMs);
+        s.on_pdo(2, true, kStart + t * kMs);
+    }
+    const std::string live = s.table(kStart + 4999 * kMs);
+    EXPECT_EQ(tpdo_rate(row(live, 2)), "1000.0") << live;
+    EXPECT_NE(live.find("PDO rates: last 1 s"), std::string::npos) << live;
+    const std::string later = s.table(kStart + 6100 * kMs);
+    EXPECT_EQ(tpdo_rate(row(later, 2)), "0.0") << later;
+    // Without a clock (a file's end), the mean over the trace.
+    const std::string file = s.table();
+    EXPECT_EQ(tpdo_rate(row(file, 2)), "1000.2") << file;
+    EXPECT_EQ(file.find("PDO rates: last 1 s"), std::string::npos) << file;
+}
+
+TEST(DumpStatsWindow, NodesThatNeverAnsweredAScanAreOneLineNotRows) {
+    Stats s;
+    s.on_heartbeat(3, 0x05, kStart);
+    s.on_sdo_done(3, 2 * kMs);
+    for (NodeId n = 1; n <= 127; ++n) {
+        if (n != 3) {
+            s.on_sdo_timeout(n);
+        }
+    }
+    const std::string t = s.table();
+    EXPECT_FALSE(row(t, 3).empty()) << t;
+    EXPECT_TRUE(row(t, 1).empty()) << t;
+    EXPECT_TRUE(row(t, 127).empty()) << t;
+    EXPECT_NE(t.find("no answer to SDO requests from 126 nodes: 1..2, 4..127\n"), std::string::npos)
+        << t;
+}
