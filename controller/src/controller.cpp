@@ -445,6 +445,12 @@ tl::expected<void, std::string> Controller::start() {
                     }
                 }
             }
+            if (e.kind == master::MasterEventKind::BootCompleted ||
+                e.kind == master::MasterEventKind::BootFailed) {
+                // The boot report (emitted below for every node) and start()'s error carry the
+                // same sentence; forwarding it too printed every boot failure twice.
+                return;
+            }
             emit(e.text);
         });
         loop_->add_timed(b.master.get());
