@@ -127,10 +127,12 @@ void BootSequence::on_node_state(nmt::NmtState state, TimePoint now) {
     }
     if (state == nmt::NmtState::BootUp) {
         if (wait_ == Wait::BootUp) {
-            wait_done();
             step_ok("NMT reset communication",
                     fmt::format("boot-up message after {:.1f} ms", to_ms(now - step_started_)));
-            probe(0);
+            // Probe from the next tick: the SDO client sees this boot-up message right after
+            // this call and would end a request sent now as "node rebooted".
+            wait_ = Wait::Probe;
+            wait_deadline_ = now;
             return;
         }
         // With an SDO request in flight, it fails with "node rebooted" right after this call and
@@ -176,6 +178,11 @@ void BootSequence::on_tick(TimePoint now) {
         return;
     }
     const Wait waited = wait_;
+    if (waited == Wait::Probe) {
+        wait_done();
+        probe(0);
+        return;
+    }
     const char* step = waited == Wait::BootUp           ? "NMT reset communication"
                        : waited == Wait::PreOperational ? "pre-operational check"
                                                         : "NMT start";

@@ -23,12 +23,13 @@ const std::string kDemoBus = std::string(CODRIVE_SOURCE_DIR) + "/vcan-scripts/de
 std::unique_ptr<Process> start_sim() {
     auto sim = std::make_unique<Process>(std::vector<std::string>{
         tool_path("codrive-sim"), "-i", "vcan0", "--node", "1:akd2g", "--node", "2:ds-bvs"});
-    EXPECT_TRUE(sim->wait_for_output("node 2", 10s)) << sim->output();
+    // The User-Mode-Linux guest has one CPU: a UBSan simulator may take a while to come up.
+    EXPECT_TRUE(sim->wait_for_output("node 2", 30s)) << sim->output();
     return sim;
 }
 
 RunResult run_bus(const std::string& file) {
-    return run({tool_path("codrive"), "run", file, "--duration", "2", "--enable"}, 60s);
+    return run({tool_path("codrive"), "run", file, "--duration", "2", "--enable"}, 120s);
 }
 
 std::size_t count(const std::string& text, const std::string& what) {
@@ -68,7 +69,7 @@ TEST(VcanBootState, SameBusFileBootsTwiceAgainstOneSimulator) {
 TEST(VcanBootState, BootAfterNmtStartAllSucceeds) {
     CODRIVE_REQUIRE_VCAN("vcan0");
     auto sim = start_sim();
-    const auto start = run({tool_path("codrive"), "nmt", "-i", "vcan0", "start", "all"}, 30s);
+    const auto start = run({tool_path("codrive"), "nmt", "-i", "vcan0", "start", "all"}, 120s);
     ASSERT_EQ(start.status, 0) << start.output;
     const RunResult r = run_bus(kDemoBus);
     expect_booted_and_pdos_work(r);
@@ -86,12 +87,13 @@ TEST(VcanBootState, ResetCommunicationOptionBootsOperationalNodes) {
     const std::string anchor = "  sync_period_us: 4000\n";
     const auto at = yaml.find(anchor);
     ASSERT_NE(at, std::string::npos) << yaml;
-    yaml.insert(at + anchor.size(), "  boot_reset: communication\n");
+    // A margin for the slow guest: the simulator re-initialises after each reset.
+    yaml.insert(at + anchor.size(), "  boot_reset: communication\n  sdo_timeout_ms: 2000\n");
     const std::string file = "/tmp/codrive-boot-reset-bus.yml";
     std::ofstream(file) << yaml;
     const RunResult first = run_bus(file);
     expect_booted_and_pdos_work(first);
-    ASSERT_EQ(run({tool_path("codrive"), "nmt", "-i", "vcan0", "start", "all"}, 30s).status, 0);
+    ASSERT_EQ(run({tool_path("codrive"), "nmt", "-i", "vcan0", "start", "all"}, 120s).status, 0);
     const RunResult second = run_bus(file);
     expect_booted_and_pdos_work(second);
     EXPECT_EQ(count(second.output, "NMT reset communication"), 2U) << second.output;

@@ -54,7 +54,8 @@ public:
 private:
     /// What the sequence waits for between SDO steps (an NMT command has no confirmation of its
     /// own: CiA 301 §7.2.8.3.1).
-    enum class Wait { None, BootUp, PreOperational, Operational };
+    /// Probe: the device type probe is due (after the boot-up message that ends BootUp).
+    enum class Wait { None, BootUp, Probe, PreOperational, Operational };
 
     void step_ok(std::string name, std::string detail);
     void step_failed(std::string name, std::string detail);
