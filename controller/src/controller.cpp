@@ -497,6 +497,12 @@ tl::expected<void, std::string> Controller::start() {
                     }
                 }
             }
+            if (e.kind == master::MasterEventKind::BootCompleted ||
+                e.kind == master::MasterEventKind::BootFailed) {
+                // The boot report (emitted below for every node) and start()'s error carry the
+                // same sentence; forwarding it too printed every boot failure twice.
+                return;
+            }
             emit(e.text,
                  e.node == 0
                      ? fmt::format("bus {}: {}", bp->config.iface, master::to_string(e.kind))

@@ -99,6 +99,9 @@ public:
                     if (e.sdo_timeout.count() == 0) {
                         e.sdo_timeout = cfg.sdo_timeout;
                     }
+                    if (!e.boot_reset) {
+                        e.boot_reset = cfg.boot_reset;
+                    }
                     cfg.nodes.push_back(std::move(e));
                 }
             }
@@ -227,13 +230,29 @@ private:
         return static_cast<T>(*v);
     }
 
+    /// `boot_reset: pre-operational | communication | none` (NodeConfig::boot_reset).
+    std::optional<BootReset> boot_reset(const YAML::Node& v, const std::string& what) {
+        const std::string s = v.IsScalar() ? lower(v.Scalar()) : std::string();
+        for (BootReset r : {BootReset::PreOperational, BootReset::Communication, BootReset::None}) {
+            if (s == to_string(r)) {
+                return r;
+            }
+        }
+        error(line(v), fmt::format("{} is \"{}\" but must be pre-operational, communication or "
+                                   "none",
+                                   what, v.IsScalar() ? v.Scalar() : std::string("not a word")));
+        return std::nullopt;
+    }
+
     void parse_bus(const YAML::Node& bus, BusConfig& cfg) {
         if (!bus.IsMap()) {
             error(line(bus), "`bus` must be a map (e.g. `bus: {interface: can0}`)");
             return;
         }
-        check_keys(bus, {"interface", "bitrate", "sync_period_us", "sdo_timeout_ms", "master"},
-                   "`bus`");
+        check_keys(
+            bus,
+            {"interface", "bitrate", "sync_period_us", "sdo_timeout_ms", "boot_reset", "master"},
+            "`bus`");
         if (bus["interface"] && bus["interface"].IsScalar()) {
             cfg.iface = bus["interface"].Scalar();
         } else {
@@ -251,6 +270,10 @@ private:
             cfg.sdo_timeout = milliseconds(
                 number<std::uint32_t>(bus["sdo_timeout_ms"], "bus.sdo_timeout_ms", 1, 600'000)
                     .value_or(0));
+        }
+        if (bus["boot_reset"]) {
+            cfg.boot_reset =
+                boot_reset(bus["boot_reset"], "bus.boot_reset").value_or(cfg.boot_reset);
         }
         if (const YAML::Node m = bus["master"];
             m && is_map(m, "`bus.master`", "`master: {node_id: 127, heartbeat_ms: 100}`")) {
@@ -276,7 +299,7 @@ private:
         }
         check_keys(n,
                    {"id", "name", "profile", "eds", "identity", "heartbeat_ms", "consumer_ms",
-                    "sdo_timeout_ms", "guarding", "start", "pdos", "writes", "axes"},
+                    "sdo_timeout_ms", "boot_reset", "guarding", "start", "pdos", "writes", "axes"},
                    "a node");
         if (n["id"]) {
             e.id = number<NodeId>(n["id"], "node id", 1, 127).value_or(0);
@@ -329,6 +352,9 @@ private:
             e.sdo_timeout = milliseconds(
                 number<std::uint32_t>(n["sdo_timeout_ms"], who + " sdo_timeout_ms", 1, 600'000)
                     .value_or(0));
+        }
+        if (n["boot_reset"]) {
+            e.boot_reset = boot_reset(n["boot_reset"], who + " boot_reset");
         }
         if (const YAML::Node g = n["guarding"];
             g &&
@@ -828,6 +854,7 @@ NodeConfig to_node_config(const NodeEntry& n) {
     c.guard_time = n.guard_time;
     c.life_time_factor = n.life_time_factor;
     c.start = n.start;
+    c.boot_reset = n.boot_reset.value_or(BootReset::PreOperational);
     for (const auto& w : n.writes) {
         ObjectWrite ow;
         ow.index = w.index;

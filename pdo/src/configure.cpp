@@ -33,14 +33,24 @@ std::vector<SdoWrite> configuration_writes(NodeId node, const PdoConfig& pdo, co
     const std::uint16_t map = map_index(pdo.dir, pdo.number);
     const bool write_cob = !q.cob_id_read_only;
 
-    // Step 1: destroy the PDO (bit 31) so that mapping and inhibit time may change. The new
-    // CAN-ID goes with it: CiA 301 only forbids changing the id of a *valid* PDO.
+    // Step 1: destroy the PDO so that its mapping, inhibit time and SYNC start value may change
+    // (CiA 301 §7.5.2.35/37: they are refused with 0x06090030 while the PDO exists). The new
+    // CAN-ID goes with it: CiA 301 only forbids changing the id of a *valid* PDO. Where the
+    // COB-ID is read-only, mapping count 0 is the switch (DS-BVS manual §6.2.22 a: "write the
+    // value 0 to subindex 0x00 (disable PDO)"); it must come first, or a PDO left active by an
+    // earlier boot refuses the inhibit time.
+    const SdoWrite disable_mapping =
+        make_write<std::uint8_t>(map, 0, 0, "disable " + name + " mapping");
     if (write_cob) {
         out.push_back(make_write<std::uint32_t>(
             comm, comm_sub::kCobId, pdo.cob_id_value(node, true), "invalidate " + name));
+    } else {
+        out.push_back(disable_mapping);
     }
     if (!pdo.enabled) {
-        out.push_back(make_write<std::uint8_t>(map, 0, 0, "disable " + name + " mapping"));
+        if (write_cob) {
+            out.push_back(disable_mapping);
+        }
         return out;
     }
     out.push_back(make_write<std::uint8_t>(comm, comm_sub::kTransmissionType,
@@ -57,12 +67,15 @@ std::vector<SdoWrite> configuration_writes(NodeId node, const PdoConfig& pdo, co
             out.push_back(make_write<std::uint8_t>(comm, comm_sub::kSyncStart, pdo.comm.sync_start,
                                                    name + " SYNC start value"));
         }
-    } else if (q.rpdo_has_event_timer && pdo.comm.event_timer != 0) {
+    } else if (q.rpdo_has_event_timer) {
+        // Written also when 0 (off): a timer left by an earlier configuration would stay.
         out.push_back(make_write<std::uint16_t>(comm, comm_sub::kEventTimer, pdo.comm.event_timer,
                                                 name + " event timer"));
     }
     // Steps 2–4 of §7.5.2.36: disable the mapping, write the entries, enable with the count.
-    out.push_back(make_write<std::uint8_t>(map, 0, 0, "disable " + name + " mapping"));
+    if (write_cob) {
+        out.push_back(disable_mapping);
+    }
     for (std::size_t i = 0; i < pdo.mapping.size(); ++i) {
         out.push_back(make_write<std::uint32_t>(map, static_cast<std::uint8_t>(i + 1),
                                                 pdo.mapping[i].raw(),

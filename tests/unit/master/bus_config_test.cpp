@@ -4,6 +4,9 @@
 
 #include <gtest/gtest.h>
 
+#include <fstream>
+#include <sstream>
+
 using namespace codrive;
 using namespace codrive::master;
 
@@ -217,4 +220,43 @@ TEST(BusConfig, ModeNames) {
     EXPECT_EQ(parse_mode_name("pp"), 1);
     EXPECT_EQ(parse_mode_name("-3"), -3);
     EXPECT_FALSE(parse_mode_name("warp"));
+}
+
+TEST(BusConfig, BootResetExampleOfTheDocsParses) {
+    // The `boot_reset` example in docs/bus-file.md, exactly as printed there.
+    std::ifstream in(std::string(CODRIVE_SOURCE_DIR) + "/docs/bus-file.md");
+    std::stringstream doc;
+    doc << in.rdbuf();
+    const std::string text = doc.str();
+    const auto at = text.find("boot_reset: communication");
+    ASSERT_NE(at, std::string::npos);
+    const auto begin = text.rfind("```yaml\n", at);
+    const auto end = text.find("```", at);
+    ASSERT_TRUE(begin != std::string::npos && end != std::string::npos);
+    const std::string yaml = text.substr(begin + 8, end - begin - 8);
+    const auto r = parse_bus_config(yaml, "bus-file.md");
+    ASSERT_TRUE(r.config) << r.to_string();
+    EXPECT_EQ(r.config->boot_reset, BootReset::Communication);
+    ASSERT_EQ(r.config->nodes.size(), 1U);
+    EXPECT_EQ(to_node_config(r.config->nodes[0]).boot_reset, BootReset::PreOperational);
+}
+
+TEST(BusConfig, BootResetDefaultsToPreOperationalAndTheBusValueApplies) {
+    auto r = parse("bus: {interface: vcan0, boot_reset: none}\nnodes:\n  - id: 1\n"
+                   "  - {id: 2, boot_reset: Communication}\n");
+    ASSERT_TRUE(r.config) << r.to_string();
+    EXPECT_EQ(to_node_config(r.config->nodes[0]).boot_reset, BootReset::None);
+    EXPECT_EQ(to_node_config(r.config->nodes[1]).boot_reset, BootReset::Communication);
+    r = parse("bus: {interface: vcan0}\nnodes:\n  - id: 1\n");
+    ASSERT_TRUE(r.config) << r.to_string();
+    EXPECT_EQ(to_node_config(r.config->nodes[0]).boot_reset, BootReset::PreOperational);
+}
+
+TEST(BusConfig, BootResetUnknownWordNamesLineAndChoices) {
+    const auto r = parse("bus: {interface: vcan0}\nnodes:\n  - id: 4\n    boot_reset: reboot\n");
+    EXPECT_FALSE(r.config);
+    EXPECT_NE(r.to_string().find("bus.yml:4: node 4 boot_reset is \"reboot\" but must be "
+                                 "pre-operational, communication or none"),
+              std::string::npos)
+        << r.to_string();
 }

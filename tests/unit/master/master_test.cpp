@@ -80,9 +80,11 @@ TEST(Master, BootChecksIdentityConfiguresAndStartsTheNode) {
     EXPECT_EQ(b.device.state(), nmt::NmtState::Operational);
     EXPECT_EQ(b.device.od().get<std::int8_t>(0x6060, 0), 8);
     EXPECT_EQ(b.device.od().get<std::uint16_t>(0x1017, 0), 100);
-    // Steps: 1000h, 1018h:01, :02, write 6060h, 1017h, NMT start.
-    ASSERT_EQ(report->steps.size(), 6U) << report->to_string();
-    EXPECT_EQ(report->steps[0].detail, "0x00020192");
+    // Steps: NMT enter pre-operational, 1000h, 1018h:01, :02, pre-operational check, write
+    // 6060h, 1017h, NMT start.
+    ASSERT_EQ(report->steps.size(), 8U) << report->to_string();
+    EXPECT_EQ(report->steps[0].name, "NMT enter pre-operational");
+    EXPECT_EQ(report->steps[1].detail, "0x00020192");
     EXPECT_EQ(report->steps.back().name, "NMT start");
     const std::string text = report->to_string();
     EXPECT_NE(text.find("node 3 (drive-x): boot-up OK"), std::string::npos) << text;

@@ -99,10 +99,10 @@ TEST(PdoConfigure, DsBvsSequenceLeavesReadOnlyCobIdAlone) {
     auto r = rig.configure({status_position_tpdo()});
     ASSERT_TRUE(r) << r.error().message;
     const std::vector<std::string> want = {
+        "601#2F001A0000000000", "581#60001A0000000000", // count 0 (disables the PDO) first
         "601#2F00180201000000", "581#6000180200000000", // type 1
         "601#2B00180300000000", "581#6000180300000000", // inhibit 0
         "601#2B00180500000000", "581#6000180500000000", // event timer 0
-        "601#2F001A0000000000", "581#60001A0000000000", // count 0 (disables the PDO)
         "601#23001A0110004160", "581#60001A0100000000",
         "601#23001A0220006460", "581#60001A0200000000",
         "601#2F001A0002000000", "581#60001A0000000000", // count 2 (enables it)
@@ -111,6 +111,22 @@ TEST(PdoConfigure, DsBvsSequenceLeavesReadOnlyCobIdAlone) {
     EXPECT_TRUE(rig.device->active(PdoDir::Tpdo, 1));
     // The COB-ID stayed the read-only default with bit 30 (no RTR).
     EXPECT_EQ(rig.od.get<std::uint32_t>(0x1800, 1), 0x40000181U);
+}
+
+TEST(PdoConfigure, DsBvsActivePdoFromAnEarlierBootIsConfiguredAgain) {
+    // The second boot of the same bus file: TPDO1 is still active (mapping count 2), so the
+    // device refuses its inhibit time (CiA 301 §7.5.2.37) until mapping count 0 disables it.
+    Rig rig(1, quirks::ds_bvs());
+    PdoConfig p = status_position_tpdo();
+    p.comm.inhibit_time = 10;
+    ASSERT_TRUE(rig.configure({p}));
+    ASSERT_TRUE(rig.device->active(PdoDir::Tpdo, 1));
+    p.comm.inhibit_time = 20;
+    auto again = rig.configure({p});
+    ASSERT_TRUE(again) << again.error().message;
+    EXPECT_TRUE(rig.device->active(PdoDir::Tpdo, 1));
+    EXPECT_EQ(rig.od.get<std::uint16_t>(0x1800, 3), 20);
+    EXPECT_EQ(rig.od.get<std::uint8_t>(0x1A00, 0), 2);
 }
 
 TEST(PdoConfigure, DsBvsDisablesPdoByMappingCountZero) {

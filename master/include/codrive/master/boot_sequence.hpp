@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
-// CiA 302-2-style boot-up of one node over SDO: probe 1000h, check 1018h, download the
-// configuration, set error control, start the node. Asynchronous and sans-I/O.
+// CiA 302-2-style boot-up of one node over SDO: bring it to pre-operational (or reset its
+// communication), probe 1000h, check 1018h, download the configuration, set error control,
+// start the node. Asynchronous and sans-I/O.
 #pragma once
 
 #include <codrive/master/boot_report.hpp>
@@ -42,25 +43,34 @@ public:
     [[nodiscard]] bool running() const { return running_; }
 
     /// The node's NMT state from its heartbeat (BootUp for a boot-up message), fed by the master
-    /// for this node while the sequence runs. Operational confirms NMT start; a boot-up message
-    /// restarts the sequence (bounded by NodeConfig::reboot_restarts).
+    /// for this node while the sequence runs. Pre-operational / operational confirm NMT enter
+    /// pre-operational / start; a boot-up message ends the wait after NMT reset communication,
+    /// and otherwise restarts the sequence (bounded by NodeConfig::reboot_restarts).
     void on_node_state(nmt::NmtState state, TimePoint now);
-    /// Waiting for the node to confirm NMT start: when to repeat it.
-    [[nodiscard]] TimePoint next_deadline() const { return start_deadline_; }
+    /// Waiting for the node to confirm an NMT command: when to repeat it or give up.
+    [[nodiscard]] TimePoint next_deadline() const { return wait_deadline_; }
     void on_tick(TimePoint now);
 
 private:
-    struct State;
-    void next();
+    /// What the sequence waits for between SDO steps (an NMT command has no confirmation of its
+    /// own: CiA 301 §7.2.8.3.1).
+    /// Probe: the device type probe is due (after the boot-up message that ends BootUp).
+    enum class Wait { None, BootUp, Probe, PreOperational, Operational };
+
     void step_ok(std::string name, std::string detail);
     void step_failed(std::string name, std::string detail);
+    void enter_state();
     void probe(int attempt);
+    void confirm_pre_operational();
     void check_identity(std::size_t sub);
     void write(std::size_t i);
     void extra(std::size_t i);
     void error_control();
+    void guard();
     void finish();
     bool send_start(TimePoint now);
+    bool send_pre_operational(TimePoint now);
+    void wait_done();
     void complete();
     void restart(std::string why);
 
@@ -73,9 +83,11 @@ private:
     TimePoint step_started_{};
     bool start_node_ = true;
     bool running_ = false;
-    int phase_ = 0;
-    TimePoint start_deadline_ = kNever; ///< kNever: not waiting for operational
+    Wait wait_ = Wait::None;
+    TimePoint wait_deadline_ = kNever; ///< kNever: not waiting
+    milliseconds wait_period_{0};      ///< between repeats of the awaited NMT command
     int start_sends_ = 0;
+    int pre_op_sends_ = 0;
     int restarts_ = 0;
     bool reboot_seen_ = false; ///< a boot-up message arrived: the failing step restarts
     std::optional<nmt::NmtState> reported_; ///< last state the heartbeat reported

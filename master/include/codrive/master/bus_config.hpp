@@ -79,6 +79,8 @@ struct NodeEntry {
     milliseconds guard_time{0};
     std::uint8_t life_time_factor = 0;
     bool start = true;
+    /// `boot_reset`; unset: the bus's (already applied when parsing succeeds).
+    std::optional<BootReset> boot_reset;
     std::vector<PdoConfig> pdos;
     std::vector<WriteConfig> writes;
     std::vector<AxisConfig> axes;
@@ -95,6 +97,8 @@ struct BusConfig {
     /// Default boot-up SDO timeout of every node (0: NodeConfig's default); already applied to
     /// the nodes without their own `sdo_timeout_ms` when parsing succeeds.
     milliseconds sdo_timeout{0};
+    /// `bus.boot_reset`: the default NMT state step of every node's boot-up.
+    BootReset boot_reset = BootReset::PreOperational;
     std::vector<NodeEntry> nodes;
 };
 

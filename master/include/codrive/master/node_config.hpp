@@ -60,6 +60,23 @@ struct NamedStep {
     ConfigureStep run;
 };
 
+/// How boot-up brings a node into a state in which it accepts configuration writes before the
+/// first one (CiA 302-2 §4 boot slave; CiA 301 §7.5.2.36: drives accept PDO mapping changes only
+/// in NMT pre-operational). Bus-file key `boot_reset` (docs/bus-file.md).
+enum class BootReset {
+    /// NMT enter pre-operational before the device type probe, confirmed by the node's heartbeat
+    /// (if it produces one) before the first write. A node already pre-operational is fine.
+    PreOperational,
+    /// NMT reset communication, then wait for the boot-up message (the node is pre-operational
+    /// with its communication objects at their stored values: CiA 301 §7.3.2.2.2).
+    Communication,
+    /// Leave the NMT state alone (the node must already be pre-operational).
+    None,
+};
+
+/// "pre-operational", "communication", "none".
+[[nodiscard]] const char* to_string(BootReset r);
+
 /// The boot-up configuration of one remote node.
 struct NodeConfig {
     NodeId id = 0;
@@ -74,6 +91,10 @@ struct NodeConfig {
     /// Node guarding (used only when heartbeat_producer is 0): 100Ch and 100Dh.
     milliseconds guard_time{0};
     std::uint8_t life_time_factor = 0;
+    /// The NMT state step before any configuration write.
+    BootReset boot_reset = BootReset::PreOperational;
+    /// With BootReset::Communication: how long to wait for the boot-up message.
+    milliseconds boot_up_timeout{2000};
     /// Send NMT start at the end of boot-up (otherwise the node stays pre-operational).
     bool start = true;
     /// Timeout of each SDO request during boot-up.
@@ -82,7 +103,8 @@ struct NodeConfig {
     int probe_retries = 2;
     /// NMT start is unconfirmed (CiA 301 §7.2.8.3.1). With a heartbeat configured, boot-up waits
     /// for a heartbeat reporting operational and repeats NMT start this many times if none comes
-    /// within the consumer time, then fails with a sentence.
+    /// within the consumer time, then fails with a sentence. NMT enter pre-operational is repeated
+    /// the same way while the node's heartbeat does not report pre-operational.
     int start_retries = 3;
     /// A boot-up message (the node reset) during boot-up restarts the sequence from the device
     /// type probe, at most this many times.

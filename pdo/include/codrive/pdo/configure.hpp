@@ -32,12 +32,14 @@ struct SdoWrite {
 /// The writes that configure one PDO, in order (CiA 301 §7.5.2.36):
 ///  1. COB-ID with bit 31 set (the PDO is destroyed, so its mapping may change);
 ///  2. transmission type; TPDO inhibit time and event timer (where the device has them), SYNC
-///     start value (if set and supported), RPDO event timer (if set and supported);
+///     start value (if set and supported), RPDO event timer (where supported, also when 0);
 ///  3. mapping count 0; 4. the entries; 5. the mapping count;
 ///  6. the COB-ID with bit 31 clear (if the PDO is enabled).
-/// With cob_id_read_only the COB-ID writes are left out; a disabled PDO gets mapping count 0
-/// (the only way such a device can switch it off). A disabled PDO on other devices gets only
-/// the invalid COB-ID and mapping count 0.
+/// With cob_id_read_only the COB-ID writes are left out and mapping count 0 (the only way such
+/// a device switches a PDO off) comes first, so that a PDO left active by an earlier boot-up
+/// accepts its inhibit time again. A disabled PDO gets only the invalid COB-ID (where writable)
+/// and mapping count 0. Every value is written whatever the device holds, so configuring twice
+/// ends in the same configuration.
 [[nodiscard]] std::vector<SdoWrite> configuration_writes(NodeId node, const PdoConfig& pdo,
                                                          const PdoQuirks& quirks);
 
