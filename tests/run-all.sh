@@ -54,7 +54,8 @@ for exe in "$root"/build-asan/tests/unit_* "$root"/build-asan/tests/integration_
         cat "$log"
         status=1
     else
-        grep -E '^\[  PASSED  \]' "$log" | sed "s|^|$(basename "$exe"): |" || true
+        # unit_conformance also prints "conformance: N facts checked per drive, M failed".
+        grep -E '^\[  PASSED  \]|^conformance:' "$log" | sed "s|^|$(basename "$exe"): |" || true
     fi
     count_gtest unit "$log"
     rm -f "$log"
