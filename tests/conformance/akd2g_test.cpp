@@ -67,7 +67,8 @@ TEST(Akd2gConformance, DynamicPdoMappingIsAcceptedWhileOperational) {
     auto& f = probe.fixture();
     f.send(Frame::make(0x000, {0x01, 1}));                       // NMT start
     ASSERT_TRUE(f.write<std::uint32_t>(0x1801, 1, 0x80000281U)); // TPDO2 off
-    ASSERT_TRUE(f.write<std::uint8_t>(0x1A01, 0, 0));
+    const auto off = f.write<std::uint8_t>(0x1A01, 0, 0);
+    ASSERT_TRUE(off) << off.error().to_string();
     ASSERT_TRUE(f.write<std::uint32_t>(0x1A01, 1, 0x60410010U));
     ASSERT_TRUE(f.write<std::uint8_t>(0x1A01, 0, 1));
     EXPECT_EQ(*f.read<std::uint32_t>(0x1A01, 1), 0x60410010U);
