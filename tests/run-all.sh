@@ -81,7 +81,8 @@ report_gtest() {
         cat "$log"
         status=1
     else
-        grep -E '^\[  (PASSED|SKIPPED) \]' "$log" | sed "s|^|$name: |" || true
+        # unit_conformance also prints "conformance: N facts checked per drive, M failed".
+        grep -E '^\[  (PASSED|SKIPPED) \]|^conformance:' "$log" | sed "s|^|$name: |" || true
     fi
     count_gtest "$suite" "$log"
     if [[ $rc -ne 0 ]] && ! grep -qE '^\[  FAILED  \] [0-9]+ test' "$log"; then

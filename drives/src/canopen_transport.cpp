@@ -9,11 +9,12 @@
 namespace codrive::drives {
 
 pdo::PdoQuirks pdo_quirks(const Profile& p) {
-    if (&p == &akd2g_profile()) {
-        return pdo::quirks::akd2g();
-    }
-    if (&p == &ds_bvs_profile()) {
-        return pdo::quirks::ds_bvs();
+    if (&p == &akd2g_profile() || &p == &ds_bvs_profile()) {
+        // The pdo module's presets, with the facts the drive profile holds taken from it.
+        pdo::PdoQuirks q = &p == &akd2g_profile() ? pdo::quirks::akd2g() : pdo::quirks::ds_bvs();
+        q.maps_volatile = p.quirks.pdo_maps_volatile;
+        q.mapping_only_pre_operational = p.quirks.pdo_mapping_preop_only;
+        return q;
     }
     pdo::PdoQuirks q = pdo::quirks::standard();
     q.device = std::string(p.title);

@@ -267,10 +267,11 @@ void add_can_error_control_objects(ObjectDictionary& od, const Profile& p) {
     const auto u = [](DataType t, std::uint64_t v) { return *Value::from_uint(t, v); };
     od.add_var(0x1001, "Error register", DataType::Unsigned8, Access::Ro,
                u(DataType::Unsigned8, 0));
-    od.add_sub(0x1016,
-               SubObject::make(0, "Highest sub-index supported", DataType::Unsigned8, Access::Ro,
-                               u(DataType::Unsigned8, 1)),
-               "Consumer heartbeat time");
+    const DataType count_type = p.quirks.heartbeat_consumer_sub0_type;
+    od.add_sub(
+        0x1016,
+        SubObject::make(0, "Highest sub-index supported", count_type, Access::Ro, u(count_type, 1)),
+        "Consumer heartbeat time");
     od.add_sub(0x1016, SubObject::make(1, "Consumer heartbeat time", DataType::Unsigned32,
                                        Access::Rw, u(DataType::Unsigned32, 0)));
     od.find(0x1016)->code = ObjectCode::Array;
@@ -321,29 +322,31 @@ void build_device_dictionary(ObjectDictionary& od, const Profile& p, unsigned ax
 
     for (unsigned axis = 1; axis <= axes; ++axis) {
         for (const ObjectSpec& s : device_objects(p, axis)) {
-            if (!s.record) {
-                od.add_var(s.index, std::string(s.name), s.type, s.access, make_sub(s).value,
-                           s.pdo);
-                if (auto* sub = od.find(s.index, 0)) {
-                    *sub = make_sub(s);
-                }
-                continue;
-            }
-            if (od.find(s.index, 0) == nullptr) {
-                od.add_sub(s.index,
-                           SubObject::make(0, "Highest sub-index supported", DataType::Unsigned8,
-                                           Access::Ro, *Value::from_uint(DataType::Unsigned8, 0)),
-                           std::string(s.name));
-            }
-            od.add_sub(s.index, make_sub(s));
-            if (auto* sub0 = od.find(s.index, 0)) {
-                const std::uint8_t highest =
-                    std::max(od.get<std::uint8_t>(s.index, 0).value_or(0), s.subindex);
-                *sub0 =
-                    SubObject::make(0, "Highest sub-index supported", DataType::Unsigned8,
-                                    Access::Ro, *Value::from_uint(DataType::Unsigned8, highest));
-            }
+            add_object(od, s);
         }
+    }
+}
+
+void add_object(ObjectDictionary& od, const ObjectSpec& s) {
+    if (!s.record) {
+        od.add_var(s.index, std::string(s.name), s.type, s.access, make_sub(s).value, s.pdo);
+        if (auto* sub = od.find(s.index, 0)) {
+            *sub = make_sub(s);
+        }
+        return;
+    }
+    if (od.find(s.index, 0) == nullptr) {
+        od.add_sub(s.index,
+                   SubObject::make(0, "Highest sub-index supported", DataType::Unsigned8,
+                                   Access::Ro, *Value::from_uint(DataType::Unsigned8, 0)),
+                   std::string(s.name));
+    }
+    od.add_sub(s.index, make_sub(s));
+    if (auto* sub0 = od.find(s.index, 0)) {
+        const std::uint8_t highest =
+            std::max(od.get<std::uint8_t>(s.index, 0).value_or(0), s.subindex);
+        *sub0 = SubObject::make(0, "Highest sub-index supported", DataType::Unsigned8, Access::Ro,
+                                *Value::from_uint(DataType::Unsigned8, highest));
     }
 }
 

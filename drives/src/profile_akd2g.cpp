@@ -272,16 +272,22 @@ Profile make_akd2g() {
     p.quick_stop_options = kQuickStop;
     p.default_quick_stop_option = 2;
     p.faults = kFaults;
+    p.error_history_depth = 10; // §5.2.3: 1003h holds at most 10 entries
     p.layouts = kLayouts;
     p.object_overrides = kOverrides;
     p.absent_objects = kAbsent;
     p.fault_code_in_1003 = true; // §5.2.3: no 603Fh; 1003h:01 = the last EMCY's first 4 bytes
     p.quirks.pdo_maps_volatile = true;
+    // §5.2.31: "Dynamic mapping allows the content of the PDO to be changed while the drive is
+    // running": mapping writes are not limited to NMT pre-operational.
+    p.quirks.pdo_mapping_preop_only = false;
     p.quirks.sto_in_statusword_bit8 = true;
     p.quirks.voltage_bit4_is_dc_bus = true;
     p.quirks.has_shutdown_option_codes = false;
     p.quirks.halt_ignored_in_csp = true;
-    p.quirks.fixed_encoder_increments = 0; // 2^32: see units (does not fit U32)
+    p.quirks.fixed_encoder_increments = 0;       // 2^32: see units (does not fit U32)
+    p.quirks.internal_counts_per_rev = 1U << 12; // §5.4.6, PSCALE 20
+    p.quirks.heartbeat_consumer_sub0_type = DataType::Unsigned32; // §5.2.14 table
     return p;
 }
 

@@ -41,8 +41,11 @@ constexpr std::array<ManufacturerMode, 5> kManufacturerModes{{
     {-12, "current regulation (CRM)"},
     {-128, "motion sequence (MSM)"},
 }};
-constexpr std::array<std::int8_t, 7> kHoming{37, 27, 23, 18, 17, -3, -4};
+// Manual §6.2.140 (0x60E3): sub-indexes 01h..07h hold 17, 18, 23, 27, 37, -3, -4 in this order.
+constexpr std::array<std::int8_t, 7> kHoming{17, 18, 23, 27, 37, -3, -4};
 constexpr std::array<std::int16_t, 5> kQuickStop{0, 1, 2, 5, 6};
+// §6.2.78 (0x6007): 0 no action, 1 reserved, 2 disable voltage, 3 quick stop, 4.. reserved.
+constexpr std::array<std::int16_t, 3> kAbortConnection{0, 2, 3};
 
 // No predefined CAN mapping (1600h/1A00h sub 0 = 0): the master writes these in pre-op.
 // 6060h is Rx-mappable and 6061h Tx-mappable (§1.8), so the generic layouts fit.
@@ -62,6 +65,7 @@ constexpr std::array kOverrides{
     limited(spec(0x605A, 0, "Quick stop option code", DT::Integer16, A::Rw, false, 6), 0, 6),
     limited(spec(0x605B, 0, "Shutdown option code", DT::Integer16, A::Rw, false, 0), 0, 1),
     limited(spec(0x605C, 0, "Disable operation option code", DT::Integer16, A::Rw, false, 1), 0, 1),
+    // §6.2.92: 0 disable drive function, 1 slow-down ramp, 2 quick-stop ramp, 3/4 not supported.
     limited(spec(0x605D, 0, "Halt option code", DT::Integer16, A::Rw, false, 1), 0, 2),
     limited(spec(0x605E, 0, "Fault reaction option code", DT::Integer16, A::Rw, false, 0), 0, 0),
     spec(0x6060, 0, "Modes of operation", DT::Integer8, A::Rww, true, 3),
@@ -111,11 +115,18 @@ Profile make_ds_bvs() {
     p.homing_methods = kHoming;
     p.quick_stop_options = kQuickStop;
     p.default_quick_stop_option = 6;
+    p.abort_connection_options = kAbortConnection;
     p.default_mode = 3;
     p.faults = kFaults;
+    p.error_history_depth = 10; // §6.2.44: 4080h error codes 01h..0Ah
     p.layouts = kLayouts;
     p.object_overrides = kOverrides;
+    p.documents_defaults = true; // chapter 6.2: every object lists "Default Value"
     p.absent_objects = kAbsent;
+    // §6.2.14-§6.2.17: every PDO mapping object says "Backup NO": 1010h does not store them.
+    p.quirks.pdo_maps_volatile = true;
+    // §6.2.7 (0x1011): restore only in NMT pre-operational and device state power disabled.
+    p.quirks.restore_needs_preop_power_disabled = true;
     p.quirks.pdo_cob_ids_read_only = true;
     p.quirks.empty_default_pdo_maps = true;
     p.quirks.max_pdo_entries = 10;

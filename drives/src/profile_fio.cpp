@@ -94,6 +94,9 @@ using builders::spec;
 
 // §7.13 defaults that differ from the generic set.
 constexpr std::array kOverrides{
+    // §7.13.52: motor drive submode select, UNSIGNED32, rw, RX-PDO, default 00000000h (in the
+    // default RxPDO 1600h).
+    spec(0x3202, 0, "Motor drive submode select", DT::Unsigned32, A::Rww, true, 0),
     limited(spec(0x6007, 0, "Abort connection option code", DT::Integer16, A::Rw, false, -1), -1,
             3),
     spec(0x605A, 0, "Quick stop option code", DT::Integer16, A::Rw, false, 1),
@@ -144,9 +147,11 @@ Profile make_fio() {
     p.quick_stop_options = kQuickStop;
     p.default_quick_stop_option = 1;
     p.faults = kFaults;
+    p.error_history_depth = 8; // §7.13.3: 1003h sub-indexes 01h..08h
     p.error_numbers = kErrorNumbers;
     p.layouts = kLayouts;
     p.object_overrides = kOverrides;
+    p.documents_defaults = true; // §7.13: every object lists "Default Value"
     p.absent_objects = kAbsent;
     p.quirks.canopen = false;
     p.quirks.remote_bit9_always_set = true;

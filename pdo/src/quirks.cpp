@@ -24,13 +24,13 @@ PdoQuirks ds_bvs() {
 PdoQuirks akd2g() {
     PdoQuirks q;
     q.device = "AKD2G";
-    q.maps_volatile = true;                // §3.2: maps are not saved by 1010h
-    q.mapping_only_pre_operational = true; // remap in pre-operational with bit 31 set
-    q.rtr_supported = false;               // 241–254 not mentioned → unsupported
-    q.extended_ids_supported = false;      // bit 29: 29-bit not supported
-    q.byte_aligned = true;                 // §3.2 "AKD2G PDOs are byte aligned"
-    q.zero_index_padding = true;           // padding with index 0000h and a length
-    q.max_entries = 8;                     // "8 on CAN bus"
+    q.maps_volatile = true;                 // §3.2: maps are not saved by 1010h
+    q.mapping_only_pre_operational = false; // §5.2.31: dynamic mapping while running
+    q.rtr_supported = false;                // 241–254 not mentioned → unsupported
+    q.extended_ids_supported = false;       // bit 29: 29-bit not supported
+    q.byte_aligned = true;                  // §3.2 "AKD2G PDOs are byte aligned"
+    q.zero_index_padding = true;            // padding with index 0000h and a length
+    q.max_entries = 8;                      // "8 on CAN bus"
     q.has_sync_start = false;
     q.rpdo_has_event_timer = false; // RPDO has only subs 0–2
     q.type_254_supported = false;

@@ -46,6 +46,19 @@ DriveCore::DriveCore(ObjectDictionary& od, const SimProfile& profile, unsigned a
                      }
                      return {};
                  });
+    if (axis_ == 0 && !profile_.drive->abort_connection_options.empty()) {
+        // 6007h values inside the range the drive reserves (DS-BVS §6.2.78: 1) are refused.
+        od_.on_write(0x6007,
+                     [this](std::uint16_t, std::uint8_t,
+                            std::span<const std::uint8_t> d) -> tl::expected<void, SdoAbort> {
+                         const auto v = d.size() >= 2 ? get_le<std::int16_t>(d.data()) : -1000;
+                         const auto o = profile_.drive->abort_connection_options;
+                         if (std::find(o.begin(), o.end(), v) == o.end()) {
+                             return tl::unexpected(SdoAbort::InvalidValue);
+                         }
+                         return {};
+                     });
+    }
     od_.on_write(index(obj::kHomingMethod),
                  [this](std::uint16_t, std::uint8_t,
                         std::span<const std::uint8_t> d) -> tl::expected<void, SdoAbort> {
@@ -324,12 +337,25 @@ void DriveCore::raise_fault(const FaultCode& code, bool persistent) {
         faults_.push_back(code);
     }
     od_.set<std::uint16_t>(index(obj::kErrorCode), 0, code.emcy);
+    publish_faults();
     (void)persistent;
     if (!known) {
         emit(AxisEvent::Kind::FaultRaised, code);
     }
     if (state_ != State::Fault && state_ != State::FaultReactionActive) {
         start_fault_reaction();
+    }
+}
+
+void DriveCore::publish_faults() {
+    // AKD2G 5004h/5104h AXIS#.FAULT1..10 (§5.3.84): the axis's active faults, Unsigned16. The
+    // manual does not say what the value encodes; the simulator puts the EMCY code there.
+    if (!profile_.akd2g_objects) {
+        return;
+    }
+    for (std::uint8_t i = 1; i <= kAxisFaultSlots; ++i) {
+        const std::uint16_t v = i <= faults_.size() ? faults_[i - 1U].emcy : std::uint16_t{0};
+        od_.set<std::uint16_t>(mfr_index(0x5004), i, v);
     }
 }
 
@@ -342,6 +368,7 @@ void DriveCore::try_fault_reset() {
     }
     faults_.clear();
     od_.set<std::uint16_t>(index(obj::kErrorCode), 0, 0);
+    publish_faults();
     ferr_time_ = 0;
     set_state(State::SwitchOnDisabled);
     emit(AxisEvent::Kind::FaultsCleared, {});
@@ -513,6 +540,14 @@ void DriveCore::monitor_following_error(double dt) {
 }
 
 void DriveCore::run_mode(double dt) {
+    // Halt option 0 "disable drive function" (DS-BVS §6.2.92; CiA 402 605Dh): while halt is
+    // set the power stage gives no torque and the motor coasts; the state stays.
+    if ((last_cw_ & cia::cw::kHalt) != 0 && profile_.has_option_objects() &&
+        get<std::int16_t>(obj::kHaltOption, 0, 1) == 0) {
+        motor_.coast(dt);
+        traj_.reset(motor_.position());
+        return;
+    }
     switch (mode_) {
     case 1:
         run_pp(dt);
@@ -548,7 +583,7 @@ void DriveCore::run_mode(double dt) {
         break;
     }
     default:
-        // Modes without motion in the simulation (analog, motion sequence): hold position.
+        // Not reached: 6060h refuses modes the simulator does not run (accepts_mode); hold.
         traj_.step_velocity(0, accel_param(obj::kProfileDeceleration),
                             accel_param(obj::kProfileDeceleration), dt);
         motor_.follow_position(traj_.position(), traj_.velocity(), dt);
@@ -637,8 +672,12 @@ void DriveCore::run_pv(double dt) {
     traj_.step_velocity(target, accel_param(obj::kProfileAcceleration), dec, dt);
     motor_.follow_position(traj_.position(), traj_.velocity(), dt);
     // Velocity window (606Dh/606Eh): the counter runs while inside (akd2g.md §5.9 example).
+    // 606Dh is UNSIGNED16 on most drives, UNSIGNED32 on the DS-BVS (manual §6.2.104).
+    const SubObject* window_object = od_.find(index(0x606D), 0);
     const double window =
-        static_cast<double>(get<std::uint16_t>(0x606D)) * profile_.velocity_scale();
+        static_cast<double>(window_object != nullptr ? window_object->value.as_uint().value_or(0)
+                                                     : 0) *
+        profile_.velocity_scale();
     if (std::abs(motor_.velocity() - target) <= window) {
         velocity_window_time_ += dt;
     } else {
@@ -825,7 +864,13 @@ void DriveCore::update_outputs() {
     od_.set<std::int8_t>(index(obj::kModesOfOperationDisplay), 0, mode_);
     const auto pos = static_cast<std::int32_t>(std::llround(motor_.position()));
     od_.set<std::int32_t>(index(obj::kPositionActual), 0, pos);
-    od_.set<std::int32_t>(index(0x6063), 0, pos);
+    // 6063h in the drive's internal counts where they differ from 6064h (AKD2G §5.4.6).
+    const std::uint32_t internal = profile_.drive->quirks.internal_counts_per_rev;
+    od_.set<std::int32_t>(index(0x6063), 0,
+                          internal == 0
+                              ? pos
+                              : static_cast<std::int32_t>(std::llround(
+                                    motor_.position() * internal / profile_.counts_per_rev)));
     od_.set<std::int32_t>(index(obj::kPositionDemand), 0,
                           static_cast<std::int32_t>(std::llround(traj_.position())));
     od_.set<std::int32_t>(index(0x60FC), 0,

@@ -2,6 +2,7 @@
 // The CiA 402 objects of one simulated axis, with the profile's types, access, ranges, defaults.
 #include <codrive/sim/drive_core.hpp>
 
+#include <algorithm>
 #include <limits>
 
 namespace codrive::sim {
@@ -33,9 +34,15 @@ SubObject make_sub(std::uint8_t sub, std::string name, DataType t, Access a, cha
     return SubObject::make(sub, std::move(name), t, access, make_value(t, v), pdo != '-');
 }
 
+/// Installs one axis's objects. Where the drive profile (codrive::drives, the master's data)
+/// describes an object, its data type comes from there, and for the objects the profile gives
+/// drive-specific values (Profile::object_overrides, taken from the manual) also the value range
+/// and, where the manual documents defaults (Profile::documents_defaults), the default: one
+/// place per fact, the simulator never keeps a second copy.
 class Installer {
 public:
-    Installer(ObjectDictionary& od, std::uint16_t offset) : od_(od), offset_(offset) {}
+    Installer(ObjectDictionary& od, std::uint16_t offset, const drives::Profile& drive)
+        : od_(od), offset_(offset), drive_(drive), objects_(drives::device_objects(drive, 1)) {}
 
     SubObject& var(std::uint16_t base, std::string name, DataType t, Access a, char pdo,
                    std::int64_t v) {
@@ -43,8 +50,13 @@ public:
         o.index = static_cast<std::uint16_t>(base + offset_);
         o.name = name;
         o.code = ObjectCode::Var;
-        o.subs.emplace(0, make_sub(0, std::move(name), t, a, pdo, v));
+        o.subs.emplace(0, profile_sub(base, 0, std::move(name), t, a, pdo, v));
         return od_.insert(std::move(o)).subs.at(0);
+    }
+    /// A sub-object of a RECORD/ARRAY, typed and valued as var() does.
+    SubObject sub(std::uint16_t base, std::uint8_t si, std::string name, DataType t, Access a,
+                  std::int64_t v) {
+        return profile_sub(base, si, std::move(name), t, a, '-', v);
     }
     void range(SubObject& s, std::int64_t lo, std::int64_t hi) {
         s.low_limit = make_value(s.type, lo);
@@ -72,8 +84,40 @@ public:
     }
 
 private:
+    [[nodiscard]] const drives::ObjectSpec* spec(std::uint16_t base, std::uint8_t si) const {
+        for (const auto& o : objects_) {
+            if (o.index == base && o.subindex == si) {
+                return &o;
+            }
+        }
+        return nullptr;
+    }
+    [[nodiscard]] bool drive_specific(std::uint16_t base, std::uint8_t si) const {
+        return std::any_of(
+            drive_.object_overrides.begin(), drive_.object_overrides.end(),
+            [&](const drives::ObjectSpec& o) { return o.index == base && o.subindex == si; });
+    }
+    SubObject profile_sub(std::uint16_t base, std::uint8_t si, std::string name, DataType t,
+                          Access a, char pdo, std::int64_t v) const {
+        const drives::ObjectSpec* s = spec(base, si);
+        if (s == nullptr) {
+            return make_sub(si, std::move(name), t, a, pdo, v);
+        }
+        const bool own = drive_specific(base, si);
+        const bool own_default = own && drive_.documents_defaults;
+        SubObject out =
+            make_sub(si, std::move(name), s->type, a, pdo, own_default ? s->default_value : v);
+        if (own && s->has_limits) {
+            out.low_limit = make_value(s->type, s->low);
+            out.high_limit = make_value(s->type, s->high);
+        }
+        return out;
+    }
+
     ObjectDictionary& od_;
     std::uint16_t offset_;
+    const drives::Profile& drive_;
+    std::vector<drives::ObjectSpec> objects_;
 };
 
 } // namespace
@@ -81,14 +125,16 @@ private:
 void DriveCore::install_objects() {
     const SimProfile& p = profile_;
     const auto offset = static_cast<std::uint16_t>(index(0x6000) - 0x6000);
-    Installer in(od_, offset);
+    Installer in(od_, offset, *p.drive);
     using DT = DataType;
     const auto rw = Access::Rw;
     const auto ro = Access::Ro;
     const bool fio = p.name() == "fio";
     const auto vel = [&p](std::uint32_t v) { return static_cast<std::int64_t>(v); };
 
-    in.var(obj::kErrorCode, "Error code", DT::Unsigned16, ro, 'T', 0);
+    if (p.drive->has_object(obj::kErrorCode)) { // AKD2G: no 603Fh (§5.6)
+        in.var(obj::kErrorCode, "Error code", DT::Unsigned16, ro, 'T', 0);
+    }
     in.var(obj::kControlword, "Controlword", DT::Unsigned16, rw, 'R', 0);
     in.var(obj::kStatusword, "Statusword", DT::Unsigned16, ro, 'T', 0);
     // Option codes (605Ah..605Eh, 6007h): which exist, defaults and ranges from the profile.
@@ -155,10 +201,10 @@ void DriveCore::install_objects() {
     in.var(obj::kTargetPosition, "Target position", DT::Integer32, rw, 'R', 0);
     in.var(obj::kHomeOffset, "Home offset", DT::Integer32, rw, '-', 0);
     in.record(obj::kSoftwarePositionLimit, "Software position limit", ObjectCode::Array,
-              {make_sub(1, "Min position limit", DT::Integer32, rw, '-',
-                        fio ? std::numeric_limits<std::int32_t>::min() : 0),
-               make_sub(2, "Max position limit", DT::Integer32, rw, '-',
-                        fio ? std::numeric_limits<std::int32_t>::max() : 0)});
+              {in.sub(obj::kSoftwarePositionLimit, 1, "Min position limit", DT::Integer32, rw,
+                      fio ? std::numeric_limits<std::int32_t>::min() : 0),
+               in.sub(obj::kSoftwarePositionLimit, 2, "Max position limit", DT::Integer32, rw,
+                      fio ? std::numeric_limits<std::int32_t>::max() : 0)});
     if (p.max_profile_velocity != 0) {
         in.var(obj::kMaxProfileVelocity, "Max profile velocity", DT::Unsigned32, rw, '-',
                vel(p.max_profile_velocity));
@@ -181,25 +227,26 @@ void DriveCore::install_objects() {
                  0, fio ? 3 : 1);
         in.record(obj::kPositionEncoderResolution, "Position encoder resolution",
                   ObjectCode::Record,
-                  {make_sub(1, "Encoder increments", DT::Unsigned32, rw, '-',
-                            static_cast<std::int64_t>(p.counts_per_rev)),
-                   make_sub(2, "Motor revolutions", DT::Unsigned32, rw, '-', 1)});
+                  {in.sub(obj::kPositionEncoderResolution, 1, "Encoder increments", DT::Unsigned32,
+                          rw, static_cast<std::int64_t>(p.counts_per_rev)),
+                   in.sub(obj::kPositionEncoderResolution, 2, "Motor revolutions", DT::Unsigned32,
+                          rw, 1)});
     }
     if (p.akd2g_objects) {
         in.var(obj::kTorqueSlope, "Torque slope", DT::Unsigned32, rw, '-', 10000);
         in.record(obj::kGearRatio, "Gear ratio", ObjectCode::Record,
-                  {make_sub(1, "Motor revolutions", DT::Unsigned32, rw, '-', 1),
-                   make_sub(2, "Shaft revolutions", DT::Unsigned32, rw, '-', 1)});
+                  {in.sub(obj::kGearRatio, 1, "Motor revolutions", DT::Unsigned32, rw, 1),
+                   in.sub(obj::kGearRatio, 2, "Shaft revolutions", DT::Unsigned32, rw, 1)});
         in.record(obj::kFeedConstant, "Feed constant", ObjectCode::Record,
-                  {make_sub(1, "Feed", DT::Unsigned32, rw, '-', 65536),
-                   make_sub(2, "Shaft revolutions", DT::Unsigned32, rw, '-', 1)});
+                  {in.sub(obj::kFeedConstant, 1, "Feed", DT::Unsigned32, rw, 65536),
+                   in.sub(obj::kFeedConstant, 2, "Shaft revolutions", DT::Unsigned32, rw, 1)});
     }
     in.var(obj::kHomingMethod, "Homing method", DT::Integer8, rw, '-', p.default_homing_method);
     in.record(obj::kHomingSpeeds, "Homing speeds", ObjectCode::Array,
-              {make_sub(1, "Speed during search for switch", DT::Unsigned32, rw, '-',
-                        vel(p.homing_speed_switch)),
-               make_sub(2, "Speed during search for zero", DT::Unsigned32, rw, '-',
-                        vel(p.homing_speed_zero))});
+              {in.sub(obj::kHomingSpeeds, 1, "Speed during search for switch", DT::Unsigned32, rw,
+                      vel(p.homing_speed_switch)),
+               in.sub(obj::kHomingSpeeds, 2, "Speed during search for zero", DT::Unsigned32, rw,
+                      vel(p.homing_speed_zero))});
     in.var(obj::kHomingAcceleration, "Homing acceleration", DT::Unsigned32, rw, '-',
            vel(p.homing_acceleration));
     in.var(obj::kPositionOffset, "Position offset", DT::Integer32, rw, 'R', 0);
@@ -207,9 +254,10 @@ void DriveCore::install_objects() {
     in.var(obj::kTorqueOffset, "Torque offset", DT::Integer16, rw, 'R', 0);
     if (p.has_interpolation_period) {
         in.record(obj::kInterpolationTimePeriod, "Interpolation time period", ObjectCode::Record,
-                  {make_sub(1, "Interpolation time period value", DT::Unsigned8, rw, '-',
-                            p.akd2g_objects ? 2 : 1),
-                   make_sub(2, "Interpolation time index", DT::Integer8, rw, '-', -3)});
+                  {in.sub(obj::kInterpolationTimePeriod, 1, "Interpolation time period value",
+                          DT::Unsigned8, rw, p.akd2g_objects ? 2 : 1),
+                   in.sub(obj::kInterpolationTimePeriod, 2, "Interpolation time index",
+                          DT::Integer8, rw, -3)});
     }
     if (p.has_supported_homing_object) {
         std::vector<SubObject> subs;
@@ -229,6 +277,14 @@ void DriveCore::install_objects() {
     in.var(obj::kSupportedDriveModes, "Supported drive modes", DT::Unsigned32,
            p.ds_bvs_objects ? Access::Const : ro, '-', p.supported_modes());
 
+    // Every further object the drive profile describes for this axis (AKD2G 6096h/6097h, FIO
+    // 60A8h/60A9h and 3202h, ...): as the profile gives it, so the simulated drive answers for
+    // each object the master's profile says the drive has.
+    for (const auto& s : drives::device_objects(*p.drive, axis_ + 1)) {
+        if (od_.find(s.index, s.subindex) == nullptr) {
+            drives::add_object(od_, s);
+        }
+    }
     if (p.akd2g_objects) {
         // Manufacturer axis objects: axis 2 at +0x100 (akd2g.md §4).
         const auto m = static_cast<std::uint16_t>(mfr_index(0x5000) - 0x5000);
@@ -241,6 +297,14 @@ void DriveCore::install_objects() {
                   {make_sub(1, "AXIS#.SAFE.STO.REPORTFAULT", DT::Unsigned8, rw, '-', 1),
                    make_sub(2, "AXIS#.SAFE.STO.ACTIVE", DT::Unsigned8, ro, 'T', 0)},
                   m);
+        // §5.3.84: AXIS#.FAULT1..10, Unsigned16, read only: where the drive names the axis of a
+        // fault (the EMCY message does not).
+        std::vector<SubObject> faults;
+        for (std::uint8_t i = 1; i <= kAxisFaultSlots; ++i) {
+            faults.push_back(
+                make_sub(i, "AXIS#.FAULT" + std::to_string(i), DT::Unsigned16, ro, '-', 0));
+        }
+        in.record(0x5004, "AXIS#.FAULT", ObjectCode::Record, std::move(faults), m);
         in.record(0x5016, "AXIS#.SETTLE", ObjectCode::Record,
                   {make_sub(1, "AXIS#.SETTLE.P", DT::Unsigned32, rw, '-', p.position_window)}, m);
     }

@@ -27,8 +27,11 @@ struct PdoDef {
     bool fixed = false; ///< read-only mapping (DS-BVS 1604h.., AKD2G 17xxh/1Bxxh)
 };
 
+/// The EtherCAT side of a simulated drive: ESC buffers and PDO maps. The identity (1018h and
+/// SII) is filled in by make_drive_slave() from the SimProfile, the one the CAN simulator uses.
 struct DriveDef {
     std::string name;
+    std::string_view profile; ///< SimProfile name
     std::uint32_t vendor = 0;
     std::uint32_t product = 0;
     std::uint32_t revision = 0;
@@ -39,16 +42,20 @@ struct DriveDef {
     std::vector<std::uint16_t> rx_assign;
     std::vector<std::uint16_t> tx_assign;
     std::uint8_t assign_max = 4;
+    /// 1C32h/1C33h: highest sub-index reported, entries present (1..n) and the default cycle
+    /// time. Drives whose manual is silent keep sub 1..2 and 1 ms.
+    std::uint8_t sm_out_highest = 2;
+    std::uint8_t sm_in_highest = 2;
+    std::uint8_t sm_entries = 2;
+    std::uint32_t sm_cycle_time = 1'000'000;
 };
 
 // FIO: kuhnke-fio.md §1.4 — Rx 1600h (6040, 607A, 3202, 6060 = 11 bytes), Tx 1A00h (6041, 6064,
-// 6061 = 7 bytes); 1C12:01 = 1600h, 1C13:01 = 1A00h; vendor "KUH" 0x0048554B, product 0x0002BA67.
+// 6061 = 7 bytes); 1C12:01 = 1600h, 1C13:01 = 1A00h.
 DriveDef fio_def() {
     DriveDef d;
     d.name = "FIO Drive Control";
-    d.vendor = 0x0048554B;
-    d.product = 0x0002BA67;
-    d.revision = 0;
+    d.profile = "fio";
     d.rx = {{0x1600, {0x60400010, 0x607A0020, 0x32020020, 0x60600008}},
             {0x1601, {}},
             {0x1602, {}},
@@ -57,18 +64,21 @@ DriveDef fio_def() {
         {0x1A00, {0x60410010, 0x60640020, 0x60610008}}, {0x1A01, {}}, {0x1A02, {}}, {0x1A03, {}}};
     d.rx_assign = {0x1600};
     d.tx_assign = {0x1A00};
+    // Manual §7.13.22/§7.13.23: 1C32h sub 0 = 05h, 1C33h sub 0 = 03h; both describe sub 1
+    // (sync type 0), 2 (cycle time 0) and 3 (shift time 0) only: 1C32h sub 4/5 are undocumented.
+    d.sm_out_highest = 5;
+    d.sm_in_highest = 3;
+    d.sm_entries = 3;
+    d.sm_cycle_time = 0;
     return d;
 }
 
 // AKD2G: akd2g.md §3.3 — 1600h = 6040h + 607Ah (6 bytes), 1A00h = 6041h + 6064h + 60F4h
-// (10 bytes); fixed CSP maps 1700h/1B00h; ESC buffers ProOut 0x1100, ProIn 0x1140 (§3.4);
-// vendor 0x6A, single-axis SIL2 product code 0x11110100 (§2.8).
+// (10 bytes); fixed CSP maps 1700h/1B00h; ESC buffers ProOut 0x1100, ProIn 0x1140 (§3.4).
 DriveDef akd2g_def() {
     DriveDef d;
     d.name = "AKD2G";
-    d.vendor = 0x0000006A;
-    d.product = 0x11110100;
-    d.revision = 0x03010000;
+    d.profile = "akd2g";
     d.sm2 = 0x1100;
     d.sm3 = 0x1140;
     d.rx = {{0x1600, {0x60400010, 0x607A0020}},
@@ -90,14 +100,11 @@ DriveDef akd2g_def() {
 }
 
 // DS-BVS: ds-bvs.md §1.3/§6 — free maps 1600h..1603h/1A00h..1A03h empty, fixed 1604h..1609h /
-// 1A04h..1A09h; defaults 1C12:01 = 1608h (17 bytes), 1C13:01 = 1A08h (17 bytes). The manual
-// gives no vendor id or product code: the simulator uses placeholders (docs/ethercat.md).
+// 1A04h..1A09h; defaults 1C12:01 = 1608h (17 bytes), 1C13:01 = 1A08h (17 bytes).
 DriveDef dsbvs_def() {
     DriveDef d;
     d.name = "DS-BVS";
-    d.vendor = 0x00000B5D;
-    d.product = 0x00B50001;
-    d.revision = 0x00010001;
+    d.profile = "ds-bvs";
     d.rx = {
         {0x1600, {}},
         {0x1601, {}},
@@ -169,10 +176,11 @@ public:
             profile->drive->identity.device_type != 0) {
             device_type_ = profile->drive->identity.device_type;
         }
-        build(def, serial);
+        build(def, serial, profile);
         if (profile != nullptr && profile->has_error_history_1003) {
             od_.insert(error_history_object(0x1003, "Pre-defined error field", "Number of errors",
-                                            "Standard error field", DataType::Unsigned32));
+                                            "Standard error field", DataType::Unsigned32,
+                                            profile->drive->error_history_depth));
         }
     }
     [[nodiscard]] bool uses_drive_core() const { return core_ != nullptr; }
@@ -227,6 +235,13 @@ public:
     }
 
     void on_state_change(AlState from, AlState to) override {
+        if (has_slave_status_) {
+            // FIO 2110h (§7.13.51): the ECAT bus status follows the ESM; bit 4 = active error.
+            const auto error = od_.get<std::uint8_t>(0x1001, 0).value_or(0) != 0;
+            od_.set<std::uint16_t>(0x2110, 0,
+                                   static_cast<std::uint16_t>((static_cast<unsigned>(to) & 0x0FU) |
+                                                              (error ? 0x10U : 0U)));
+        }
         // Leaving OP (a master's request or the SM watchdog: the master is gone) means the
         // outputs are no longer valid (ETG.1000.6 §6.4.2): the drive applies its abort
         // connection option 6007h (FIO §7.13.77: default -1, clear the PDOs and coast). A
@@ -339,7 +354,7 @@ private:
         od_.set<std::uint16_t>(0x6041, 0, sw);
     }
 
-    void build(const DriveDef& def, std::uint32_t serial) {
+    void build(const DriveDef& def, std::uint32_t serial, const SimProfile* profile) {
         od_.add_var(0x1000, "Device type", DataType::Unsigned32, Access::Ro, u32(device_type_));
         od_.add_var(0x1001, "Error register", DataType::Unsigned8, Access::Ro, u8(0), true);
         od_.add_var(0x1008, "Manufacturer device name", DataType::VisibleString, Access::Const,
@@ -409,19 +424,27 @@ private:
         }
         od_.find(0x1C00)->code = ObjectCode::Array;
         for (std::uint16_t idx : {std::uint16_t{0x1C32}, std::uint16_t{0x1C33}}) {
-            od_.add_sub(
-                idx,
-                SubObject::make(0, "Number of entries", DataType::Unsigned8, Access::Ro, u8(2)),
-                idx == 0x1C32 ? "Output sync manager parameter" : "Input sync manager parameter");
+            const bool out = idx == 0x1C32;
+            od_.add_sub(idx,
+                        SubObject::make(0, "Highest sub-index supported", DataType::Unsigned8,
+                                        Access::Ro,
+                                        u8(out ? def.sm_out_highest : def.sm_in_highest)),
+                        out ? "Output sync manager parameter" : "Input sync manager parameter");
             od_.add_sub(idx, SubObject::make(1, "Synchronization type", DataType::Unsigned16,
                                              Access::Rw, u16(0)));
             od_.add_sub(idx, SubObject::make(2, "Cycle time", DataType::Unsigned32, Access::Rw,
-                                             u32(1'000'000)));
+                                             u32(def.sm_cycle_time)));
+            if (def.sm_entries >= 3) {
+                od_.add_sub(idx, SubObject::make(3, "Shift time", DataType::Unsigned32, Access::Rw,
+                                                 u32(0)));
+            }
         }
         // CiA 402 objects (mappable ones flagged): DriveCore installs its own; the rest fill in.
-        const auto add_var = [this](std::uint16_t index, const char* n, DataType t, Access a,
-                                    Value v, bool map) {
-            if (od_.find(index) == nullptr) {
+        // Objects the drive profile says the drive lacks (AKD2G 603Fh, §5.6) stay absent.
+        const auto add_var = [this, profile](std::uint16_t index, const char* n, DataType t,
+                                             Access a, Value v, bool map) {
+            if (od_.find(index) == nullptr &&
+                (profile == nullptr || profile->drive->has_object(index))) {
                 od_.add_var(index, n, t, a, std::move(v), map);
             }
         };
@@ -456,13 +479,17 @@ private:
                 typed(DataType::Integer32, 0), true);
         add_var(0x6502, "Supported drive modes", DataType::Unsigned32, Access::Ro, u32(0x000003A5),
                 false);
-        if (def.vendor == 0x0048554B && od_.find(0x3202) == nullptr) {
-            od_.add_var(0x3202, "Motor drive submode select", DataType::Unsigned32, Access::Rww,
-                        u32(0x00000008), true);
+        if (def.profile == "fio") {
+            // §7.13.52: 3202h default 00000000h (the profile holds it; DriveCore installs it).
+            add_var(0x3202, "Motor drive submode select", DataType::Unsigned32, Access::Rww, u32(0),
+                    true);
+            // §7.13.51: 2110h bits 3..0 the EtherCAT state (1 INIT, 2 PREOP, 3 BOOT, 4 SAFEOP,
+            // 8 OP), bit 4 ERR; default 0000h before the ESM runs. on_state_change() keeps it.
             od_.add_var(0x2110, "EtherCAT slave status", DataType::Unsigned16, Access::Ro,
-                        u16(0x0001));
+                        u16(0x0000));
+            has_slave_status_ = true;
         }
-        if (def.vendor == 0x0000006A && od_.find(0x2F00) == nullptr) {
+        if (def.profile == "akd2g" && od_.find(0x2F00) == nullptr) {
             od_.add_sub(
                 0x2F00,
                 SubObject::make(0, "Number of entries", DataType::Unsigned8, Access::Ro, u8(5)),
@@ -553,6 +580,7 @@ private:
     TimePoint last_{};
     double pending_ = 0;                     ///< seconds not yet stepped (DriveCore)
     std::uint32_t device_type_ = 0x00020192; ///< CiA 402 drive
+    bool has_slave_status_ = false;          ///< FIO 2110h
     std::vector<emcy::EmcyMessage> emergencies_;
 };
 
@@ -594,6 +622,11 @@ std::unique_ptr<EscSlave> make_drive_slave(std::string_view profile, std::uint32
     } else {
         return nullptr;
     }
+    // One identity per drive (issue 15): the SimProfile's, as on the CAN simulator.
+    const SimProfile* identity = find_profile(def.profile);
+    def.vendor = identity->identity_vendor_id();
+    def.product = identity->identity_product_code(1);
+    def.revision = identity->revision;
     SiiInfo sii;
     sii.vendor_id = def.vendor;
     sii.product_code = def.product;
@@ -614,7 +647,7 @@ std::unique_ptr<EscSlave> make_drive_slave(std::string_view profile, std::uint32
     };
     const SimProfile* sp = nullptr;
     if (std::getenv("CODRIVE_ECAT_SIM_BUILTIN_402") == nullptr) {
-        sp = find_profile(profile == "dsbvs" ? std::string_view("ds-bvs") : profile);
+        sp = identity;
     }
     auto app = std::make_unique<DriveApp>(std::make_unique<Cia402Device>(def, serial, sp));
     return std::make_unique<EscSlave>(std::move(sii), std::move(app), true);

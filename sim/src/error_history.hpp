@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: Apache-2.0
 // The pre-defined error field (CiA 301 1003h) and vendor history arrays like DS-BVS 4080h:
-// the newest entry at sub 1, older ones shift down, sub 0 counts them (at most 10 here).
+// the newest entry at sub 1, older ones shift down, sub 0 counts them (the drive's depth).
 #pragma once
 
 #include <codrive/core/object_dictionary.hpp>
@@ -12,14 +12,18 @@
 
 namespace codrive::sim {
 
-inline constexpr std::uint8_t kErrorHistoryDepth = 10;
+/// Entries when the drive profile documents no depth.
+inline constexpr std::uint8_t kDefaultErrorHistoryDepth = 10;
 
-/// An empty history array: sub 0 (rw UNSIGNED8, the count; writing 0 clears it) and
-/// kErrorHistoryDepth read-only entries of `entry_type`. `limit_count` gives sub 0 a high limit
-/// of the depth (DS-BVS 4080h); 1003h leaves the check to its write hook (CiA 301 §7.5.2.4).
+/// An empty history array: sub 0 (rw UNSIGNED8, the count; writing 0 clears it) and `depth`
+/// read-only entries of `entry_type`. `limit_count` gives sub 0 a high limit of the depth
+/// (DS-BVS 4080h); 1003h leaves the check to its write hook (CiA 301 §7.5.2.4).
 inline Object error_history_object(std::uint16_t index, std::string name, std::string count_name,
-                                   std::string entry_name, DataType entry_type,
+                                   std::string entry_name, DataType entry_type, std::uint8_t depth,
                                    bool limit_count = false) {
+    if (depth == 0) {
+        depth = kDefaultErrorHistoryDepth;
+    }
     Object o;
     o.index = index;
     o.name = std::move(name);
@@ -34,10 +38,10 @@ inline Object error_history_object(std::uint16_t index, std::string name, std::s
     auto count = SubObject::make(0, std::move(count_name), DataType::Unsigned8, Access::Rw,
                                  value(DataType::Unsigned8, 0));
     if (limit_count) {
-        count.high_limit = value(DataType::Unsigned8, kErrorHistoryDepth);
+        count.high_limit = value(DataType::Unsigned8, depth);
     }
     o.subs.emplace(0, std::move(count));
-    for (std::uint8_t i = 1; i <= kErrorHistoryDepth; ++i) {
+    for (std::uint8_t i = 1; i <= depth; ++i) {
         o.subs.emplace(
             i, SubObject::make(i, entry_name, entry_type, Access::Ro, value(entry_type, 0)));
     }
@@ -51,13 +55,13 @@ void push_error_history(ObjectDictionary& od, std::uint16_t index, T value) {
     if (o == nullptr) {
         return;
     }
-    for (std::uint8_t i = kErrorHistoryDepth; i > 1; --i) {
+    const auto depth = static_cast<std::uint8_t>(o->subs.rbegin()->first);
+    for (std::uint8_t i = depth; i > 1; --i) {
         o->subs.at(i).value = o->subs.at(static_cast<std::uint8_t>(i - 1)).value;
     }
     od.set(index, 1, value);
     const auto n = od.get<std::uint8_t>(index, 0).value_or(0);
-    od.set<std::uint8_t>(
-        index, 0, std::min<std::uint8_t>(kErrorHistoryDepth, static_cast<std::uint8_t>(n + 1)));
+    od.set<std::uint8_t>(index, 0, std::min<std::uint8_t>(depth, static_cast<std::uint8_t>(n + 1)));
 }
 
 } // namespace codrive::sim

@@ -62,6 +62,37 @@ std::int64_t SimProfile::object_default(std::uint16_t index, std::uint8_t sub,
     return fallback;
 }
 
+bool SimProfile::simulates_mode(std::int8_t mode) {
+    switch (mode) {
+    case 0:
+    case 1:
+    case 3:
+    case 4:
+    case 6:
+    case 8:
+    case 9:
+    case 10:
+    case -8:
+    case -9:
+    case -10:
+        return true;
+    default:
+        return false;
+    }
+}
+
+std::uint32_t SimProfile::identity_product_code(unsigned axes) const {
+    const drives::Identity& id = drive->identity;
+    if (id.product_code == 0) {
+        return product_code;
+    }
+    if (id.axes_mask == 0) {
+        return id.product_code;
+    }
+    const unsigned n = std::clamp(axes, 1U, static_cast<unsigned>(drive->max_axes));
+    return (id.product_code & ~id.axes_mask) | ((n << id.axes_shift) & id.axes_mask);
+}
+
 FaultCode SimProfile::fault(std::uint16_t code) const {
     FaultCode f;
     f.emcy = code;
@@ -99,10 +130,13 @@ FaultCode SimProfile::fault(std::uint16_t code) const {
 }
 
 std::uint32_t SimProfile::error_history_entry(const FaultCode& code) const {
+    // The error number comes from the drive profile's table (FIO manual §7.13.3, 1003h), the
+    // one the master decodes with: the first number the profile pairs with this error code.
     std::uint8_t number = 0;
-    for (const auto& [c, n] : error_numbers) {
-        if (c == code.emcy) {
-            number = n;
+    for (const drives::ErrorNumberRow& row : drive->error_numbers) {
+        if (row.typical_code == code.emcy) {
+            number = row.number;
+            break;
         }
     }
     const auto error_class = static_cast<std::uint8_t>(code.error_register & 0xFEU);
@@ -138,9 +172,7 @@ SimProfile make_akd2g() {
     p.drive = &drives::akd2g_profile();
     p.vendor_name = "Kollmorgen";
     p.product_name = "AKD2G";
-    p.product_code_1_axis = 0x11110100; // bit fields of §2.8: family 1, HW 1, 1 axis, SIL2
-    p.product_code_2_axes = 0x11210100; // 2 axes
-    p.revision = 0x03010000;            // byte 3 = FW minor, byte 2 = map revision
+    p.revision = 0x03010000; // byte 3 = FW minor, byte 2 = map revision
     p.device_name = "AKD2G-SPE-6V03D-A1C1-0000";
     p.hw_version = "A";
     p.sw_version = "02-03-01-001 (codrive-sim)";
@@ -205,9 +237,10 @@ SimProfile make_ds_bvs() {
     p.drive = &drives::ds_bvs_profile();
     p.vendor_name = "DINGS Motion";
     p.product_name = "DS-BVS";
-    p.vendor_id = 0x00444D53;           // not in the manual: sim choice ("DMS")
-    p.product_code_1_axis = 0x42565331; // not in the manual: sim choice ("BVS1")
-    p.product_code_2_axes = 0x42565331;
+    // Manual §6.2.11 (0x1018) lists vendor ID and product code with no value ("Default Value
+    // -"): these are the simulator's placeholders, the only ones, used on CAN and EtherCAT.
+    p.vendor_id = 0x00444D53;    // "DMS"
+    p.product_code = 0x42565331; // "BVS1"
     p.revision = 0x00010001;
     p.device_name = "DS-BVS";
     p.hw_version = "1.0";
@@ -270,8 +303,6 @@ SimProfile make_fio() {
     p.drive = &drives::fio_profile();
     p.vendor_name = "Kendrion Kuhnke";
     p.product_name = "FIO Drive Control";
-    p.product_code_1_axis = 0x0002BA67;
-    p.product_code_2_axes = 0x0002BA67;
     p.revision = 0;
     p.device_name = "FIO Drive Control";
     p.hw_version = "1";
@@ -377,11 +408,6 @@ SimProfile make_fio() {
     p.heartbeat_loss_code = 0x8000;
     p.heartbeat_loss_is_fault = false;
     p.has_error_history_1003 = true;
-    // kuhnke-fio.md §1003h: 04108000h is documented; the other pairs are the spec's [sim] ones.
-    p.error_numbers = {{0x3100, 0x01}, {0x2300, 0x02}, {0x8000, 0x04}, {0x8100, 0x04},
-                       {0x7305, 0x07}, {0x7306, 0x08}, {0x7307, 0x09}, {0x8612, 0x0A},
-                       {0x4200, 0x0C}, {0x8611, 0x0D}, {0x7600, 0x0E}, {0x7212, 0x0F},
-                       {0x6320, 0x16}, {0x6100, 0x19}, {0x8400, 0x1D}, {0x5540, 0x2E}};
     return p;
 }
 

@@ -226,9 +226,18 @@ void SimDevice::install_hooks() {
             if (d.size() < 4 || get_le<std::uint32_t>(d.data()) != kLoadSignature) {
                 return tl::unexpected(SdoAbort::DataTransfer);
             }
-            if (config_.profile->name() == "ds-bvs" &&
-                nmt_->state() != nmt::NmtState::PreOperational) {
-                return tl::unexpected(SdoAbort::DataTransferState); // ds-bvs.md §4.1
+            if (config_.profile->drive->quirks.restore_needs_preop_power_disabled) {
+                // DS-BVS §6.2.7: NMT pre-operational and every axis power disabled (CiA 402:
+                // not ready to switch on, switch on disabled or ready to switch on).
+                const bool power_disabled = std::all_of(axes_.begin(), axes_.end(), [](auto& a) {
+                    const auto st = a->state();
+                    return st == drives::cia402::State::NotReadyToSwitchOn ||
+                           st == drives::cia402::State::SwitchOnDisabled ||
+                           st == drives::cia402::State::ReadyToSwitchOn;
+                });
+                if (nmt_->state() != nmt::NmtState::PreOperational || !power_disabled) {
+                    return tl::unexpected(SdoAbort::DataTransferState);
+                }
             }
             stored_ = factory_; // effective after the next reset (CiA 301 §7.5.2.14)
             return {};
@@ -290,7 +299,8 @@ void SimDevice::install_hooks() {
 }
 
 void SimDevice::save() {
-    const bool volatile_maps = config_.profile->drive->quirks.pdo_maps_volatile; // akd2g.md §2.9
+    // PDO maps the drive does not store (AKD2G §2.9, DS-BVS "Backup NO" §6.2.14-§6.2.17).
+    const bool volatile_maps = config_.profile->drive->quirks.pdo_maps_volatile;
     for (const auto& [index, o] : od_.objects()) {
         if (volatile_maps &&
             ((index >= 0x1600 && index <= 0x1603) || (index >= 0x1A00 && index <= 0x1A03))) {
@@ -543,12 +553,12 @@ void SimDevice::raise_error(const FaultCode& code, int axis, bool warning) {
     }
     update_error_register();
     // History: AKD2G 1003h keeps the first four EMCY bytes (AMB-7), DS-BVS 4080h the code.
+    // The manufacturer bytes are zero: no manual says an EMCY names the axis (the AKD2G names
+    // it in 5004h/5104h AXIS#.FAULT#, §5.3.84).
     const std::uint8_t reg = od_.get<std::uint8_t>(0x1001, 0).value_or(0);
-    const auto axis_byte = static_cast<std::uint8_t>(axis < 0 ? 0 : axis + 1);
-    push_error_history(od_, 0x1003,
-                       static_cast<std::uint32_t>(code.emcy |
-                                                  (static_cast<std::uint32_t>(reg) << 16) |
-                                                  (static_cast<std::uint32_t>(axis_byte) << 24)));
+    push_error_history(
+        od_, 0x1003,
+        static_cast<std::uint32_t>(code.emcy | (static_cast<std::uint32_t>(reg) << 16)));
     push_error_history(od_, 0x4080, code.emcy);
     log(fmt::format("node {}: {} 0x{:04X} {}{}", config_.node, warning ? "warning" : "fault",
                     code.emcy, code.text,
@@ -589,8 +599,8 @@ void SimDevice::send_emcy(std::uint16_t code, std::uint8_t reg, int axis) {
     if (!started_ || !emcy_enabled_ || !nmt_->sync_emcy_allowed()) {
         return;
     }
-    std::array<std::uint8_t, 5> mfr{};
-    mfr[0] = static_cast<std::uint8_t>(axis < 0 ? 0 : axis + 1); // sim: axis number
+    (void)axis;                              // not in the message: see raise_error()
+    const std::array<std::uint8_t, 5> mfr{}; // manufacturer bytes: none documented
     if (emcy_->send(code, reg, mfr, now_)) {
         ++stats_.emcy_sent;
     }

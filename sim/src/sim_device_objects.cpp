@@ -57,7 +57,8 @@ void SimDevice::build_objects() {
     od_.add_var(0x1001, "Error register", DT::Unsigned8, Access::Ro, u(DT::Unsigned8, 0), true);
     if (p.has_error_history_1003) {
         od_.insert(error_history_object(0x1003, "Pre-defined error field", "Number of errors",
-                                        "Standard error field", DT::Unsigned32));
+                                        "Standard error field", DT::Unsigned32,
+                                        p.drive->error_history_depth));
     }
     if (p.has_sync_objects) {
         od_.add_var(0x1005, "COB-ID SYNC", DT::Unsigned32, Access::Rw,
@@ -83,11 +84,12 @@ void SimDevice::build_objects() {
     od_.add_var(0x1014, "COB-ID EMCY", DT::Unsigned32, Access::Rw,
                 u(DT::Unsigned32, cob::emcy(node)));
     od_.insert(record(0x1016, "Consumer heartbeat time", ObjectCode::Array,
-                      {sub(1, "Consumer heartbeat time", DT::Unsigned32, Access::Rw, 0)}));
+                      {sub(1, "Consumer heartbeat time", DT::Unsigned32, Access::Rw, 0)},
+                      p.drive->quirks.heartbeat_consumer_sub0_type));
     od_.add_var(0x1017, "Producer heartbeat time", DT::Unsigned16, Access::Rw,
                 u(DT::Unsigned16, 0));
-    const std::uint32_t product =
-        axes_.size() > 1 || config_.axes > 1 ? p.product_code_2_axes : p.product_code_1_axis;
+    const std::uint32_t product = p.identity_product_code(
+        static_cast<unsigned>(std::max<std::size_t>(axes_.size(), config_.axes)));
     od_.insert(record(0x1018, "Identity object", ObjectCode::Record,
                       {sub(1, "Vendor-ID", DT::Unsigned32, Access::Ro, p.identity_vendor_id()),
                        sub(2, "Product code", DT::Unsigned32, Access::Ro, product),
@@ -106,7 +108,7 @@ void SimDevice::build_objects() {
     }
     if (p.has_error_history_4080) {
         od_.insert(error_history_object(0x4080, "Error history", "Number of entries", "Error code",
-                                        DT::Unsigned16, true));
+                                        DT::Unsigned16, p.drive->error_history_depth, true));
     }
 
     // PDO communication and mapping objects, shaped by the profile's PDO quirks.

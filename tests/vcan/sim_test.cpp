@@ -94,7 +94,8 @@ TEST(SimVcan, FaultInjectionThroughTheControlObjectSendsEmcy) {
     auto sdo = sdo::BlockingSdo::open("vcan0");
     ASSERT_TRUE(sdo);
     ASSERT_TRUE((*sdo)->write<std::uint8_t>(7, 0x2FF1, 2, 1)); // over-current on axis 2
-    auto code = (*sdo)->read<std::uint16_t>(7, 0x683F, 0);
+    // The AKD2G has no 603Fh (§5.6): AXIS2.FAULT1 (5104h:01, §5.3.84) names the fault.
+    auto code = (*sdo)->read<std::uint16_t>(7, 0x5104, 1);
     ASSERT_TRUE(code);
     EXPECT_EQ(*code, 0xFF07);
     rec.drain();

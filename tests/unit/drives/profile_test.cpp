@@ -216,7 +216,8 @@ TEST(Profiles, QuirksFromTheSpecs) {
     EXPECT_TRUE(ds_bvs_profile().quirks.pdo_cob_ids_read_only);
     EXPECT_TRUE(ds_bvs_profile().quirks.empty_default_pdo_maps);
     EXPECT_TRUE(akd2g_profile().quirks.pdo_maps_volatile);
-    EXPECT_TRUE(akd2g_profile().quirks.pdo_mapping_preop_only);
+    EXPECT_FALSE(akd2g_profile().quirks.pdo_mapping_preop_only) << "§5.2.31 dynamic mapping";
+    EXPECT_TRUE(ds_bvs_profile().quirks.pdo_maps_volatile) << "maps are Backup NO";
     EXPECT_FALSE(fio_profile().quirks.canopen);
     EXPECT_EQ(akd2g_profile().axis_offset, 0x800);
     EXPECT_EQ(ds_bvs_profile().default_quick_stop_option, 6);

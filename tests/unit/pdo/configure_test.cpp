@@ -178,8 +178,13 @@ TEST(PdoConfigure, Akd2gSequenceInvalidatesAndRevalidatesWithoutSyncStart) {
     EXPECT_EQ(recorded_text(rig.net), want);
 }
 
-TEST(PdoConfigure, Akd2gRefusesMappingInOperationalAndTheErrorSaysWhy) {
-    Rig rig(7, quirks::akd2g());
+// A device that maps only in pre-operational (the AKD2G does not: manual §5.2.31 dynamic
+// mapping; this rule is kept as a device option).
+TEST(PdoConfigure, PreOperationalOnlyMappingRefusedInOperationalAndTheErrorSaysWhy) {
+    PdoQuirks q = quirks::akd2g();
+    q.mapping_only_pre_operational = true;
+    EXPECT_FALSE(quirks::akd2g().mapping_only_pre_operational) << "§5.2.31";
+    Rig rig(7, q);
     rig.device->set_operational(true, rig.clock.now());
     auto r = rig.configure({status_position_tpdo()});
     ASSERT_FALSE(r);

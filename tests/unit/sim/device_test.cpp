@@ -127,8 +127,9 @@ TEST(SimDevice, OverCurrentRaisesProfileEmcyAnd603FAndResetSendsEmcyZero) {
     const auto e = f.with_id(0x83).front();
     EXPECT_EQ(e.len, 8);
     EXPECT_EQ(e.data[2], 0x01) << "AKD2G uses only the generic bit";
-    EXPECT_EQ(e.data[3], 2) << "axis 2";
-    EXPECT_EQ(*f.read<std::uint16_t>(0x683F, 0), 0xFF07);
+    EXPECT_EQ(e.data[3], 0) << "no axis byte: the manual documents none";
+    EXPECT_EQ(*f.read<std::uint16_t>(0x5104, 1), 0xFF07) << "AXIS2.FAULT1 names the axis";
+    EXPECT_EQ(*f.read<std::uint16_t>(0x5004, 1), 0) << "AXIS1.FAULT1";
     EXPECT_EQ(*f.read<std::uint8_t>(0x1001, 0), 0x01);
     EXPECT_EQ(*f.read<std::uint8_t>(0x1003, 0), 1U);
     EXPECT_EQ(*f.read<std::uint32_t>(0x1003, 1) & 0xFFFF, 0xFF07U);
@@ -162,7 +163,10 @@ TEST(SimDevice, EachInjectedFaultRaisesTheProfileCode) {
                   (std::vector<std::uint16_t>{p.sto_code, 0, p.following_error_code, 0,
                                               p.over_current_code}))
             << name;
-        EXPECT_EQ(*f.read<std::uint16_t>(0x603F, 0), p.over_current_code) << name;
+        // The AKD2G has no 603Fh (§5.6): its axis fault list 5004h (§5.3.84) names the code.
+        const std::uint16_t where = p.akd2g_objects ? 0x5004 : 0x603F;
+        EXPECT_EQ(*f.read<std::uint16_t>(where, p.akd2g_objects ? 1 : 0), p.over_current_code)
+            << name;
     }
 }
 
@@ -179,7 +183,7 @@ TEST(SimDevice, Akd2gHeartbeatConsumerLossRaisesF7002) {
     const auto codes = f.emcy_codes(3);
     ASSERT_FALSE(codes.empty());
     EXPECT_EQ(codes.front(), 0x8130);
-    EXPECT_EQ(*f.read<std::uint16_t>(0x603F, 0), 0x8130);
+    EXPECT_EQ(*f.read<std::uint16_t>(0x5004, 1), 0x8130) << "AXIS1.FAULT1 (no 603Fh, §5.6)";
     EXPECT_EQ(cia::decode_state(*f.read<std::uint16_t>(0x6041, 0)), cia::State::Fault);
 }
 
@@ -212,14 +216,14 @@ TEST(SimDevice, ControlObjectInjectsFaultsAndResetsTheNode) {
     EXPECT_EQ(f.emcy_codes(3), (std::vector<std::uint16_t>{0xFF0C})) << "W9000 while disabled";
     ASSERT_TRUE(f.write<std::uint8_t>(0x2FF1, 1, 0));
     ASSERT_TRUE(f.write<std::uint8_t>(0x2FF0, 3, 1)); // following error on axis 1
-    EXPECT_EQ(*f.read<std::uint16_t>(0x603F, 0), 0x8611);
+    EXPECT_EQ(*f.read<std::uint16_t>(0x5004, 1), 0x8611);
     f.frames.clear();
     ASSERT_TRUE(f.write<std::uint8_t>(0x2FF0, 5, 1)); // reset node: response first
     f.run_ms(2);
     ASSERT_GE(f.frames.size(), 2U);
     EXPECT_EQ(f.frames[0].id, 0x583U);
     EXPECT_EQ(f.with_id(0x703).size(), 1U);
-    EXPECT_EQ(*f.read<std::uint16_t>(0x603F, 0), 0);
+    EXPECT_EQ(*f.read<std::uint16_t>(0x5004, 1), 0);
 }
 
 TEST(SimDevice, StoreAndRestoreSignatures) {

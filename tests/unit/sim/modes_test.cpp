@@ -235,7 +235,8 @@ TEST(SimModes, JammedMotorRaisesFollowingErrorFault) {
     f.write<std::int32_t>(obj::kTargetPosition, 6553600);
     f.controlword(0x1F);
     ASSERT_TRUE(f.run_until([&] { return f.state() == cia::State::Fault; }, 3000));
-    EXPECT_EQ(f.read<std::uint16_t>(obj::kErrorCode), 0x8611);
+    // No 603Fh on the AKD2G (§5.6): AXIS1.FAULT1 (5004h:01, §5.3.84) lists the fault.
+    EXPECT_EQ(f.od.get<std::uint16_t>(0x5004, 1).value_or(0), 0x8611);
 }
 
 TEST(SimModes, LimitSwitchesAndHomeSwitchShowIn60FD) {

@@ -23,8 +23,7 @@ TEST_P(SimProfileOf, UsesTheDriveProfileOfTheSameName) {
 TEST_P(SimProfileOf, SimulatedUnitIdentityIsRecognisedByTheMaster) {
     const sim::SimProfile* s = sim::find_profile(GetParam());
     ASSERT_NE(s, nullptr);
-    const std::uint32_t product =
-        s->max_axes() > 1 ? s->product_code_2_axes : s->product_code_1_axis;
+    const std::uint32_t product = s->identity_product_code(s->max_axes());
     EXPECT_EQ(
         drives::match_identity(s->device_type(), s->identity_vendor_id(), product, s->device_name),
         s->drive);

@@ -87,17 +87,18 @@ TEST(SimStateMachine, DisableVoltageLeavesQuickStopActive) { // 12
     EXPECT_EQ(f.state(), State::SwitchOnDisabled);
 }
 
+// The AKD2G has no 603Fh (manual §5.6): AXIS1.FAULT1 (5004h:01, §5.3.84) lists the fault.
 TEST(SimStateMachine, FaultReactionThenFaultThenResetOnRisingEdge) { // 13, 14, 15
     AxisFixture f("akd2g");
     f.enable();
     f.axis().inject(FaultKind::OverCurrent);
     EXPECT_EQ(f.state(), State::FaultReactionActive);
     EXPECT_TRUE(f.run_until([&] { return f.state() == State::Fault; }, 200));
-    EXPECT_EQ(f.read<std::uint16_t>(cia::obj::kErrorCode), 0xFF07);
+    EXPECT_EQ(f.od.get<std::uint16_t>(0x5004, 1).value_or(0), 0xFF07);
     f.controlword(0x00);
     f.controlword(0x80);
     EXPECT_EQ(f.state(), State::SwitchOnDisabled);
-    EXPECT_EQ(f.read<std::uint16_t>(cia::obj::kErrorCode), 0);
+    EXPECT_EQ(f.od.get<std::uint16_t>(0x5004, 1).value_or(0), 0);
     ASSERT_FALSE(f.events.empty());
     EXPECT_EQ(f.events.front().kind, AxisEvent::Kind::FaultRaised);
     EXPECT_EQ(f.events.back().kind, AxisEvent::Kind::FaultsCleared);
@@ -143,7 +144,7 @@ TEST(SimStateMachine, StoWhileEnabledFaultsAndResetFailsUntilReleased) {
     f.axis().inject(FaultKind::Sto);
     f.run_ms(2);
     EXPECT_EQ(f.state(), State::Fault);
-    EXPECT_EQ(f.read<std::uint16_t>(cia::obj::kErrorCode), 0xFF0B);
+    EXPECT_EQ(f.od.get<std::uint16_t>(0x5004, 1).value_or(0), 0xFF0B);
     f.controlword(0x80);
     EXPECT_EQ(f.state(), State::Fault);
     f.axis().set_sto(false);

@@ -77,7 +77,9 @@ struct Quirks {
     bool canopen = true;                ///< has a CAN interface (FIO: EtherCAT only)
     bool error_behaviour_1029 = false;  ///< 1029h:01/02 exist (DS-BVS; AKD2G: no)
     bool pdo_cob_ids_read_only = false; ///< DS-BVS: 1400h/1800h sub 1 RO, disable via mapping sub 0
-    bool pdo_maps_volatile = false; ///< AKD2G: 1600h/1A00h not stored by 1010h, rewrite every boot
+    bool pdo_maps_volatile = false;     ///< AKD2G, DS-BVS: 1600h/1A00h not stored by 1010h
+    /// DS-BVS: 1011h restores only in NMT pre-operational with the power stage disabled.
+    bool restore_needs_preop_power_disabled = false;
     bool pdo_mapping_preop_only = true;      ///< mapping writes only in NMT pre-operational
     bool empty_default_pdo_maps = false;     ///< DS-BVS: no predefined mapping at all
     std::uint8_t max_pdo_entries = 8;        ///< mapping entries per CAN PDO
@@ -89,9 +91,14 @@ struct Quirks {
     bool halt_ignored_in_csp = false;        ///< AKD2G: halt has no function in CSP
     bool interpolation_period_object = true; ///< 60C2h exists (DS-BVS: no)
     std::uint32_t fixed_encoder_increments =
-        0;                          ///< internal counts/rev if 608Fh is absent (AKD2G 2^32)
-    bool si_unit_objects = false;   ///< FIO: 60A8h/60A9h define the user units
-    bool sync_consumer_only = true; ///< the drive never produces SYNC
+        0; ///< internal counts/rev if 608Fh is absent (AKD2G 2^32)
+    /// 6063h counts per motor revolution (AKD2G: 2^(32-PSCALE) = 2^12 by default, §5.4.6);
+    /// 0 = the same units as 6064h.
+    std::uint32_t internal_counts_per_rev = 0;
+    /// Type of 1016h sub 0 (CiA 301: UNSIGNED8; the AKD2G manual §5.2.14 says Unsigned32).
+    DataType heartbeat_consumer_sub0_type = DataType::Unsigned8;
+    bool si_unit_objects = false;               ///< FIO: 60A8h/60A9h define the user units
+    bool sync_consumer_only = true;             ///< the drive never produces SYNC
     bool fault_reset_only_without_cause = true; ///< transition 15 only if the cause is gone
 };
 
@@ -126,13 +133,22 @@ struct Profile {
     std::span<const std::int8_t> homing_methods;
     std::span<const std::int16_t> quick_stop_options; ///< supported 605Ah values
     std::int16_t default_quick_stop_option = 2;
+    /// 6007h values the drive accepts when its range has reserved holes (DS-BVS: 1 is
+    /// reserved); empty = every value in the object's range.
+    std::span<const std::int16_t> abort_connection_options;
     std::int8_t default_mode = 0; ///< 6060h after power-on
     std::span<const FaultRow> faults;
     std::span<const ErrorNumberRow> error_numbers;
+    /// Entries of the error history (1003h, DS-BVS 4080h) the manual gives; 0 = not documented.
+    std::uint8_t error_history_depth = 0;
     std::span<const ModeLayout> layouts;
     Quirks quirks;
     /// Objects this drive has in addition to / instead of the generic CiA 402 set.
     std::span<const ObjectSpec> object_overrides;
+    /// The manual's object tables give a default value for each object (DS-BVS "Default
+    /// Value", FIO "Default Value"); false where they do not (AKD2G): then the defaults of
+    /// object_overrides are placeholders and a simulator keeps its own.
+    bool documents_defaults = false;
     /// Generic CiA 402 objects this drive does not have.
     std::span<const std::uint16_t> absent_objects;
     /// The drive has no 603Fh but keeps its error history in 1003h: sub-index 1 holds the first
@@ -196,6 +212,10 @@ struct Profile {
 /// access, PDO flags, defaults and limits from the profile to `od`. `axes` is clamped to
 /// 1..max_axes. Existing objects with the same index are replaced.
 void build_device_dictionary(ObjectDictionary& od, const Profile& p, unsigned axes = 1);
+
+/// Adds one described object (a VAR, or one sub-index of a RECORD/ARRAY with its sub 0 kept at
+/// the highest sub-index) to `od` with the type, access, PDO flag, default and limits of `s`.
+void add_object(ObjectDictionary& od, const ObjectSpec& s);
 
 /// The mapping entry value (index << 16 | sub << 8 | bits) of a PDO entry for an axis.
 [[nodiscard]] std::uint32_t mapping_value(const Profile& p, const PdoEntry& e, unsigned axis);

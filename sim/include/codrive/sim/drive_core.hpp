@@ -99,6 +99,9 @@ private:
     void quick_stop();
     void start_fault_reaction();
     void try_fault_reset();
+    /// Writes the active faults to AKD2G 5004h/5104h AXIS#.FAULT1..10.
+    void publish_faults();
+    static constexpr std::uint8_t kAxisFaultSlots = 10;
     void enter_mode(std::int8_t mode);
     void run_mode(double dt);
     void run_pp(double dt);

@@ -64,9 +64,11 @@ struct SimProfile {
     // Identity values of the simulated unit where the profile has none or only a pattern.
     std::string vendor_name;
     std::string product_name;
-    std::uint32_t vendor_id = 0; ///< used only if the profile's identity has none (DS-BVS)
-    std::uint32_t product_code_1_axis = 0;
-    std::uint32_t product_code_2_axes = 0;
+    /// 1018h:1/:2 of the simulated unit, used only where the drive profile's identity has none
+    /// (DS-BVS: the manual documents neither, §6.2.11). AKD2G and FIO take theirs from the
+    /// profile, so CAN and EtherCAT simulators report the one identity the master matches.
+    std::uint32_t vendor_id = 0;
+    std::uint32_t product_code = 0;
     std::uint32_t revision = 0;
     std::string device_name; ///< 1008h
     std::string hw_version;  ///< 1009h
@@ -115,10 +117,8 @@ struct SimProfile {
     bool error_register_generic_only = false; ///< AKD2G: only 1001h bit 0 is used
     bool has_error_history_1003 = true;
     bool has_error_history_4080 = false; ///< DS-BVS
-    /// FIO: 1003h entries carry the vendor's error number in bits 31..24 and the error class in
-    /// 23..16 (kuhnke-fio.md: bus loss with 6007h = 1 is 0x04108000); pairs error code → number.
-    std::vector<std::pair<std::uint16_t, std::uint8_t>> error_numbers;
-    /// The 1003h entry this drive records over EtherCAT for an error (number, class, code).
+    /// The 1003h entry this drive records over EtherCAT for an error: the error number from the
+    /// drive profile's table in bits 31..24 (FIO), the error class, the code.
     [[nodiscard]] std::uint32_t error_history_entry(const FaultCode& code) const;
 
     // Communication (CAN) defaults of the simulated unit.
@@ -136,6 +136,9 @@ struct SimProfile {
     [[nodiscard]] std::uint32_t identity_vendor_id() const {
         return drive->identity.vendor_id != 0 ? drive->identity.vendor_id : vendor_id;
     }
+    /// 1018h:2 for a unit with `axes` axes: the profile's product code with the axis count in
+    /// its axis bits (AKD2G §2.8), else the simulator's placeholder.
+    [[nodiscard]] std::uint32_t identity_product_code(unsigned axes) const;
     [[nodiscard]] unsigned max_axes() const { return drive->max_axes; }
     [[nodiscard]] std::uint16_t axis_offset() const { return drive->axis_offset; }
     [[nodiscard]] bool can() const { return drive->quirks.canopen; }
@@ -143,7 +146,16 @@ struct SimProfile {
     [[nodiscard]] std::int8_t default_mode() const {
         return drive->default_mode != 0 ? drive->default_mode : power_on_mode;
     }
-    [[nodiscard]] bool accepts_mode(std::int8_t mode) const { return drive->supports_mode(mode); }
+    /// True if 6060h takes `mode`: the drive supports it (profile) and the simulator runs it.
+    /// Modes the drive has but the simulator cannot run (DS-BVS -12 CRM and -128 MSM, FIO and
+    /// AKD2G -1/-2, FIO vl 2) are refused as a drive refuses an unsupported value (SDO abort
+    /// 06090030h), never accepted and silently ignored (docs/conformance.md).
+    [[nodiscard]] bool accepts_mode(std::int8_t mode) const {
+        return drive->supports_mode(mode) && simulates_mode(mode);
+    }
+    /// Modes the simulated axis runs: 0 (none), PP, PV, PT, HM, CSP, CSV, CST and the DS-BVS
+    /// regulation modes -8/-9/-10 (run as CSP, CSV, CST).
+    [[nodiscard]] static bool simulates_mode(std::int8_t mode);
     [[nodiscard]] std::span<const std::int16_t> quick_stop_options() const {
         return drive->quick_stop_options;
     }
