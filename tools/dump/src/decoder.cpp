@@ -199,6 +199,8 @@ void Decoder::decode_nmt(const Frame& f, Decoded& out) {
     fmt::format_to(it, "NMT {} ", nmt::to_string(cmd->command));
     if (cmd->node == nmt::kAllNodes) {
         append(out.text, "all nodes");
+    } else if (cmd->command == nmt::NmtCommand::ResetNode) {
+        fmt::format_to(it, "{}", cmd->node); // "reset node 15", not "reset node node 15"
     } else {
         fmt::format_to(it, "node {}", cmd->node);
     }
@@ -226,6 +228,12 @@ void Decoder::decode_time(const Frame& f, Decoded& out) {
         return;
     }
     fmt::format_to(std::back_inserter(out.text), "TIME {}", sync::to_string(*t));
+    if (f.len != sync::kTimeOfDayLen) {
+        // CiA 301 §7.2.6.1: the TIME object carries exactly one TIME_OF_DAY (6 bytes).
+        out.severity = Severity::Warning;
+        fmt::format_to(std::back_inserter(out.text), " ({} bytes, TIME_OF_DAY has {})", f.len,
+                       sync::kTimeOfDayLen);
+    }
 }
 
 void Decoder::decode_emcy(const Frame& f, NodeId node, Decoded& out) {
