@@ -186,3 +186,41 @@ TEST(DumpDecoder, TimeOfTheWrongLengthIsFlagged) {
     EXPECT_EQ(sev, Severity::Warning) << line;
     EXPECT_EQ(line, "TIME 1999-12-02 16:42:42.770 UTC (8 bytes, TIME_OF_DAY has 6)");
 }
+
+TEST(DumpStats, NodeGuardingIsCountedApartFromHeartbeat) {
+    Stats stats;
+    Decoder dec({}, &stats);
+    std::vector<Note> notes;
+    std::int64_t ts = 1'000'000'000;
+    auto feed = [&](Frame f) {
+        TraceRecord r;
+        r.has_ts = true;
+        r.frame = f;
+        r.ts_ns = ts;
+        ts += 1'202'000'000;
+        Decoded out;
+        dec.decode(r, out, notes);
+    };
+    Frame rtr = Frame::make(0x70F, {});
+    rtr.flags = Frame::kRtr;
+    rtr.len = 1;
+    feed(rtr);
+    feed(Frame::make(0x70F, {0x05})); // operational, toggle 0
+    feed(rtr);
+    feed(Frame::make(0x70F, {0x85})); // toggle 1
+    feed(rtr);
+    feed(rtr);                        // the previous request got no reply
+    feed(Frame::make(0x70F, {0x85})); // toggle 1 again: toggle error
+    const auto& n = stats.node(15);
+    EXPECT_EQ(n.hb_intervals, 0U) << "guarding replies are no heartbeat period";
+    EXPECT_EQ(n.heartbeats, 0U);
+    EXPECT_EQ(n.guard_requests, 4U);
+    EXPECT_EQ(n.guard_replies, 3U);
+    EXPECT_EQ(n.guard_unanswered, 1U);
+    EXPECT_EQ(n.guard_toggle_errors, 1U);
+    const auto table = stats.table();
+    EXPECT_NE(table.find("node 15 guarding: 4 requests, 3 replies, 1 unanswered, 1 toggle errors"),
+              std::string::npos)
+        << table;
+    EXPECT_EQ(table.find("1202.0 ms"), std::string::npos) << table;
+}

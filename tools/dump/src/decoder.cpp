@@ -264,6 +264,9 @@ void Decoder::decode_error_control(const Frame& f, NodeId node, std::int64_t ts,
     if (f.rtr()) {
         n.guard_requested = true;
         fmt::format_to(it, "node {} guarding request", node);
+        if (stats_ != nullptr) {
+            stats_->on_guard_request(node);
+        }
         return;
     }
     if (f.len < 1) {
@@ -277,6 +280,10 @@ void Decoder::decode_error_control(const Frame& f, NodeId node, std::int64_t ts,
     if (n.guard_requested) {
         n.guard_requested = false;
         fmt::format_to(it, "node {} guarding reply {} (toggle {})", node, name, b >> 7);
+        if (stats_ != nullptr) { // not a heartbeat: its period is the master's guard time
+            stats_->on_guard_reply(node, static_cast<std::uint8_t>(b & 0x7F), (b & 0x80) != 0);
+        }
+        return;
     } else if (b == 0) {
         out.severity = Severity::Notice;
         fmt::format_to(it, "node {} boot-up", node);
