@@ -107,6 +107,9 @@ struct ValueText {
 [[nodiscard]] ValueText parse_value(DataType type, std::string_view text,
                                     std::optional<NodeId> node);
 
+/// True if value text refers to $NODEID (any letter case).
+[[nodiscard]] bool uses_node_id(std::string_view text);
+
 /// The value of a number-like key without a trailing `; comment`. CiA 306 only knows whole-line
 /// comments, but vendor files put them after numbers; text keys keep their ';'. Warns once.
 [[nodiscard]] std::string_view number_text(const Section& s, Entry& e, Findings& findings);

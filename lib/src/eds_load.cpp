@@ -64,20 +64,12 @@ Result<DeviceDescription> load_eds(const std::string& path, std::optional<NodeId
     return parse_eds(buf.str(), path, node_id);
 }
 
-namespace {
-
-bool uses_node_id(std::string_view text) {
-    return eds::to_lower(text).find("$nodeid") != std::string::npos;
-}
-
-} // namespace
-
 void assign_node_id(DeviceDescription& desc, NodeId node) {
     desc.node_id = node;
     for (const auto& [index, obj] : desc.od.objects()) {
         for (const auto& [si, cref] : obj.subs) {
             SubObject* sub = desc.od.find(index, si);
-            if (uses_node_id(sub->default_text)) {
+            if (eds::uses_node_id(sub->default_text)) {
                 auto v = eds::parse_value(sub->type, sub->default_text, node);
                 if (v.value) {
                     sub->default_value = std::move(v.value);
@@ -86,7 +78,7 @@ void assign_node_id(DeviceDescription& desc, NodeId node) {
                     }
                 }
             }
-            if (uses_node_id(sub->parameter_text)) {
+            if (eds::uses_node_id(sub->parameter_text)) {
                 auto v = eds::parse_value(sub->type, sub->parameter_text, node);
                 if (v.value) {
                     sub->value = std::move(*v.value);

@@ -6,6 +6,8 @@
 
 #include <array>
 #include <cctype>
+#include <string>
+#include <vector>
 
 namespace codrive::eds {
 
@@ -144,6 +146,16 @@ std::optional<int> compare(const Value& a, const Value& b) {
     return *x < *y ? -1 : (*x > *y ? 1 : 0);
 }
 
+// The value text kept for display and for $NODEID re-evaluation: a number's trailing `; comment`
+// (maxon, Elmo) is dropped as number_text() does; VISIBLE_STRING / UNICODE_STRING text is kept
+// whole, because ';' is an ordinary character of a string value.
+std::string stored_text(const Section& s, Entry& e, DataType type, Findings& f) {
+    if (type == DataType::VisibleString || type == DataType::UnicodeString) {
+        return e.value;
+    }
+    return std::string(number_text(s, e, f));
+}
+
 void check_limits(Section& s, const SubObject& sub, const Value& v, const char* what,
                   std::size_t line, Findings& f) {
     if (sub.low_limit) {
@@ -159,6 +171,88 @@ void check_limits(Section& s, const SubObject& sub, const Value& v, const char* 
             f.warning(line, fmt::format("[{}] {} {} is above HighLimit {}", s.name, what,
                                         v.to_string(), sub.high_limit->to_string()));
         }
+    }
+}
+
+// "1..5, 9" for a sorted list of node-IDs.
+std::string node_ranges(const std::vector<unsigned>& ids) {
+    std::string out;
+    for (std::size_t i = 0; i < ids.size();) {
+        std::size_t j = i;
+        while (j + 1 < ids.size() && ids[j + 1] == ids[j] + 1) {
+            ++j;
+        }
+        out += fmt::format("{}{}", out.empty() ? "" : ", ", ids[i]);
+        if (j > i) {
+            out += fmt::format("..{}", ids[j]);
+        }
+        i = j + 1;
+    }
+    return out;
+}
+
+// A value or limit written with $NODEID (CiA 306 §4.5.2) depends on the node-ID the device gets.
+// Without one, evaluating $NODEID as 0 gives false alarms (`$NODEID+0x80` against LowLimit=0x81),
+// so the limits are checked for every node-ID 1..127 (CiA 301 §7.3.2.2.1) and a finding names the
+// node-IDs that break them.
+void check_limits_each_node(Section& s, const SubObject& sub, std::string_view text,
+                            const char* what, std::size_t line, Findings& f) {
+    struct Limit {
+        const char* key;
+        const std::optional<Value>* parsed;
+        int bad_sign;
+        const char* word;
+        std::vector<unsigned> failing{};
+        std::string text{};
+    };
+    std::array<Limit, 2> limits{Limit{"LowLimit", &sub.low_limit, -1, "below"},
+                                Limit{"HighLimit", &sub.high_limit, 1, "above"}};
+    for (auto& l : limits) {
+        if (Entry* e = s.find(l.key); e != nullptr && l.parsed->has_value()) {
+            l.text = std::string(number_text(s, *e, f));
+        }
+    }
+    for (unsigned n = 1; n <= 127; ++n) {
+        const auto node = static_cast<NodeId>(n);
+        auto v = parse_value(sub.type, text, node).value;
+        if (!v) {
+            continue;
+        }
+        for (auto& l : limits) {
+            if (l.text.empty()) {
+                continue;
+            }
+            std::optional<Value> limit =
+                uses_node_id(l.text) ? parse_value(sub.type, l.text, node).value : *l.parsed;
+            auto c = limit ? compare(*v, *limit) : std::nullopt;
+            if (c && *c == l.bad_sign) {
+                l.failing.push_back(n);
+            }
+        }
+    }
+    for (const auto& l : limits) {
+        if (!l.failing.empty()) {
+            f.warning(line, fmt::format("[{}] {} {} is {} {} {} for node-ID {} (checked for every "
+                                        "node-ID 1..127)",
+                                        s.name, what, text, l.word, l.key, l.text,
+                                        node_ranges(l.failing)));
+        }
+    }
+}
+
+// Limit check of a DefaultValue/ParameterValue: for the given node-ID, or for every node-ID when
+// none is given and the value or a limit uses $NODEID.
+void check_value(Section& s, const SubObject& sub, const Value& v, std::string_view text,
+                 const char* what, std::size_t line, Findings& f, std::optional<NodeId> node) {
+    const auto limit_uses_node_id = [&](const char* key) {
+        const Entry* e = s.find(key);
+        return e != nullptr && uses_node_id(e->value);
+    };
+    if (!node &&
+        (uses_node_id(text) || limit_uses_node_id("LowLimit") || limit_uses_node_id("HighLimit"))) {
+        check_limits_each_node(s, sub, text, what, line, f);
+    } else {
+        check_limits(s, sub, v, what, line, f);
     }
 }
 
@@ -205,22 +299,23 @@ bool parse_sub(Section& s, SubObject& sub, bool read_name, std::optional<DataTyp
         }
     }
     if (Entry* e = s.find("DefaultValue")) {
-        sub.default_text = e->value;
+        sub.default_text = stored_text(s, *e, sub.type, f);
         if (!e->value.empty()) {
             sub.default_value = value_key(s, *e, sub.type, f, node);
         } else if (is_variable_size(sub.type)) {
             sub.default_value = Value(sub.type, {}); // an empty string is a value
         }
         if (sub.default_value) {
-            check_limits(s, sub, *sub.default_value, "DefaultValue", e->line, f);
+            check_value(s, sub, *sub.default_value, sub.default_text, "DefaultValue", e->line, f,
+                        node);
         }
     }
     std::optional<Value> parameter;
     if (Entry* e = s.find("ParameterValue"); e != nullptr && !e->value.empty()) {
-        sub.parameter_text = e->value;
+        sub.parameter_text = stored_text(s, *e, sub.type, f);
         parameter = value_key(s, *e, sub.type, f, node);
         if (parameter) {
-            check_limits(s, sub, *parameter, "ParameterValue", e->line, f);
+            check_value(s, sub, *parameter, sub.parameter_text, "ParameterValue", e->line, f, node);
         }
     }
     sub.value =

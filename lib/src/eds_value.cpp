@@ -423,6 +423,10 @@ ValueText parse_value(DataType type, std::string_view text, std::optional<NodeId
     }
 }
 
+bool uses_node_id(std::string_view text) {
+    return to_lower(text).find("$nodeid") != std::string::npos;
+}
+
 } // namespace codrive::eds
 
 namespace codrive {

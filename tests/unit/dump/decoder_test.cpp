@@ -98,3 +98,129 @@ TEST(DumpLineFormat, JsonStringsAreEscaped) {
     append_json_string(b, "a\"b\\c\n\x01");
     EXPECT_EQ(std::string(b.data(), b.size()), "\"a\\\"b\\\\c\\u000A\\u0001\"");
 }
+
+namespace {
+// Feeds frames 100 ms apart to one decoder; returns each frame's line and severity.
+struct SdoFeed {
+    DecoderOptions opts = [] {
+        DecoderOptions o;
+        o.sdo_timeout_ns = 1'000'000'000;
+        return o;
+    }();
+    Decoder dec{opts};
+    std::vector<Note> notes;
+    std::int64_t ts = 1'000'000'000;
+    std::pair<std::string, Severity> feed(std::uint32_t id, std::initializer_list<std::uint8_t> b) {
+        TraceRecord r;
+        r.has_ts = true;
+        r.iface = "can0";
+        r.frame = Frame::make(id, b);
+        r.ts_ns = ts;
+        ts += 100'000'000;
+        Decoded out;
+        dec.decode(r, out, notes);
+        return {text(out), out.severity};
+    }
+};
+} // namespace
+
+TEST(DumpDecoder, SegmentAnsweringAnUploadInitiateIsAWarning) {
+    SdoFeed f;
+    (void)f.feed(0x655, {0x40, 0x10, 0x20, 0x0D, 0, 0, 0, 0});
+    const auto [line, sev] = f.feed(0x5D5, {0x00, 0x00, 0x00, 0x00, 0, 0, 0, 0});
+    EXPECT_EQ(sev, Severity::Warning) << line;
+    EXPECT_NE(line.find("node 85 SDO upload segment answers upload request 2010:0D"),
+              std::string::npos)
+        << line;
+    EXPECT_NE(line.find("expected the initiate upload response"), std::string::npos) << line;
+    EXPECT_EQ(line.find("upload segment 1"), std::string::npos) << line;
+}
+
+TEST(DumpDecoder, ResponseThatFitsNoTransferNamesTheOpenOne) {
+    SdoFeed f;
+    (void)f.feed(0x603, {0x40, 0x17, 0x10, 0x00, 0, 0, 0, 0});
+    const auto [line, sev] = f.feed(0x583, {0x60, 0x00, 0x20, 0x00, 0, 0, 0, 0});
+    EXPECT_EQ(sev, Severity::Warning) << line;
+    EXPECT_NE(line.find("without a matching request (open: upload 1017:00"), std::string::npos)
+        << line;
+}
+
+TEST(DumpDecoder, TooShortResponseIsReportedOnceNotAgainAsTimeout) {
+    SdoFeed f;
+    (void)f.feed(0x603, {0x40, 0x17, 0x10, 0x00, 0, 0, 0, 0});
+    const auto [line, sev] = f.feed(0x583, {0x4B, 0x17, 0x10});
+    EXPECT_EQ(sev, Severity::Warning) << line;
+    EXPECT_NE(line.find("SDO response frame of 3 bytes"), std::string::npos) << line;
+    EXPECT_NE(line.find("in upload 1017:00"), std::string::npos) << line;
+    f.ts += 5'000'000'000;
+    (void)f.feed(0x080, {});
+    EXPECT_TRUE(f.notes.empty()) << f.notes[0].text;
+}
+
+TEST(DumpDecoder, TransferAbandonedByTheClientIsReported) {
+    SdoFeed f;
+    (void)f.feed(0x603, {0x40, 0x17, 0x10, 0x00, 0, 0, 0, 0});
+    const auto [line, sev] = f.feed(0x603, {0x40, 0x18, 0x10, 0x01, 0, 0, 0, 0});
+    EXPECT_EQ(sev, Severity::Warning) << line;
+    EXPECT_NE(line.find("SDO upload 1017:00"), std::string::npos) << line;
+    EXPECT_NE(line.find("abandoned by the client after 100.0 ms; SDO upload request 1018:01"),
+              std::string::npos)
+        << line;
+    // A normal request after a completed transfer is no anomaly.
+    (void)f.feed(0x583, {0x43, 0x18, 0x10, 0x01, 1, 0, 0, 0});
+    const auto [next, next_sev] = f.feed(0x603, {0x40, 0x18, 0x10, 0x02, 0, 0, 0, 0});
+    EXPECT_EQ(next_sev, Severity::Info) << next;
+}
+
+TEST(DumpDecoder, NmtResetNodeSaysNodeOnce) {
+    SdoFeed f;
+    EXPECT_EQ(f.feed(0x000, {0x81, 0x0F}).first, "NMT reset node 15");
+    EXPECT_EQ(f.feed(0x000, {0x82, 0x0F}).first, "NMT reset communication node 15");
+}
+
+TEST(DumpDecoder, TimeOfTheWrongLengthIsFlagged) {
+    SdoFeed f;
+    const auto [ok, ok_sev] = f.feed(0x100, {0xD2, 0x02, 0x96, 0x03, 0xB6, 0x16});
+    EXPECT_EQ(ok_sev, Severity::Info) << ok;
+    const auto [line, sev] = f.feed(0x100, {0xD2, 0x02, 0x96, 0x03, 0xB6, 0x16, 0x00, 0x00});
+    EXPECT_EQ(sev, Severity::Warning) << line;
+    EXPECT_EQ(line, "TIME 1999-12-02 16:42:42.770 UTC (8 bytes, TIME_OF_DAY has 6)");
+}
+
+TEST(DumpStats, NodeGuardingIsCountedApartFromHeartbeat) {
+    Stats stats;
+    Decoder dec({}, &stats);
+    std::vector<Note> notes;
+    std::int64_t ts = 1'000'000'000;
+    auto feed = [&](Frame f) {
+        TraceRecord r;
+        r.has_ts = true;
+        r.frame = f;
+        r.ts_ns = ts;
+        ts += 1'202'000'000;
+        Decoded out;
+        dec.decode(r, out, notes);
+    };
+    Frame rtr = Frame::make(0x70F, {});
+    rtr.flags = Frame::kRtr;
+    rtr.len = 1;
+    feed(rtr);
+    feed(Frame::make(0x70F, {0x05})); // operational, toggle 0
+    feed(rtr);
+    feed(Frame::make(0x70F, {0x85})); // toggle 1
+    feed(rtr);
+    feed(rtr);                        // the previous request got no reply
+    feed(Frame::make(0x70F, {0x85})); // toggle 1 again: toggle error
+    const auto& n = stats.node(15);
+    EXPECT_EQ(n.hb_intervals, 0U) << "guarding replies are no heartbeat period";
+    EXPECT_EQ(n.heartbeats, 0U);
+    EXPECT_EQ(n.guard_requests, 4U);
+    EXPECT_EQ(n.guard_replies, 3U);
+    EXPECT_EQ(n.guard_unanswered, 1U);
+    EXPECT_EQ(n.guard_toggle_errors, 1U);
+    const auto table = stats.table();
+    EXPECT_NE(table.find("node 15 guarding: 4 requests, 3 replies, 1 unanswered, 1 toggle errors"),
+              std::string::npos)
+        << table;
+    EXPECT_EQ(table.find("1202.0 ms"), std::string::npos) << table;
+}

@@ -178,3 +178,102 @@ TEST(DumpPcap, PcapngWithNanosecondResolutionAndInterfaceName) {
     EXPECT_EQ(r.frame, Frame::make(0x701, {5}));
     EXPECT_EQ(reader.next(r), ReadStatus::End);
 }
+
+namespace {
+// A 16-byte struct can_frame record: big-endian id, len, pad/flags, res0, res1 (len8_dlc), data.
+std::vector<std::uint8_t> classic_record(std::uint32_t id, std::uint8_t len, std::uint8_t pad,
+                                         std::uint8_t res0, std::uint8_t res1,
+                                         std::vector<std::uint8_t> data) {
+    std::vector<std::uint8_t> r{static_cast<std::uint8_t>(id >> 24),
+                                static_cast<std::uint8_t>(id >> 16),
+                                static_cast<std::uint8_t>(id >> 8),
+                                static_cast<std::uint8_t>(id),
+                                len,
+                                pad,
+                                res0,
+                                res1};
+    data.resize(8);
+    r.insert(r.end(), data.begin(), data.end());
+    return r;
+}
+} // namespace
+
+TEST(DumpPcap, JunkInThePadByteOfAClassicRecordIsNotCanFd) {
+    // An SDO upload initiate as an old kernel captured it: `7f 00 00` after the length byte.
+    const auto r = classic_record(0x605, 8, 0x7F, 0x00, 0x00, {0x40, 0x10, 0x20, 0x0D});
+    Frame f;
+    ASSERT_EQ(decode_socketcan_record(r.data(), r.size(), r.size(), f), SocketCanDecode::Ok);
+    EXPECT_FALSE(f.fd());
+    EXPECT_EQ(f.id, 0x605U);
+    EXPECT_EQ(f.len, 8);
+    EXPECT_EQ(f.data[0], 0x40);
+    EXPECT_EQ(f.data[3], 0x0D);
+    // FDF set but reserved bytes dirty: still junk, not FD.
+    const auto r2 = classic_record(0x000, 2, 0x04, 0x11, 0x00, {0x81, 0x0F});
+    ASSERT_EQ(decode_socketcan_record(r2.data(), r2.size(), r2.size(), f), SocketCanDecode::Ok);
+    EXPECT_FALSE(f.fd());
+    EXPECT_EQ(f.len, 2);
+    EXPECT_EQ(f.data[1], 0x0F);
+}
+
+TEST(DumpPcap, CleanFdFlagsOrA72ByteRecordIsCanFd) {
+    // Clean flags byte with FDF|BRS and zero reserved bytes: believed.
+    const auto r = classic_record(0x181, 8, 0x05, 0x00, 0x00, {1, 2, 3, 4, 5, 6, 7, 8});
+    Frame f;
+    ASSERT_EQ(decode_socketcan_record(r.data(), r.size(), r.size(), f), SocketCanDecode::Ok);
+    EXPECT_TRUE(f.fd());
+    EXPECT_NE(f.flags & Frame::kBrs, 0);
+    // A 72-byte record (CANFD_MTU) is FD whatever the flags byte says (kernels before FDF).
+    std::vector<std::uint8_t> fd(72, 0);
+    fd[2] = 0x01;
+    fd[3] = 0x81;
+    fd[4] = 12;
+    for (std::size_t i = 0; i < 12; ++i) {
+        fd[8 + i] = static_cast<std::uint8_t>(0xA0 + i);
+    }
+    ASSERT_EQ(decode_socketcan_record(fd.data(), fd.size(), fd.size(), f), SocketCanDecode::Ok);
+    EXPECT_TRUE(f.fd());
+    EXPECT_EQ(f.flags & Frame::kBrs, 0);
+    EXPECT_EQ(f.len, 12);
+    EXPECT_EQ(f.data[11], 0xAB);
+    // Captured with a snaplen of 20: the original length still says FD.
+    ASSERT_EQ(decode_socketcan_record(fd.data(), 20, 72, f), SocketCanDecode::Ok);
+    EXPECT_TRUE(f.fd());
+    EXPECT_EQ(f.len, 12);
+}
+
+TEST(DumpPcap, ClassicRecordClaimingMoreThan8BytesIsReportedNotTakenForFd) {
+    const auto r = classic_record(0x705, 12, 0x7F, 0x00, 0x00, {0x05});
+    Frame f;
+    ASSERT_EQ(decode_socketcan_record(r.data(), r.size(), r.size(), f),
+              SocketCanDecode::ClassicLenOver8);
+    EXPECT_FALSE(f.fd());
+    const auto msg =
+        socketcan_decode_error(SocketCanDecode::ClassicLenOver8, "pcap record 3", r.size(), f);
+    EXPECT_NE(msg.find("pcap record 3"), std::string::npos) << msg;
+    EXPECT_NE(msg.find("0x705"), std::string::npos) << msg;
+    EXPECT_NE(msg.find("12 data bytes"), std::string::npos) << msg;
+}
+
+TEST(DumpPcap, JunkPadRecordsInAFileDecodeAsCanopen) {
+    // A whole classic pcap: header + NMT reset node 15 and an SDO request with junk pad bytes.
+    std::vector<std::uint8_t> file{0xD4, 0xC3, 0xB2, 0xA1, 2, 0, 4, 0, 0,   0, 0, 0,
+                                   0,    0,    0,    0,    0, 0, 4, 0, 227, 0, 0, 0};
+    auto add = [&](std::uint32_t sec, const std::vector<std::uint8_t>& body) {
+        const std::uint32_t hdr[4] = {sec, 0, static_cast<std::uint32_t>(body.size()),
+                                      static_cast<std::uint32_t>(body.size())};
+        for (auto v : hdr) {
+            for (int i = 0; i < 4; ++i) {
+                file.push_back(static_cast<std::uint8_t>(v >> (8 * i)));
+            }
+        }
+        file.insert(file.end(), body.begin(), body.end());
+    };
+    add(1, classic_record(0x000, 2, 0x7F, 0x00, 0x00, {0x81, 0x0F}));
+    add(2, classic_record(0x60F, 8, 0xFF, 0x00, 0x00, {0x40, 0x10, 0x20, 0x0D}));
+    const std::string bytes(file.begin(), file.end());
+    const auto out = codrive::dump::testing::run_dump_bytes(bytes, DumpOptions{});
+    EXPECT_NE(out.find("NMT"), std::string::npos) << out;
+    EXPECT_NE(out.find("NMT reset node"), std::string::npos) << out;
+    EXPECT_EQ(out.find("FD"), std::string::npos) << out;
+}

@@ -151,6 +151,30 @@ TEST(EdsValues, DefaultOutsideLimitsIsAWarning) {
     EXPECT_FALSE(d.has_errors());
 }
 
+TEST(EdsValues, NodeIdValueIsCheckedForEveryNodeIdWhenNoneIsGiven) {
+    // Evaluating $NODEID as 0 would put $NODEID+0x80 below LowLimit=0x81: no finding for that.
+    const std::string ok = eds_test::eds_head({0x2000}) +
+                           "[2000]\nParameterName=v\nDataType=0x0007\nAccessType=rw\n"
+                           "LowLimit=0x81\nHighLimit=0xFF\nDefaultValue=$NODEID+0x80\n";
+    DeviceDescription d = parse_eds(ok, "v.eds");
+    EXPECT_EQ(d.count(EdsSeverity::Warning), 1U) << eds_test::dump(d); // no mandatory objects
+    EXPECT_FALSE(d.has_errors());
+    // A limit that only some node-IDs break: the finding names them and says how it checked.
+    const std::string bad = eds_test::eds_head({0x2000}) +
+                            "[2000]\nParameterName=v\nDataType=0x0007\nAccessType=rw\n"
+                            "LowLimit=0x181\nHighLimit=0x1F0\nDefaultValue=$NODEID+0x180\n";
+    d = parse_eds(bad, "v.eds");
+    EXPECT_NE(eds_test::find(d, EdsSeverity::Warning, 15,
+                             "DefaultValue $NODEID+0x180 is above HighLimit 0x1F0 for node-ID "
+                             "113..127 (checked for every node-ID 1..127)"),
+              nullptr)
+        << eds_test::dump(d);
+    EXPECT_EQ(d.count(EdsSeverity::Warning), 2U) << eds_test::dump(d);
+    // With a node-ID the value is checked for that node only.
+    d = parse_eds(bad, "v.eds", NodeId{5});
+    EXPECT_EQ(d.count(EdsSeverity::Warning), 1U) << eds_test::dump(d);
+}
+
 TEST(EdsValues, ValueTextIsWhatFilesWrite) {
     EXPECT_EQ(eds_value_text(Value::from_uint(DataType::Unsigned16, 0x1A).value()), "0x001A");
     EXPECT_EQ(eds_value_text(Value::from_int(DataType::Integer8, -3).value()), "-3");
@@ -180,6 +204,8 @@ TEST(EdsQuirks, TrailingCommentsAfterNumbersAreIgnoredWithAWarning) {
     EXPECT_EQ(s->type, DataType::Unsigned16);
     EXPECT_EQ(s->access, Access::Rw);
     EXPECT_EQ(s->value.as_uint(), 0x10U);
+    // The text `eds show` prints and $NODEID re-evaluation reads has no comment either.
+    EXPECT_EQ(s->default_text, "0x10");
     EXPECT_TRUE(s->pdo_mappable);
     EXPECT_NE(eds_test::find(d, EdsSeverity::Warning, 12,
                              "[2000] AccessType: trailing comment '; writable' ignored"),
@@ -194,6 +220,19 @@ TEST(EdsQuirks, StringValuesKeepSemicolons) {
                             "DefaultValue=a;b\n";
     DeviceDescription d = parse_eds(eds, "v.eds");
     EXPECT_EQ(d.od.find(0x2000, 0)->value.to_string(), "a;b");
+    EXPECT_EQ(d.od.find(0x2000, 0)->default_text, "a;b");
+}
+
+TEST(EdsQuirks, NodeIdValueWithATrailingCommentIsShownWithoutIt) {
+    const std::string eds =
+        eds_test::eds_head({0x2000}) +
+        "[2000]\nParameterName=v\nDataType=0x0007\nAccessType=rw\n"
+        "DefaultValue=$NODEID+0x180 ; TPDO1 COB-ID\nParameterValue=0x185 ; set\n";
+    DeviceDescription d = parse_eds(eds, "v.eds");
+    const SubObject* s = d.od.find(0x2000, 0);
+    ASSERT_NE(s, nullptr);
+    EXPECT_EQ(s->default_text, "$NODEID+0x180");
+    EXPECT_EQ(s->parameter_text, "0x185");
 }
 
 TEST(EdsQuirks, DataTypeByNameIsAcceptedWithAWarning) {

@@ -199,6 +199,8 @@ void Decoder::decode_nmt(const Frame& f, Decoded& out) {
     fmt::format_to(it, "NMT {} ", nmt::to_string(cmd->command));
     if (cmd->node == nmt::kAllNodes) {
         append(out.text, "all nodes");
+    } else if (cmd->command == nmt::NmtCommand::ResetNode) {
+        fmt::format_to(it, "{}", cmd->node); // "reset node 15", not "reset node node 15"
     } else {
         fmt::format_to(it, "node {}", cmd->node);
     }
@@ -226,6 +228,12 @@ void Decoder::decode_time(const Frame& f, Decoded& out) {
         return;
     }
     fmt::format_to(std::back_inserter(out.text), "TIME {}", sync::to_string(*t));
+    if (f.len != sync::kTimeOfDayLen) {
+        // CiA 301 §7.2.6.1: the TIME object carries exactly one TIME_OF_DAY (6 bytes).
+        out.severity = Severity::Warning;
+        fmt::format_to(std::back_inserter(out.text), " ({} bytes, TIME_OF_DAY has {})", f.len,
+                       sync::kTimeOfDayLen);
+    }
 }
 
 void Decoder::decode_emcy(const Frame& f, NodeId node, Decoded& out) {
@@ -256,6 +264,9 @@ void Decoder::decode_error_control(const Frame& f, NodeId node, std::int64_t ts,
     if (f.rtr()) {
         n.guard_requested = true;
         fmt::format_to(it, "node {} guarding request", node);
+        if (stats_ != nullptr) {
+            stats_->on_guard_request(node);
+        }
         return;
     }
     if (f.len < 1) {
@@ -269,6 +280,10 @@ void Decoder::decode_error_control(const Frame& f, NodeId node, std::int64_t ts,
     if (n.guard_requested) {
         n.guard_requested = false;
         fmt::format_to(it, "node {} guarding reply {} (toggle {})", node, name, b >> 7);
+        if (stats_ != nullptr) { // not a heartbeat: its period is the master's guard time
+            stats_->on_guard_reply(node, static_cast<std::uint8_t>(b & 0x7F), (b & 0x80) != 0);
+        }
+        return;
     } else if (b == 0) {
         out.severity = Severity::Notice;
         fmt::format_to(it, "node {} boot-up", node);

@@ -24,8 +24,11 @@ constexpr std::size_t kMaxBlock = 1U << 18; // larger blocks cannot hold CAN and
 constexpr std::uint32_t kCanEff = 0x80000000U;
 constexpr std::uint32_t kCanRtr = 0x40000000U;
 constexpr std::uint32_t kCanErr = 0x20000000U;
-constexpr std::uint8_t kCanFdFdf = 0x04; // canfd_frame.flags CANFD_FDF
+// canfd_frame.flags (linux/can.h): CANFD_BRS 0x01, CANFD_ESI 0x02, CANFD_FDF 0x04. Any other
+// bit set means the byte is not an FD flags byte (old kernels left it uninitialised).
 constexpr std::uint8_t kCanFdBrs = 0x01;
+constexpr std::uint8_t kCanFdFdf = 0x04;
+constexpr std::uint8_t kCanFdDefinedFlags = 0x07;
 constexpr std::size_t kCanMtu = 16;
 constexpr std::size_t kCanFdMtu = 72;
 
@@ -44,9 +47,10 @@ bool looks_like_pcap(const std::uint8_t* p, std::size_t n) {
            bswap32(m) == kPcapMagicNs || m == kNgShb;
 }
 
-bool decode_socketcan_record(const std::uint8_t* p, std::size_t n, Frame& f) {
+SocketCanDecode decode_socketcan_record(const std::uint8_t* p, std::size_t n, std::size_t wire_len,
+                                        Frame& f) {
     if (n < 8) {
-        return false;
+        return SocketCanDecode::TooShort;
     }
     const std::uint32_t raw = (static_cast<std::uint32_t>(p[0]) << 24) |
                               (static_cast<std::uint32_t>(p[1]) << 16) |
@@ -64,7 +68,13 @@ bool decode_socketcan_record(const std::uint8_t* p, std::size_t n, Frame& f) {
     if ((raw & kCanRtr) != 0) {
         f.flags = static_cast<std::uint8_t>(f.flags | Frame::kRtr);
     }
-    const bool fd = n == kCanFdMtu || (p[5] & kCanFdFdf) != 0 || p[4] > 8;
+    // The record length is the reliable FD marker: SocketCAN writes struct canfd_frame (72 bytes,
+    // CANFD_MTU) for FD and struct can_frame (16 bytes, CAN_MTU) for classic frames. The byte
+    // after the length is can_frame.__pad on classic frames and was left uninitialised by older
+    // kernels (e.g. `7f 00 00`), so - as Wireshark does - the FDF bit is believed only when no
+    // undefined flag bit is set and both reserved bytes are zero.
+    const bool flags_clean = (p[5] & ~kCanFdDefinedFlags) == 0 && p[6] == 0 && p[7] == 0;
+    const bool fd = wire_len == kCanFdMtu || (flags_clean && (p[5] & kCanFdFdf) != 0);
     std::size_t len = p[4];
     if (fd) {
         f.flags = static_cast<std::uint8_t>(f.flags | Frame::kFd);
@@ -72,17 +82,30 @@ bool decode_socketcan_record(const std::uint8_t* p, std::size_t n, Frame& f) {
             f.flags = static_cast<std::uint8_t>(f.flags | Frame::kBrs);
         }
         len = std::min<std::size_t>(len, Frame::kMaxFdLen);
-    } else {
-        len = std::min<std::size_t>(len, Frame::kMaxClassicLen);
+    } else if (len > Frame::kMaxClassicLen) {
+        // A classic frame carries at most 8 bytes (ISO 11898-1; SocketCAN keeps a DLC of 9..15 in
+        // len8_dlc with len = 8). Not taken for FD: the record cannot hold FD data.
+        f.len = static_cast<std::uint8_t>(len);
+        return SocketCanDecode::ClassicLenOver8;
     }
     if (f.rtr()) {
         f.len = static_cast<std::uint8_t>(len);
-        return true;
+        return SocketCanDecode::Ok;
     }
     len = std::min(len, n - 8); // a short snaplen keeps only what was captured
     std::memcpy(f.data.data(), p + 8, len);
     f.len = static_cast<std::uint8_t>(len);
-    return true;
+    return SocketCanDecode::Ok;
+}
+
+std::string socketcan_decode_error(SocketCanDecode result, std::string_view where, std::size_t n,
+                                   const Frame& f) {
+    if (result == SocketCanDecode::TooShort) {
+        return fmt::format("{}: {} bytes is too short for a CAN frame", where, n);
+    }
+    return fmt::format("{}: CAN id 0x{:X} claims {} data bytes in a classic CAN record (at most 8, "
+                       "and the record is not CAN FD), skipped",
+                       where, f.id, f.len);
 }
 
 std::uint32_t PcapReader::u32(const std::uint8_t* p) const {
@@ -167,13 +190,14 @@ ReadStatus PcapReader::next_classic(TraceRecord& record) {
                    static_cast<std::int64_t>(frac) * (nanos_ ? 1 : 1000);
     record.has_ts = true;
     record.iface = "pcap";
-    const bool ok = decode_socketcan_record(body, incl, record.frame);
+    const std::uint32_t orig = u32(h + 12);
+    const auto result = decode_socketcan_record(body, incl, orig, record.frame);
     input_.consume(16 + incl);
     offset_ += 16 + incl;
     ++records_;
-    if (!ok) {
-        error_ =
-            fmt::format("pcap record {}: {} bytes is too short for a CAN frame", records_, incl);
+    if (result != SocketCanDecode::Ok) {
+        error_ = socketcan_decode_error(result, fmt::format("pcap record {}", records_), incl,
+                                        record.frame);
         return ReadStatus::Malformed;
     }
     return ReadStatus::Frame;
@@ -285,11 +309,14 @@ ReadStatus PcapReader::next_ng(TraceRecord& record) {
                 } else {
                     record.has_ts = false;
                 }
-                if (decode_socketcan_record(body + data_off, cap, record.frame)) {
+                const std::uint32_t wire = epb ? u32(body + 16) : u32(body);
+                const auto result =
+                    decode_socketcan_record(body + data_off, cap, wire, record.frame);
+                if (result == SocketCanDecode::Ok) {
                     status = ReadStatus::Frame;
                 } else {
-                    error_ = fmt::format("pcapng packet {}: {} bytes is too short for a CAN frame",
-                                         records_, cap);
+                    error_ = socketcan_decode_error(
+                        result, fmt::format("pcapng packet {}", records_), cap, record.frame);
                     status = ReadStatus::Malformed;
                 }
             }

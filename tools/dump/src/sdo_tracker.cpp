@@ -38,9 +38,22 @@ void SdoTracker::object_name(fmt::memory_buffer& out, NodeId node, std::uint16_t
     }
 }
 
-void SdoTracker::start(Channel& ch, Op op, const sdo::FrameInfo& fi, std::int64_t ts) {
-    if (ch.op == Op::None) {
+namespace {
+constexpr std::string_view kOpNames[] = {"", "download ", "upload ", "block download ",
+                                         "block upload "};
+} // namespace
+
+bool SdoTracker::start(NodeId node, Channel& ch, Op op, const sdo::FrameInfo& fi, std::int64_t ts,
+                       fmt::memory_buffer& out) {
+    const bool abandoned = ch.op != Op::None;
+    if (!abandoned) {
         ++open_;
+    } else {
+        // CiA 301 §7.2.4.3: one transfer per SDO channel; a new initiate ends the old one unseen.
+        fmt::format_to(std::back_inserter(out), "SDO {}", kOpNames[static_cast<int>(ch.op)]);
+        object_name(out, node, ch.index, ch.subindex);
+        fmt::format_to(std::back_inserter(out), " abandoned by the client after {:.1f} ms; ",
+                       to_ms(ts - ch.t0));
     }
     std::vector<std::uint8_t> keep = std::move(ch.data);
     ch = Channel{};
@@ -54,6 +67,7 @@ void SdoTracker::start(Channel& ch, Op op, const sdo::FrameInfo& fi, std::int64_
     ch.size_known = fi.size_indicated && !fi.expedited;
     ch.size = fi.size;
     ch.crc = fi.crc;
+    return abandoned;
 }
 
 void SdoTracker::add_data(Channel& ch, std::span<const std::uint8_t> bytes) {
@@ -103,14 +117,21 @@ SdoOutcome SdoTracker::on_frame(NodeId node, sdo::Sender sender,
     auto it = std::back_inserter(out);
     fmt::format_to(it, "node {} ", node);
     SdoOutcome none;
+    const bool client = sender == sdo::Sender::Client;
     if (payload.size() < sdo::kFrameLen) {
         fmt::format_to(it, "SDO {} frame of {} bytes (CiA 301 requires 8)",
-                       sender == sdo::Sender::Client ? "request" : "response", payload.size());
+                       client ? "request" : "response", payload.size());
         none.kind = SdoOutcome::Kind::ProtocolError;
+        if (Channel& cur = channels_[node]; cur.op != Op::None && !client) {
+            // The response is the one the open transfer waited for: named here, and not
+            // reported again as a timeout if no valid response follows.
+            fmt::format_to(it, " in {}", kOpNames[static_cast<int>(cur.op)]);
+            object_name(out, node, cur.index, cur.subindex);
+            cur.short_response = true;
+        }
         return none;
     }
     Channel& ch = channels_[node];
-    const bool client = sender == sdo::Sender::Client;
     const bool block_sender =
         (client && ch.op == Op::BlockDownload) || (!client && ch.op == Op::BlockUpload);
     const bool in_block = ch.in_block && block_sender && (payload[0] & sdo::kSeqnoMask) != 0;
@@ -118,6 +139,7 @@ SdoOutcome SdoTracker::on_frame(NodeId node, sdo::Sender sender,
     if (ch.op != Op::None) {
         ch.last = ts;
         ch.client_spoke_last = client;
+        ch.short_response = ch.short_response && client;
     }
     const auto unexpected = [&] {
         append(out, "SDO ");
@@ -130,6 +152,11 @@ SdoOutcome SdoTracker::on_frame(NodeId node, sdo::Sender sender,
             object_name(out, node, fi.index, fi.subindex);
         }
         append(out, " without a matching request");
+        if (ch.op != Op::None) {
+            fmt::format_to(it, " (open: {}", kOpNames[static_cast<int>(ch.op)]);
+            object_name(out, node, ch.index, ch.subindex);
+            out.push_back(')');
+        }
         none.kind = SdoOutcome::Kind::ProtocolError;
         return none;
     };
@@ -141,9 +168,7 @@ SdoOutcome SdoTracker::on_frame(NodeId node, sdo::Sender sender,
         return none;
 
     case FrameKind::Abort: {
-        static constexpr std::string_view kOps[] = {"", "download ", "upload ", "block download ",
-                                                    "block upload "};
-        fmt::format_to(it, "SDO abort {}", kOps[static_cast<int>(ch.op)]);
+        fmt::format_to(it, "SDO abort {}", kOpNames[static_cast<int>(ch.op)]);
         object_name(out, node, fi.index, fi.subindex);
         fmt::format_to(it, ": 0x{:08X} {} (by {}", fi.abort_code, sdo_abort_describe(fi.abort_code),
                        client ? "client" : "server");
@@ -163,7 +188,9 @@ SdoOutcome SdoTracker::on_frame(NodeId node, sdo::Sender sender,
     }
 
     case FrameKind::InitiateDownloadRequest: {
-        start(ch, Op::Download, fi, ts);
+        if (start(node, ch, Op::Download, fi, ts, out)) {
+            none.kind = SdoOutcome::Kind::ProtocolError;
+        }
         ch.client_spoke_last = true;
         append(out, "SDO download request ");
         object_name(out, node, fi.index, fi.subindex);
@@ -220,7 +247,9 @@ SdoOutcome SdoTracker::on_frame(NodeId node, sdo::Sender sender,
         return none;
 
     case FrameKind::InitiateUploadRequest:
-        start(ch, Op::Upload, fi, ts);
+        if (start(node, ch, Op::Upload, fi, ts, out)) {
+            none.kind = SdoOutcome::Kind::ProtocolError;
+        }
         ch.client_spoke_last = true;
         append(out, "SDO upload request ");
         object_name(out, node, fi.index, fi.subindex);
@@ -239,6 +268,7 @@ SdoOutcome SdoTracker::on_frame(NodeId node, sdo::Sender sender,
         }
         ch.size_known = fi.size_indicated;
         ch.size = fi.size;
+        ch.confirmed = true;
         append(out, "SDO upload response ");
         object_name(out, node, fi.index, fi.subindex);
         if (fi.size_indicated) {
@@ -260,6 +290,15 @@ SdoOutcome SdoTracker::on_frame(NodeId node, sdo::Sender sender,
         if (ch.op != Op::Upload) {
             return unexpected();
         }
+        if (!ch.confirmed) {
+            // CiA 301 §7.2.4.3.6: the initiate upload request is answered by an initiate upload
+            // response (scs 2) or an abort, never by a segment.
+            append(out, "SDO upload segment answers upload request ");
+            object_name(out, node, ch.index, ch.subindex);
+            append(out, ": expected the initiate upload response (0x4n) or an abort");
+            none.kind = SdoOutcome::Kind::ProtocolError;
+            return none;
+        }
         const bool toggle_ok = fi.toggle == ch.toggle;
         ch.toggle = !ch.toggle;
         add_data(ch, std::span(fi.data.data(), fi.data_len));
@@ -278,7 +317,9 @@ SdoOutcome SdoTracker::on_frame(NodeId node, sdo::Sender sender,
     }
 
     case FrameKind::BlockDownloadInitiateRequest:
-        start(ch, Op::BlockDownload, fi, ts);
+        if (start(node, ch, Op::BlockDownload, fi, ts, out)) {
+            none.kind = SdoOutcome::Kind::ProtocolError;
+        }
         ch.client_spoke_last = true;
         ch.size_known = fi.size_indicated;
         append(out, "SDO block download request ");
@@ -301,7 +342,9 @@ SdoOutcome SdoTracker::on_frame(NodeId node, sdo::Sender sender,
         fmt::format_to(it, " (blksize {})", fi.block_size);
         return none;
     case FrameKind::BlockUploadInitiateRequest:
-        start(ch, Op::BlockUpload, fi, ts);
+        if (start(node, ch, Op::BlockUpload, fi, ts, out)) {
+            none.kind = SdoOutcome::Kind::ProtocolError;
+        }
         ch.client_spoke_last = true;
         ch.block_size = fi.block_size;
         append(out, "SDO block upload request ");
@@ -434,6 +477,11 @@ void SdoTracker::check_timeouts(std::int64_t now_ns, std::vector<SdoStall>& stal
         if (ch.op == Op::None || now_ns - ch.last <= timeout_ns_) {
             continue;
         }
+        if (ch.short_response) { // already reported with the too-short response
+            ch.op = Op::None;
+            --open_;
+            continue;
+        }
         SdoStall s;
         s.node = static_cast<NodeId>(n);
         s.ts_ns = ch.last + timeout_ns_;
@@ -452,6 +500,11 @@ void SdoTracker::finish(std::vector<SdoStall>& stalls) {
     for (std::size_t n = 0; n < channels_.size(); ++n) {
         Channel& ch = channels_[n];
         if (ch.op == Op::None) {
+            continue;
+        }
+        if (ch.short_response) { // already reported with the too-short response
+            ch.op = Op::None;
+            --open_;
             continue;
         }
         SdoStall s;

@@ -67,6 +67,30 @@ void Stats::on_heartbeat(NodeId node, std::uint8_t state, std::int64_t ts) {
     ++n.heartbeats;
 }
 
+void Stats::on_guard_request(NodeId node) {
+    Node& n = nodes_[node];
+    n.seen = true;
+    ++n.guard_requests;
+    if (n.guard_pending) {
+        ++n.guard_unanswered;
+    }
+    n.guard_pending = true;
+}
+
+void Stats::on_guard_reply(NodeId node, std::uint8_t state, bool toggle) {
+    Node& n = nodes_[node];
+    n.seen = true;
+    n.nmt_state = state;
+    n.guard_pending = false;
+    // The toggle bit alternates from reply to reply (CiA 301 §7.2.8.3.2.1); the first reply seen
+    // may be anywhere in the sequence, so it is not checked.
+    if (n.guard_replies > 0 && toggle == n.guard_toggle) {
+        ++n.guard_toggle_errors;
+    }
+    n.guard_toggle = toggle;
+    ++n.guard_replies;
+}
+
 void Stats::on_emcy(NodeId node, std::uint16_t code, std::string text) {
     Node& n = nodes_[node];
     n.seen = true;
@@ -219,6 +243,16 @@ std::string Stats::table(std::optional<std::int64_t> now_ns) const {
     }
     if (now_ns) {
         fmt::format_to(it, "PDO rates: last 1 s\n");
+    }
+    for (std::size_t i = 1; i < nodes_.size(); ++i) {
+        const Node& n = nodes_[i];
+        if (n.guard_requests > 0 || n.guard_replies > 0) {
+            fmt::format_to(it,
+                           "node {} guarding: {} requests, {} replies, {} unanswered, {} toggle "
+                           "errors\n",
+                           i, n.guard_requests, n.guard_replies, n.guard_unanswered,
+                           n.guard_toggle_errors);
+        }
     }
     // The window still open counts if it is long enough to say something.
     double peak = peak_load_;

@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <cstdio>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace codrive::dump {
@@ -18,9 +19,24 @@ inline constexpr std::uint32_t kLinkTypeSocketCan = 227;
 /// True if the first bytes are a pcap or pcapng magic number.
 [[nodiscard]] bool looks_like_pcap(const std::uint8_t* p, std::size_t n);
 
+/// Outcome of decode_socketcan_record().
+enum class SocketCanDecode : std::uint8_t {
+    Ok,              ///< `f` holds the frame
+    TooShort,        ///< fewer than 8 bytes captured
+    ClassicLenOver8, ///< a classic (non-FD) record claims more than 8 data bytes; `f.len` holds it
+};
+
 /// Decodes a SocketCAN pcap record body (the CAN id is big-endian with the EFF/RTR/ERR flags in
-/// the top bits, as Linux's SLL-less capture writes it). False if it is too short.
-[[nodiscard]] bool decode_socketcan_record(const std::uint8_t* p, std::size_t n, Frame& f);
+/// the top bits, as Linux's SLL-less capture writes it). `n` is the captured length, `wire_len`
+/// the record's original length: 72 (CANFD_MTU) means CAN FD. Otherwise the frame is FD only if
+/// the flags byte has CANFD_FDF, no undefined bit, and both reserved bytes are zero (older kernels
+/// left junk there on classic frames).
+[[nodiscard]] SocketCanDecode decode_socketcan_record(const std::uint8_t* p, std::size_t n,
+                                                      std::size_t wire_len, Frame& f);
+
+/// The sentence for a failed decode_socketcan_record(); `where` names the record.
+[[nodiscard]] std::string socketcan_decode_error(SocketCanDecode result, std::string_view where,
+                                                 std::size_t n, const Frame& f);
 
 /// Reads classic pcap (either byte order, micro- or nanosecond) and pcapng (SHB/IDB/EPB/SPB, any
 /// if_tsresol). Records of other link types are skipped with a Malformed status; a file that

@@ -69,6 +69,8 @@ private:
         bool crc = false;
         bool in_block = false; ///< block segments are flowing (sender depends on op)
         bool end_seen = false;
+        bool confirmed = false;      ///< the server answered the initiate (segments may follow)
+        bool short_response = false; ///< last server frame was too short (already reported)
         bool tail_pending = false;
         std::uint8_t block_size = 0;
         std::uint8_t last_seq = 0;
@@ -85,7 +87,9 @@ private:
         std::size_t sub_len = 0;
     };
 
-    void start(Channel& ch, Op op, const sdo::FrameInfo& fi, std::int64_t ts);
+    /// Opens a transfer; a transfer still open on the channel is abandoned and named in `out`.
+    bool start(NodeId node, Channel& ch, Op op, const sdo::FrameInfo& fi, std::int64_t ts,
+               fmt::memory_buffer& out);
     void add_data(Channel& ch, std::span<const std::uint8_t> bytes);
     SdoOutcome complete(NodeId node, Channel& ch, std::int64_t ts, SdoMode mode,
                         fmt::memory_buffer& out);

@@ -45,12 +45,23 @@ public:
         std::array<std::uint32_t, 10> tpdo_slots{};
         std::array<std::uint32_t, 10> rpdo_slots{};
         std::array<std::int64_t, 10> slot_ids{};
+        // Node guarding (CiA 301 §7.2.8.3.2.1), kept apart from the heartbeat period.
+        std::uint64_t guard_requests = 0;
+        std::uint64_t guard_replies = 0;
+        std::uint64_t guard_unanswered = 0; ///< a request followed by another request
+        std::uint64_t guard_toggle_errors = 0;
+        bool guard_pending = false;
+        bool guard_toggle = false; ///< toggle bit of the last reply
     };
 
     explicit Stats(std::uint32_t bitrate = 500000) : bitrate_(bitrate) {}
 
     void on_frame(const Frame& f, std::int64_t ts_ns);
     void on_heartbeat(NodeId node, std::uint8_t state, std::int64_t ts_ns);
+    /// A node guarding remote request to `node`.
+    void on_guard_request(NodeId node);
+    /// A node guarding reply: state byte without the toggle bit, and the toggle bit.
+    void on_guard_reply(NodeId node, std::uint8_t state, bool toggle);
     void on_emcy(NodeId node, std::uint16_t code, std::string text);
     void on_sdo_done(NodeId node, std::int64_t duration_ns);
     void on_sdo_abort(NodeId node);
