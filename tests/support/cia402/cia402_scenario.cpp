@@ -397,10 +397,15 @@ AssertionResult quick_stop_while_moving(const CycleDriver& d, Axis& axis,
         return AssertionFailure() << axis.name() << ": QUICK STOP ACTIVE needs statusword bit 5 "
                                   << "clear, statusword 0x" << std::hex << axis.statusword();
     }
-    // Motion must have stopped (the ramp is over by the time the state is reached, or soon).
-    d.run_for(milliseconds(200));
-    if (auto r = stands_still(d, axis, standstill, milliseconds(100)); !r) {
-        return r;
+    // The state is entered when the quick-stop ramp starts, not when it ends: the axis must come
+    // to a standstill on the ramp of 6085h (the DS-BVS default, 1000 rpm/s, needs 0.6 s from
+    // 600 rpm: DS-BVS manual §6.2.122), so allow up to 3 s of 100 ms standstill checks.
+    AssertionResult still = AssertionFailure();
+    for (int i = 0; i < 30 && !(still = stands_still(d, axis, standstill, milliseconds(100)));
+         ++i) {
+    }
+    if (!still) {
+        return still;
     }
     // Leave PV with target velocity 0 so that enabling again does not restart the motion.
     axis.set_target_velocity(0);
