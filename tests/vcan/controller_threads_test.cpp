@@ -106,13 +106,15 @@ void enable_move_stop(controller::Threading mode, const char* label) {
         const auto steady = c.stats();
         if (dedicated) {
             // The guest has one CPU and shares the host with CI's parallel fuzz stage, and its
-            // timer runs coarse (docs/vcan.md): a SYNC slot or a TPDO is lost now and then there.
-            // The exact claim, 0 overruns and 0 missing TPDOs, is proven where time is not
-            // starved: tests/integration (in-process bus) and tests/ethercat (veth). Here the
-            // cyclic thread must still keep at least three of every four slots and TPDOs.
+            // timer runs coarse (docs/vcan.md): there a TPDO often arrives after the next SYNC
+            // (counted "missing" by then, though it is received) and a SYNC slot is skipped now
+            // and then. The exact claim, 0 overruns and 0 missing TPDOs, is proven where time is
+            // not starved: tests/integration (in-process bus) and tests/ethercat (veth). Here the
+            // cyclic thread must keep at least three of every four slots and receive (late or not)
+            // at least three TPDOs of every four cycles.
             const auto cycles = steady.cycles - moving.cycles;
             EXPECT_LE((steady.overruns - moving.overruns) * 4, cycles) << steady.to_string();
-            EXPECT_LE((steady.tpdos_missing - moving.tpdos_missing) * 4, cycles)
+            EXPECT_GE((steady.tpdos_received - moving.tpdos_received) * 4, cycles * 3)
                 << steady.to_string();
         }
 
