@@ -39,7 +39,7 @@ std::string Master::slave_label(std::size_t slave) const {
 }
 
 VoidResult Master::set_error(std::error_code ec, std::string sentence) {
-    last_error_ = std::move(sentence);
+    error_text() = std::move(sentence);
     return fail(ec);
 }
 
@@ -115,9 +115,9 @@ Result<std::vector<std::uint8_t>> Master::read_registers(std::size_t slave, std:
         return fail(e.error());
     }
     if (d[0].wkc != 1) {
-        last_error_ = fmt::format("{}: FPRD of register 0x{:04X} returned working counter {}, "
-                                  "expected 1: the slave does not answer",
-                                  slave_label(slave), reg, d[0].wkc);
+        error_text() = fmt::format("{}: FPRD of register 0x{:04X} returned working counter {}, "
+                                   "expected 1: the slave does not answer",
+                                   slave_label(slave), reg, d[0].wkc);
         return fail(EcatErrc::WorkingCounter);
     }
     return std::move(d[0].data);
@@ -290,9 +290,9 @@ Result<std::vector<std::uint8_t>> Master::read_sii(std::size_t slave, std::uint1
             const auto status = get_le<std::uint16_t>(st->data());
             if ((status & sii_ctl::kBusy) == 0) {
                 if ((status & sii_ctl::kErrorMask) != 0) {
-                    last_error_ = fmt::format("{}: SII EEPROM read at word 0x{:04X} failed "
-                                              "(status 0x{:04X})",
-                                              slave_label(slave), addr, status);
+                    error_text() = fmt::format("{}: SII EEPROM read at word 0x{:04X} failed "
+                                               "(status 0x{:04X})",
+                                               slave_label(slave), addr, status);
                     return fail(EcatErrc::SiiError);
                 }
                 const std::size_t n = (status & sii_ctl::kReadSize8) != 0 ? 8 : 4;
@@ -301,9 +301,9 @@ Result<std::vector<std::uint8_t>> Master::read_sii(std::size_t slave, std::uint1
                 break;
             }
             if (clock_.now() >= deadline) {
-                last_error_ = fmt::format("{}: the SII EEPROM stayed busy for {:.0f} ms at word "
-                                          "0x{:04X}",
-                                          slave_label(slave), to_ms(config_.sii_timeout), addr);
+                error_text() = fmt::format("{}: the SII EEPROM stayed busy for {:.0f} ms at word "
+                                           "0x{:04X}",
+                                           slave_label(slave), to_ms(config_.sii_timeout), addr);
                 return fail(EcatErrc::SiiTimeout);
             }
             link_.idle(microseconds(50));
@@ -322,8 +322,8 @@ Result<SiiInfo> Master::read_sii_info(std::size_t slave) {
     constexpr std::size_t kChunkWords = 64;
     while (!sii_categories_end(*image)) {
         if (image->size() >= 8192) {
-            last_error_ = fmt::format("{}: the SII EEPROM has no end-of-categories marker",
-                                      slave_label(slave));
+            error_text() = fmt::format("{}: the SII EEPROM has no end-of-categories marker",
+                                       slave_label(slave));
             return fail(EcatErrc::SiiError);
         }
         auto more = read_sii(slave, static_cast<std::uint16_t>(image->size() / 2), kChunkWords);
@@ -334,7 +334,7 @@ Result<SiiInfo> Master::read_sii_info(std::size_t slave) {
     }
     auto info = parse_sii(*image);
     if (!info) {
-        last_error_ = fmt::format("{}: the SII EEPROM content is malformed", slave_label(slave));
+        error_text() = fmt::format("{}: the SII EEPROM content is malformed", slave_label(slave));
     }
     return info;
 }

@@ -73,7 +73,7 @@ Result<std::optional<MailboxMessage>> Master::mailbox_read_once(std::size_t slav
     }
     auto m = MailboxMessage::decode(d[0].data);
     if (!m) {
-        last_error_ = fmt::format("{}: malformed mailbox header", slave_label(slave));
+        error_text() = fmt::format("{}: malformed mailbox header", slave_label(slave));
         return fail(m.error());
     }
     return std::optional<MailboxMessage>(std::move(*m));
@@ -120,7 +120,7 @@ Result<MailboxMessage> Master::mailbox_read(std::size_t slave, Duration timeout)
     }
     const SiiInfo& sii = slaves_[slave].sii;
     if (!sii.has_mailbox()) {
-        last_error_ = fmt::format("{}: the slave has no mailbox", slave_label(slave));
+        error_text() = fmt::format("{}: the slave has no mailbox", slave_label(slave));
         return fail(EcatErrc::MailboxNotSupported);
     }
     const TimePoint deadline = clock_.now() + timeout;
@@ -146,8 +146,8 @@ Result<MailboxMessage> Master::mailbox_read(std::size_t slave, Duration timeout)
             if (m.header.type == MailboxType::Error) {
                 const std::uint16_t code =
                     m.payload.size() >= 4 ? get_le<std::uint16_t>(m.payload.data() + 2) : 0;
-                last_error_ = fmt::format("{}: mailbox error 0x{:04X} ({})", slave_label(slave),
-                                          code, mailbox_error_text(code));
+                error_text() = fmt::format("{}: mailbox error 0x{:04X} ({})", slave_label(slave),
+                                           code, mailbox_error_text(code));
                 return fail(EcatErrc::MailboxError);
             }
             return std::move(m);
@@ -162,8 +162,8 @@ Result<MailboxMessage> Master::mailbox_read(std::size_t slave, Duration timeout)
             continue;
         }
         if (clock_.now() >= deadline) {
-            last_error_ = fmt::format("{}: no mailbox answer within {:.0f} ms", slave_label(slave),
-                                      to_ms(timeout));
+            error_text() = fmt::format("{}: no mailbox answer within {:.0f} ms", slave_label(slave),
+                                       to_ms(timeout));
             return fail(EcatErrc::MailboxTimeout);
         }
         link_.idle(config_.mailbox_poll);
@@ -247,7 +247,7 @@ Result<ObjectDescription> Master::sdo_info_object(std::size_t slave, std::uint16
         return fail(d.error());
     }
     if (d->size() < 6) {
-        last_error_ =
+        error_text() =
             fmt::format("{}: object description of 0x{:04X} too short", slave_label(slave), index);
         return fail(EcatErrc::ProtocolError);
     }
@@ -269,8 +269,8 @@ Result<EntryDescription> Master::sdo_info_entry(std::size_t slave, std::uint16_t
         return fail(d.error());
     }
     if (d->size() < 10) {
-        last_error_ = fmt::format("{}: entry description of 0x{:04X}:{:02X} too short",
-                                  slave_label(slave), index, subindex);
+        error_text() = fmt::format("{}: entry description of 0x{:04X}:{:02X} too short",
+                                   slave_label(slave), index, subindex);
         return fail(EcatErrc::ProtocolError);
     }
     EntryDescription e;

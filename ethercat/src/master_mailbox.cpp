@@ -437,7 +437,7 @@ void Master::run_mailbox_until_idle(std::size_t slave) {
                 if (!ch.active) {
                     ch.active = true;
                 }
-                mailbox_fail(slave, r.error(), last_error_, now);
+                mailbox_fail(slave, r.error(), last_error(), now);
             }
             deliver_finished();
             return;
@@ -459,7 +459,7 @@ Result<std::vector<std::uint8_t>> Master::run_transfer(std::size_t slave,
         run_mailbox_until_idle(slave);
     }
     if (out->error) {
-        last_error_ = out->sentence;
+        error_text() = out->sentence;
         return fail(out->error);
     }
     return std::move(out->data);

@@ -10,6 +10,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <utility>
 
 namespace codrive::ethercat {
 namespace {
@@ -335,8 +336,7 @@ Result<std::uint16_t> Master::receive_process_data(TimePoint deadline) {
                 mailbox_done(true, clock_.now());
                 probes_done(true);
                 deliver_finished();
-                last_error_ =
-                    fmt::format("cyclic LRW frame lost on {}: no answer in time", link_.name());
+                cyclic_note_ = CyclicNote::FrameLost; // put into words by last_error()
                 return fail(EcatErrc::NoResponse);
             }
             return fail(r.error());
@@ -361,8 +361,8 @@ Result<std::uint16_t> Master::receive_process_data(TimePoint deadline) {
                 probe_wkc_ = wkc;
             }
             deliver_finished();
-            last_error_ =
-                fmt::format("cyclic LRW working counter {}, expected {}", wkc, expected_wkc_);
+            cyclic_note_ = CyclicNote::WorkingCounter; // put into words by last_error()
+            noted_wkc_ = wkc;
             return fail(EcatErrc::WorkingCounter);
         }
         last_wkc_mismatch_.reset();
@@ -378,6 +378,21 @@ Result<std::uint16_t> Master::exchange_process_data() {
         return fail(s.error());
     }
     return receive_process_data(clock_.now() + config_.frame_timeout);
+}
+
+const std::string& Master::last_error() const {
+    switch (std::exchange(cyclic_note_, CyclicNote::None)) {
+    case CyclicNote::FrameLost:
+        last_error_ = fmt::format("cyclic LRW frame lost on {}: no answer in time", link_.name());
+        break;
+    case CyclicNote::WorkingCounter:
+        last_error_ =
+            fmt::format("cyclic LRW working counter {}, expected {}", noted_wkc_, expected_wkc_);
+        break;
+    case CyclicNote::None:
+        break;
+    }
+    return last_error_;
 }
 
 std::string Master::describe_wkc(std::uint16_t wkc, std::span<const AlProbe> probes) const {
@@ -426,7 +441,7 @@ std::string Master::diagnose_wkc(std::uint16_t wkc) {
             results[i].status = AlStatus::decode(probes[i].data);
         }
     }
-    last_error_ = describe_wkc(wkc, results);
+    error_text() = describe_wkc(wkc, results);
     return last_error_;
 }
 

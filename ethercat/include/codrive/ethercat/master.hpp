@@ -375,8 +375,10 @@ public:
     Result<std::vector<DcSlaveStatus>> dc_status();
 
     // ---- Diagnostics -----------------------------------------------------------------------
-    /// The sentence describing the last failure ("slave 2 (AKD2G): ...").
-    [[nodiscard]] const std::string& last_error() const { return last_error_; }
+    /// The sentence describing the last failure ("slave 2 (AKD2G): ..."). A failure of the
+    /// cyclic exchange is recorded there without formatting (the cyclic path allocates nothing)
+    /// and put into words here, on first use.
+    [[nodiscard]] const std::string& last_error() const;
     /// "slave 2 (AKD2G)".
     [[nodiscard]] std::string slave_label(std::size_t slave) const;
     [[nodiscard]] IClock& clock() { return clock_; }
@@ -387,6 +389,11 @@ public:
 
 private:
     VoidResult set_error(std::error_code ec, std::string sentence);
+    /// The sentence to overwrite: any failure of the cyclic exchange noted before is superseded.
+    std::string& error_text() {
+        cyclic_note_ = CyclicNote::None;
+        return last_error_;
+    }
     VoidResult check_slave(std::size_t slave);
     VoidResult setup_mailbox_sms(std::size_t slave);
     Result<std::vector<std::uint8_t>> sdo_info_request(std::size_t slave,
@@ -423,7 +430,11 @@ private:
     std::uint64_t mailbox_repeats_ = 0;
     std::vector<std::uint8_t> tx_buffer_ = std::vector<std::uint8_t>(kMaxFrameSize);
     std::vector<std::uint8_t> rx_buffer_ = std::vector<std::uint8_t>(kMaxFrameSize + 64);
-    std::string last_error_;
+    mutable std::string last_error_;
+    /// A failure of the cyclic exchange not yet put into words (see last_error()).
+    enum class CyclicNote : std::uint8_t { None, FrameLost, WorkingCounter };
+    mutable CyclicNote cyclic_note_ = CyclicNote::None;
+    std::uint16_t noted_wkc_ = 0;
     EmergencyHandler emergency_handler_;
     // Process data.
     bool mapped_ = false;
