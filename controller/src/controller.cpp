@@ -870,7 +870,13 @@ void Controller::shutdown() {
         end_safe_stop();
     }
     for_each_axis([this](drives::Axis& a) {
-        if (drives::needs_safe_stop(a.state())) {
+        if (a.state() == drives::cia402::State::QuickStopActive) {
+            // Not disabled on purpose: disable voltage during the ramp would let it coast.
+            emit(fmt::format("{}: still QUICK STOP ACTIVE after the safe shutdown: no standstill "
+                             "(statusword bit 10) within {:.0f} ms; left decelerating on its "
+                             "quick-stop ramp, not disabled",
+                             a.name(), to_ms(options_.shutdown_timeout)));
+        } else if (drives::needs_safe_stop(a.state())) {
             emit(fmt::format("{}: still {} after the safe shutdown: the drive did not confirm "
                              "quick stop and disable within {:.0f} ms",
                              a.name(), drives::cia402::to_string(a.state()),

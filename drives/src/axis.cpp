@@ -438,6 +438,15 @@ void Axis::advance(TimePoint now) {
                         name_, op_->what, state_text(), (statusword_ & sw::kOpMode12) != 0 ? 1 : 0,
                         (statusword_ & sw::kTargetReached) != 0 ? 1 : 0);
         break;
+    case OpKind::QuickStop:
+        if (state_ == State::QuickStopActive) {
+            detail = fmt::format("{}: quick stop timed out in QUICK STOP ACTIVE: the drive is "
+                                 "still on its quick-stop ramp (statusword bit 10 clear); the "
+                                 "quick stop stays commanded",
+                                 name_);
+            break;
+        }
+        [[fallthrough]];
     default:
         detail =
             fmt::format("{}: {} timed out in {}: {}", name_, op_->what, state_text(), diagnose());
@@ -487,8 +496,14 @@ void Axis::advance_power(TimePoint) {
             command_ = Command::QuickStop; // 11, 10, 7
             return;
         case State::QuickStopActive:
+            // Entered when the ramp starts. With 605Ah 5..8 the drive stays here and reports
+            // the end of the ramp with bit 10 (target reached); with 0..4 it goes on to SWITCH
+            // ON DISABLED by itself (transition 12 of CiA 402 §6.3, "quick stop completed").
+            // Disable voltage before that would cut the ramp and let the motor coast.
             command_ = Command::QuickStop;
-            finish({});
+            if ((statusword_ & sw::kTargetReached) != 0) {
+                finish({});
+            }
             return;
         case State::SwitchOnDisabled:
         case State::Fault:

@@ -15,6 +15,7 @@
 #include <fstream>
 #include <functional>
 #include <memory>
+#include <optional>
 #include <string>
 #include <unistd.h>
 
@@ -85,6 +86,36 @@ void expect_quick_stop_then_disable(const CanWire& wire, NodeId node) {
     EXPECT_LT(i, cw.size()) << "no disable voltage after the quick stop; controlwords " << hex(cw);
 }
 
+/// No coasting: the master's first disable voltage after its quick stop comes only once the
+/// drive reported standstill — SWITCH ON DISABLED reached by itself (605Ah 1/2) or QUICK STOP
+/// ACTIVE with bit 10 "target reached" (605Ah 5/6: DS-BVS §6.2.81, AKD2G §5.4.2).
+void expect_disable_only_at_standstill(const CanWire& wire, NodeId node) {
+    const auto& t = wire.timeline(node);
+    std::string seen;
+    std::optional<std::uint16_t> last_sw;
+    bool quick_stop = false;
+    for (const auto& e : t) {
+        char b[16];
+        std::snprintf(b, sizeof b, "%s%04X ", e.controlword ? "cw" : "sw", e.value);
+        seen += b;
+        if (!e.controlword) {
+            last_sw = e.value;
+            continue;
+        }
+        if (is_quick_stop(e.value)) {
+            quick_stop = true;
+        } else if (quick_stop && is_disable_voltage(e.value)) {
+            ASSERT_TRUE(last_sw.has_value()) << seen;
+            const bool halted_in_quick_stop = (*last_sw & 0x6F) == 0x07 && (*last_sw & 0x400) != 0;
+            EXPECT_TRUE(is_switch_on_disabled(*last_sw) || halted_in_quick_stop)
+                << "node " << int(node) << ": disable voltage while the drive reported 0x"
+                << std::hex << *last_sw << " (still on its quick-stop ramp): " << seen;
+            return;
+        }
+    }
+    ADD_FAILURE() << "node " << int(node) << ": no disable voltage after a quick stop: " << seen;
+}
+
 /// The drive's own statusword (SDO, after the master is gone) and its heartbeat state.
 void expect_disabled_and_pre_operational(CanWire& wire, NodeId node, std::uint16_t sw_index) {
     const auto sw = wire.read_u16(node, sw_index);
@@ -153,6 +184,7 @@ void run_command_stops_safely(int sig) {
                                        : "SIGTERM received: safe shutdown"))
         << run.output();
     expect_quick_stop_then_disable(wire, 1);
+    expect_disable_only_at_standstill(wire, 1);
     expect_disabled_and_pre_operational(wire, 1, 0x6041);
     std::remove(bus.c_str());
 }
@@ -230,7 +262,7 @@ TEST(VcanSafeStop, DriveCommandHoldingAnAxisStopsItOnSigintAndSigterm) {
                 }
                 return false;
             },
-            15s))
+            30s)) // a UBSan build in a loaded guest needs seconds to start
             << drive.output();
         wire.run_for(500ms); // moving
         ASSERT_TRUE(drive.running()) << drive.output();
@@ -241,6 +273,7 @@ TEST(VcanSafeStop, DriveCommandHoldingAnAxisStopsItOnSigintAndSigterm) {
         EXPECT_LT(ms, 2000.0) << drive.output();
         EXPECT_EQ(status, 128 + sig) << drive.output();
         expect_quick_stop_then_disable(wire, 1);
+        expect_disable_only_at_standstill(wire, 1);
         const auto sw = wire.read_u16(1, 0x6041);
         ASSERT_TRUE(sw.has_value());
         EXPECT_TRUE(is_switch_on_disabled(*sw)) << "statusword 0x" << std::hex << *sw << "\n"
@@ -270,7 +303,47 @@ TEST(VcanSafeStop, DemoProgramStopsSafelyOnSigint) {
     EXPECT_TRUE(has(demo, "SIGINT received: safe shutdown")) << demo.output();
     expect_quick_stop_then_disable(wire, 1);
     expect_quick_stop_then_disable(wire, 2);
+    expect_disable_only_at_standstill(wire, 1);
+    expect_disable_only_at_standstill(wire, 2);
     expect_disabled_and_pre_operational(wire, 1, 0x6041);
     expect_disabled_and_pre_operational(wire, 1, 0x6841); // AKD2G axis 2
     expect_disabled_and_pre_operational(wire, 2, 0x6041);
+}
+
+// The DS-BVS keeps 605Ah = 6 (quick-stop ramp 6085h = 1000 rpm/s, then stays in QUICK STOP
+// ACTIVE: DS-BVS §6.2.89, §6.2.122): jogging at 600 rpm it needs about 0.6 s to stop. The safe
+// stop on a signal waits for bit 10 before disable voltage; disabling at once would let the
+// motor coast.
+TEST(VcanSafeStop, DriveCommandWaitsForTheDsBvsQuickStopRampBeforeDisabling) {
+    CODRIVE_REQUIRE_VCAN("vcan0");
+    Process sim({tool_path("codrive-sim"), "-i", "vcan0", "--node", "2:ds-bvs"});
+    ASSERT_TRUE(sim.wait_for_output("ready", 30s)) << sim.output();
+    CanWire wire;
+    ASSERT_TRUE(wire.ok());
+    Process drive({tool_path("codrive"), "drive", "-i", "vcan0", "-n", "2", "jog", "--velocity",
+                   "600", "--seconds", "30"});
+    ASSERT_TRUE(wire.wait(
+        [&] {
+            for (auto cw : wire.controlwords(2)) {
+                if (is_enable_operation(cw)) {
+                    return true;
+                }
+            }
+            return false;
+        },
+        30s)) // a UBSan build in a loaded guest needs several seconds to start
+        << drive.output();
+    wire.run_for(1500ms); // up to speed
+    ASSERT_TRUE(drive.running()) << drive.output();
+    const auto [ms, status] = stop_with(drive, wire, SIGINT);
+    std::printf("codrive drive jog on the DS-BVS at 600 rpm: SIGINT to exit: %.0f ms\n", ms);
+    EXPECT_GE(ms, 0.0) << drive.output();
+    EXPECT_LT(ms, 2000.0) << drive.output();
+    EXPECT_EQ(status, 130) << drive.output();
+    expect_quick_stop_then_disable(wire, 2);
+    expect_disable_only_at_standstill(wire, 2);
+    const auto sw = wire.read_u16(2, 0x6041);
+    ASSERT_TRUE(sw.has_value());
+    EXPECT_TRUE(is_switch_on_disabled(*sw)) << "statusword 0x" << std::hex << *sw << "\n"
+                                            << drive.output();
 }

@@ -41,6 +41,10 @@ struct FakeAxisModel {
     bool following_error = false;
     std::int32_t velocity = 0;
     std::uint16_t mode_bits = 0;
+    /// Quick stop: cycles the drive needs to decelerate to standstill on its ramp.
+    int stop_ramp_cycles = 3;
+    int stop_ramp_left = 0; ///< cycles still to go on the ramp (0: halted)
+    int ramps_cut = 0;      ///< disable voltage received while still on the ramp (coasting)
 };
 
 class FakeDevice {
@@ -122,14 +126,24 @@ private:
                 } else if (cmd == Command::DisableVoltage) {
                     m.state = State::SwitchOnDisabled;
                 } else if (cmd == Command::QuickStop) {
-                    m.state = State::QuickStopActive;
+                    // 605Ah 0: disable drive function at once; otherwise the ramp starts.
+                    m.state = qs == 0 ? State::SwitchOnDisabled : State::QuickStopActive;
+                    m.stop_ramp_left = m.stop_ramp_cycles;
                 }
                 break;
             case State::QuickStopActive:
-                if (cmd == Command::DisableVoltage || (qs >= 0 && qs <= 2)) {
+                if (cmd == Command::DisableVoltage) { // 12: the power stage goes off now
+                    if (m.stop_ramp_left > 0) {
+                        ++m.ramps_cut;
+                    }
+                    m.stop_ramp_left = 0;
                     m.state = State::SwitchOnDisabled;
+                } else if (m.stop_ramp_left > 0) {
+                    --m.stop_ramp_left; // decelerating
+                } else if (qs >= 1 && qs <= 4) {
+                    m.state = State::SwitchOnDisabled; // 12: quick stop completed
                 } else if (cmd == Command::EnableOperation) {
-                    m.state = State::OperationEnabled;
+                    m.state = State::OperationEnabled; // 16 (605Ah 5..8)
                 }
                 break;
             case State::FaultReactionActive:
@@ -154,6 +168,10 @@ private:
         m.mode_bits = 0;
         if (m.state == State::OperationEnabled) {
             run_mode(a, m, cwv, display);
+        } else if (m.state == State::QuickStopActive) {
+            if (m.stop_ramp_left == 0) {
+                m.mode_bits |= cia402::sw::kTargetReached; // 605Ah 5..8: halted
+            }
         } else {
             m.pp_ack = false;
             m.pp_moving = false;

@@ -96,8 +96,12 @@ public:
     void switch_on(Done done, Duration timeout = Duration::zero());
     /// To SWITCH ON DISABLED (disable voltage: transitions 7, 9, 10, 12).
     void disable(Done done, Duration timeout = Duration::zero());
-    /// Quick stop (transitions 11, 7, 10): ends in QUICK STOP ACTIVE or SWITCH ON DISABLED,
-    /// depending on 605Ah.
+    /// Quick stop (transitions 11, 7, 10). Completes when the drive has stopped, not when the
+    /// ramp starts: in SWITCH ON DISABLED (605Ah 0..4: the drive leaves QUICK STOP ACTIVE by
+    /// itself after its ramp) or in QUICK STOP ACTIVE with statusword bit 10 set (605Ah 5..8:
+    /// "set when the quick stop is completed and the drive is halted" — DS-BVS §6.2.81, AKD2G
+    /// §5.4.2 6041h bit 10, CiA 402). A timeout while the drive still decelerates leaves the quick
+    /// stop commanded.
     void quick_stop(Done done, Duration timeout = Duration::zero());
     /// Fault reset (transition 15, rising edge of bit 7): ends in SWITCH ON DISABLED.
     void fault_reset(Done done, Duration timeout = Duration::zero());

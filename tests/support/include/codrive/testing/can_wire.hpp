@@ -73,6 +73,17 @@ public:
         return sw_[node];
     }
 
+    /// Controlwords and statuswords of `node` in the order they were on the wire (repeats
+    /// folded): statuswords from TPDO1 and from expedited SDO uploads of 6041h:00 (a master
+    /// that polls them), controlwords as controlwords() has them.
+    struct WordEvent {
+        bool controlword; ///< true: the master's 6040h; false: the drive's 6041h
+        std::uint16_t value;
+    };
+    [[nodiscard]] const std::vector<WordEvent>& timeline(NodeId node) const {
+        return timeline_[node];
+    }
+
     /// Reads an object of `node` by SDO (expedited); nullopt on failure. Only while no other
     /// SDO client talks to the node (the COB-IDs are the node's).
     std::optional<std::uint16_t> read_u16(NodeId node, std::uint16_t index) {
@@ -101,6 +112,12 @@ private:
             v.push_back(x);
         }
     }
+    void note(NodeId node, bool controlword, std::uint16_t x) {
+        auto& t = timeline_[node];
+        if (t.empty() || t.back().controlword != controlword || t.back().value != x) {
+            t.push_back({controlword, x});
+        }
+    }
     void on_frame(const Frame& f, TimePoint t) {
         if (client_) {
             client_->on_frame(f, t);
@@ -122,9 +139,16 @@ private:
             ++tpdo_[node];
             if (fn == 0x180 && f.len >= 2) {
                 fold(sw_[node], get_le<std::uint16_t>(f.data.data()));
+                note(node, false, get_le<std::uint16_t>(f.data.data()));
             }
         } else if (fn == 0x200 && f.len >= 2) {
             fold(cw_[node], get_le<std::uint16_t>(f.data.data()));
+            note(node, true, get_le<std::uint16_t>(f.data.data()));
+        }
+        if (fn == 0x580 && f.len == 8 && (f.data[0] & 0xE3) == 0x43 &&
+            get_le<std::uint16_t>(&f.data[1]) == 0x6041 && f.data[3] == 0) {
+            // CiA 301 §7.2.4.3.4: initiate upload response, expedited (scs 2, e = 1, s = 1).
+            note(node, false, get_le<std::uint16_t>(&f.data[4]));
         }
         if (fn == 0x600) {
             ++sdo_rx_[node];
@@ -133,6 +157,7 @@ private:
             get_le<std::uint16_t>(&f.data[1]) == 0x6040 && f.data[3] == 0) {
             // CiA 301 §7.2.4.3.3: initiate download, expedited (ccs 1, e = 1).
             fold(cw_[node], get_le<std::uint16_t>(&f.data[4]));
+            note(node, true, get_le<std::uint16_t>(&f.data[4]));
         }
     }
 
@@ -144,6 +169,7 @@ private:
     std::array<std::uint64_t, 128> tpdo_{};
     std::array<std::vector<std::uint16_t>, 128> cw_{};
     std::array<std::vector<std::uint16_t>, 128> sw_{};
+    std::array<std::vector<WordEvent>, 128> timeline_{};
     std::array<std::uint64_t, 128> sdo_rx_{};
     std::vector<std::pair<std::uint8_t, std::uint8_t>> nmt_;
     std::uint64_t syncs_ = 0;
