@@ -446,6 +446,17 @@ VoidResult Master::set_state_all(AlState target) {
         }
     };
     const std::array<AlState, 3> up{AlState::PreOp, AlState::SafeOp, AlState::Op};
+    // The cached states are what this master last set; a slave may have left them by itself
+    // (SM watchdog: SAFE-OP + 0x001B; power cycle: INIT). Read each one's AL status first.
+    std::vector<bool> fallen(slaves_.size(), false);
+    for (std::size_t i = 0; i < slaves_.size(); ++i) {
+        auto st = read_al_status(i);
+        if (!st) {
+            return fail(st.error());
+        }
+        fallen[i] = mapped_ && rank(st->state) < 2 && rank(slaves_[i].state) >= 2;
+        slaves_[i].state = st->state;
+    }
     // Down first: any slave above the target goes straight down.
     for (std::size_t i = 0; i < slaves_.size(); ++i) {
         if (rank(slaves_[i].state) > rank(target) || slaves_[i].state == AlState::Boot) {
@@ -464,6 +475,15 @@ VoidResult Master::set_state_all(AlState target) {
         if (step == AlState::SafeOp && !mapped_) {
             if (auto m = map_process_data(); !m) {
                 return m;
+            }
+        } else if (step == AlState::SafeOp) {
+            // Back in PRE-OP after a fall below SAFE-OP: its SMs and FMMUs are gone.
+            for (std::size_t i = 0; i < slaves_.size(); ++i) {
+                if (fallen[i]) {
+                    if (auto m = remap_slave(i); !m) {
+                        return m;
+                    }
+                }
             }
         }
         if (step == AlState::Op) {

@@ -127,6 +127,79 @@ Master::read_pdo_assignment(std::size_t slave) {
     return std::make_pair(std::move(*rx), std::move(*tx));
 }
 
+VoidResult Master::write_process_data_config(std::size_t slave, std::uint32_t logical_base) {
+    const SlaveInfo& s = slaves_[slave];
+    std::uint16_t sm2_start = kDefaultSm2;
+    std::uint16_t sm3_start = kDefaultSm3;
+    for (const auto& sm : s.sii.sync_managers) {
+        if (sm.type == SmType::Outputs) {
+            sm2_start = sm.start;
+        } else if (sm.type == SmType::Inputs) {
+            sm3_start = sm.start;
+        }
+    }
+    SyncManager sm2;
+    sm2.start = sm2_start;
+    sm2.length = s.output_bytes;
+    sm2.control = SyncManager::kDirWrite | 0x20 | SyncManager::kWatchdog; // 3-buffer
+    sm2.activate = s.output_bytes > 0 ? 1 : 0;
+    SyncManager sm3;
+    sm3.start = sm3_start;
+    sm3.length = s.input_bytes;
+    sm3.control = 0x20; // 3-buffer, ECAT reads
+    sm3.activate = s.input_bytes > 0 ? 1 : 0;
+    std::array<std::uint8_t, 16> smb{};
+    const auto e2 = sm2.encode();
+    const auto e3 = sm3.encode();
+    std::copy(e2.begin(), e2.end(), smb.begin());
+    std::copy(e3.begin(), e3.end(), smb.begin() + 8);
+    if (auto w = write_registers(slave, reg::sm(2), smb); !w) {
+        return w;
+    }
+    Fmmu out;
+    out.logical_start = logical_base + static_cast<std::uint32_t>(s.output_offset);
+    out.length = s.output_bytes;
+    out.physical_start = sm2_start;
+    out.type = Fmmu::kWrite;
+    out.activate = s.output_bytes > 0 ? 1 : 0;
+    Fmmu in;
+    in.logical_start = logical_base + static_cast<std::uint32_t>(s.input_offset);
+    in.length = s.input_bytes;
+    in.physical_start = sm3_start;
+    in.type = Fmmu::kRead;
+    in.activate = s.input_bytes > 0 ? 1 : 0;
+    std::array<std::uint8_t, 32> fb{};
+    const auto f0 = out.encode();
+    const auto f1 = in.encode();
+    std::copy(f0.begin(), f0.end(), fb.begin());
+    std::copy(f1.begin(), f1.end(), fb.begin() + 16);
+    if (auto w = write_registers(slave, reg::fmmu(0), fb); !w) {
+        return w;
+    }
+    return {};
+}
+
+VoidResult Master::remap_slave(std::size_t slave) {
+    SlaveInfo& s = slaves_[slave];
+    if (s.sii.has_coe()) {
+        // After a power cycle the slave may have its default PDO assignment (1C12h/1C13h)
+        // again; the image was laid out for the one read at mapping time.
+        auto a = read_pdo_assignment(slave);
+        if (!a) {
+            return fail(a.error());
+        }
+        if (bytes_of(a->first) != s.output_bytes || bytes_of(a->second) != s.input_bytes) {
+            return set_error(make_error_code(EcatErrc::NotConfigured),
+                             fmt::format("{}: came back with a different PDO layout ({} output / "
+                                         "{} input bytes, mapped {} / {}): configure it in "
+                                         "PRE-OP again, then map the process data anew",
+                                         slave_label(slave), bytes_of(a->first),
+                                         bytes_of(a->second), s.output_bytes, s.input_bytes));
+        }
+    }
+    return write_process_data_config(slave, logical_base_);
+}
+
 VoidResult Master::map_process_data(std::uint32_t logical_base) {
     mapped_ = false;
     std::size_t out_total = 0;
@@ -173,52 +246,7 @@ VoidResult Master::map_process_data(std::uint32_t logical_base) {
                                      out_total + in_total));
     }
     for (std::size_t i = 0; i < slaves_.size(); ++i) {
-        const SlaveInfo& s = slaves_[i];
-        std::uint16_t sm2_start = kDefaultSm2;
-        std::uint16_t sm3_start = kDefaultSm3;
-        for (const auto& sm : s.sii.sync_managers) {
-            if (sm.type == SmType::Outputs) {
-                sm2_start = sm.start;
-            } else if (sm.type == SmType::Inputs) {
-                sm3_start = sm.start;
-            }
-        }
-        SyncManager sm2;
-        sm2.start = sm2_start;
-        sm2.length = s.output_bytes;
-        sm2.control = SyncManager::kDirWrite | 0x20 | SyncManager::kWatchdog; // 3-buffer
-        sm2.activate = s.output_bytes > 0 ? 1 : 0;
-        SyncManager sm3;
-        sm3.start = sm3_start;
-        sm3.length = s.input_bytes;
-        sm3.control = 0x20; // 3-buffer, ECAT reads
-        sm3.activate = s.input_bytes > 0 ? 1 : 0;
-        std::array<std::uint8_t, 16> smb{};
-        const auto e2 = sm2.encode();
-        const auto e3 = sm3.encode();
-        std::copy(e2.begin(), e2.end(), smb.begin());
-        std::copy(e3.begin(), e3.end(), smb.begin() + 8);
-        if (auto w = write_registers(i, reg::sm(2), smb); !w) {
-            return w;
-        }
-        Fmmu out;
-        out.logical_start = logical_base + static_cast<std::uint32_t>(s.output_offset);
-        out.length = s.output_bytes;
-        out.physical_start = sm2_start;
-        out.type = Fmmu::kWrite;
-        out.activate = s.output_bytes > 0 ? 1 : 0;
-        Fmmu in;
-        in.logical_start = logical_base + static_cast<std::uint32_t>(s.input_offset);
-        in.length = s.input_bytes;
-        in.physical_start = sm3_start;
-        in.type = Fmmu::kRead;
-        in.activate = s.input_bytes > 0 ? 1 : 0;
-        std::array<std::uint8_t, 32> fb{};
-        const auto f0 = out.encode();
-        const auto f1 = in.encode();
-        std::copy(f0.begin(), f0.end(), fb.begin());
-        std::copy(f1.begin(), f1.end(), fb.begin() + 16);
-        if (auto w = write_registers(i, reg::fmmu(0), fb); !w) {
+        if (auto w = write_process_data_config(i, logical_base); !w) {
             return w;
         }
     }

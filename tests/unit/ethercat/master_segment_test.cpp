@@ -346,6 +346,27 @@ TEST_F(EcatMasterSegment, CyclicLrwKeepsTheExpectedWorkingCounterAndMovesTheDriv
     EXPECT_NEAR(get_le<std::int32_t>(master_.inputs(0).data() + 2), 10000, 100);
 }
 
+// A slave whose SM watchdog expired drops to SAFE-OP + 0x001B by itself; set_state_all(OP)
+// reads every slave's AL status instead of trusting the states it set, acknowledges the error
+// and brings that slave back (ETG.1000.6 §6.4.1.3), the others staying in OP.
+TEST_F(EcatMasterSegment, SetStateAllBringsASlaveThatFellToSafeOpBackToOp) {
+    to_op();
+    ASSERT_TRUE(master_.exchange_process_data()) << master_.last_error();
+    clock_.advance(milliseconds(150)); // no process data for 150 ms: only slave 1 notices
+    ASSERT_TRUE(segment_.slave(1).tick(clock_.now()));
+    ASSERT_EQ(segment_.slave(1).state(), AlState::SafeOp);
+    EXPECT_EQ(master_.slaves()[1].state, AlState::Op) << "the cache does not know yet";
+    ASSERT_FALSE(master_.exchange_process_data());
+    ASSERT_TRUE(master_.set_state_all(AlState::Op)) << master_.last_error();
+    for (std::size_t i = 0; i < segment_.size(); ++i) {
+        EXPECT_EQ(segment_.slave(i).state(), AlState::Op) << i;
+        EXPECT_EQ(master_.slaves()[i].state, AlState::Op) << i;
+    }
+    auto w = master_.exchange_process_data();
+    ASSERT_TRUE(w) << master_.last_error();
+    EXPECT_EQ(*w, 9);
+}
+
 TEST_F(EcatMasterSegment, SilentSlaveDropsTheWorkingCounterAndIsNamed) {
     to_op();
     segment_.slave(1).faults().silent = true;

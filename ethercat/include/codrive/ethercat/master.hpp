@@ -227,8 +227,12 @@ public:
     /// Errors: StateChangeRefused, StateChangeTimeout, WorkingCounter, NoResponse.
     VoidResult request_state(std::size_t slave, AlState target);
     /// Steps every slave up (or down) to `target`: mailboxes before PRE-OP, process data mapped
-    /// before SAFE-OP, one valid process data exchange before OP. Errors: as request_state(),
-    /// map_process_data().
+    /// before SAFE-OP, one valid process data exchange before OP. Each slave's state is read
+    /// first (its AL status), so a slave that left OP by itself — SAFE-OP with the watchdog
+    /// error 0x001B, or INIT after a power cycle — is brought back: its error acknowledged, its
+    /// mailbox and its part of the process image (SM2/SM3, FMMUs) configured again, provided
+    /// its PDO layout (1C12h/1C13h) is the one mapped. Errors: as request_state(),
+    /// map_process_data(); NotConfigured when a slave came back with another PDO layout.
     VoidResult set_state_all(AlState target);
 
     // ---- Mailbox and CoE -------------------------------------------------------------------
@@ -420,6 +424,10 @@ private:
     void deliver_finished();
     void probes_add();
     void probes_done(bool lost);
+    /// Programs SM2/SM3 and FMMU0/1 of one slave for its part of the process image.
+    VoidResult write_process_data_config(std::size_t slave, std::uint32_t logical_base);
+    /// A mapped slave back from below SAFE-OP: its PDO layout checked, its SMs/FMMUs rewritten.
+    VoidResult remap_slave(std::size_t slave);
 
     IEcatLink& link_;
     IClock& clock_;
