@@ -156,8 +156,11 @@ LineStatus AscReader::parse_fd(std::string_view rest, TraceRecord& out, std::str
         why = "expected <brs> <esi> <dlc> <data length> after the id of a CANFD event";
         return LineStatus::Error;
     }
-    if (static_cast<std::size_t>(len) != fd_dlc_to_len(static_cast<std::uint8_t>(dlc)) &&
-        !(dlc > 8 && len == 8)) {
+    // A classic frame may have a DLC of 9..15 with 8 bytes; a remote frame has no data.
+    const bool len_fits =
+        static_cast<std::size_t>(len) == fd_dlc_to_len(static_cast<std::uint8_t>(dlc)) ||
+        (dlc > 8 && len == 8) || len == 0;
+    if (!len_fits) {
         why = "data length does not match the DLC";
         return LineStatus::Error;
     }
@@ -186,6 +189,11 @@ LineStatus AscReader::parse_fd(std::string_view rest, TraceRecord& out, std::str
     } else if ((flags & 0x10U) != 0) {
         f.flags = static_cast<std::uint8_t>(f.flags | Frame::kRtr);
         f.len = static_cast<std::uint8_t>(dlc > 8 ? 8 : dlc);
+        return LineStatus::Frame;
+    }
+    if (len == 0 && dlc != 0) {
+        why = "data length does not match the DLC";
+        return LineStatus::Error;
     }
     return LineStatus::Frame;
 }

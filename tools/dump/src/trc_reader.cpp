@@ -349,8 +349,14 @@ LineStatus TrcReader::parse_line(std::string_view line, TraceRecord& out, std::s
     }
     const bool fd = is_fd_type(type);
     std::size_t want = static_cast<std::size_t>(length);
-    if (fd && (length_is_dlc || (length > 8 && length < 16))) {
-        want = fd_dlc_to_len(static_cast<std::uint8_t>(length)); // a DLC 9..15 is 12..64 bytes
+    if (fd && (length_is_dlc || fd_dlc_to_len(fd_len_to_dlc(want)) != want)) {
+        // An `L` column is the DLC (9..15 mean 12..64 bytes); a length no CAN FD frame can have
+        // (9, 10, 11, 13, 14, 15) in an `l` column is a DLC too.
+        if (length > 15) {
+            why = "bad CAN FD DLC";
+            return LineStatus::Error;
+        }
+        want = fd_dlc_to_len(static_cast<std::uint8_t>(length));
     } else if (!fd && want > 8) {
         why = "a classic CAN frame carries at most 8 bytes";
         return LineStatus::Error;
