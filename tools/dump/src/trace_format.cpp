@@ -96,6 +96,10 @@ std::unique_ptr<ITraceSource> open_trace_reader(BufferedInput& input, TraceForma
     if (detected != nullptr) {
         *detected = format;
     }
+    return make_trace_reader(format, input);
+}
+
+std::unique_ptr<ITraceSource> make_trace_reader(TraceFormat format, BufferedInput& input) {
     switch (format) {
     case TraceFormat::Pcap:
         return std::make_unique<PcapReader>(input);

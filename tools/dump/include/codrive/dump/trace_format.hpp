@@ -28,6 +28,10 @@ enum class TraceFormat : std::uint8_t {
 /// ASC header), or an ASC event line; a CSV header with id and data columns; else candump text.
 [[nodiscard]] TraceFormat detect_trace_format(const std::uint8_t* p, std::size_t n);
 
+/// The reader for `format` (whatever the content).
+[[nodiscard]] std::unique_ptr<ITraceSource> make_trace_reader(TraceFormat format,
+                                                              BufferedInput& input);
+
 /// Detects the format of `input` (looking at up to 64 KiB) and returns its reader.
 [[nodiscard]] std::unique_ptr<ITraceSource> open_trace_reader(BufferedInput& input,
                                                               TraceFormat* detected = nullptr);
