@@ -33,6 +33,25 @@ bool looks_like_asc_event(std::string_view line) {
     return id == "ErrorFrame" || dir == "Rx" || dir == "Tx";
 }
 
+// True once the buffered bytes decide the format: a pcap magic number, or a complete line that
+// is neither blank nor a '#' comment.
+bool decisive(const std::uint8_t* p, std::size_t n) {
+    if (looks_like_pcap(p, n)) {
+        return true;
+    }
+    std::string_view text(reinterpret_cast<const char*>(p), n);
+    for (auto nl = text.find('\n'); nl != std::string_view::npos; nl = text.find('\n')) {
+        scan::Cursor c(text.substr(0, nl));
+        c.skip_space();
+        const auto rest = c.rest();
+        if (!rest.empty() && rest != "\r" && rest.front() != '#') {
+            return true;
+        }
+        text.remove_prefix(nl + 1);
+    }
+    return false;
+}
+
 } // namespace
 
 std::string_view to_string(TraceFormat f) {
@@ -90,8 +109,14 @@ TraceFormat detect_trace_format(const std::uint8_t* p, std::size_t n) {
 }
 
 std::unique_ptr<ITraceSource> open_trace_reader(BufferedInput& input, TraceFormat* detected) {
+    // Read only as far as the first telling line: on a pipe (`candump -L can0 | codrive-dump -r
+    // -`) waiting for a fixed amount would hold back the first lines.
     const std::size_t look = std::min<std::size_t>(input.capacity(), 64 * 1024);
-    input.ensure(look);
+    input.ensure(4);
+    while (!input.at_eof() && input.available() < look &&
+           !decisive(input.data(), input.available())) {
+        input.ensure(input.available() + 1);
+    }
     const auto format = detect_trace_format(input.data(), input.available());
     if (detected != nullptr) {
         *detected = format;

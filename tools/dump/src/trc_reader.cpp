@@ -86,7 +86,8 @@ TraceBusState status_state(std::uint32_t v) {
 
 } // namespace
 
-TrcReader::TrcReader(BufferedInput& input) : TextTraceReader(input), columns_(kColumns10) {}
+TrcReader::TrcReader(BufferedInput& input)
+    : TextTraceReader(input), columns_(kColumns10), iface_("pcan") {}
 
 void TrcReader::set_version(unsigned major, unsigned minor) {
     version_ = major * 100 + minor;

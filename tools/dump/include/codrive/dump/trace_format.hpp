@@ -32,7 +32,8 @@ enum class TraceFormat : std::uint8_t {
 [[nodiscard]] std::unique_ptr<ITraceSource> make_trace_reader(TraceFormat format,
                                                               BufferedInput& input);
 
-/// Detects the format of `input` (looking at up to 64 KiB) and returns its reader.
+/// Detects the format of `input` (reading until the first line that tells, at most 64 KiB) and
+/// returns its reader.
 [[nodiscard]] std::unique_ptr<ITraceSource> open_trace_reader(BufferedInput& input,
                                                               TraceFormat* detected = nullptr);
 
