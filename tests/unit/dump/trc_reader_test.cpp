@@ -157,3 +157,12 @@ TEST(DumpTrc, BadHeaderValuesAreReported) {
     EXPECT_EQ(items[1].error.rfind("2: bad STARTTIME", 0), 0U) << items[1].error;
     EXPECT_EQ(items[2].error.rfind("3: unknown column 'Q'", 0), 0U) << items[2].error;
 }
+
+TEST(DumpTrc, Version12HasABusColumnBeforeTheType) {
+    const auto items = read_trace(";$FILEVERSION=1.2\n"
+                                  ";$STARTTIME=46350\n"
+                                  "     1)      1841.0 3  Rx         0704  1  05\n");
+    ASSERT_EQ(items.size(), 1U);
+    EXPECT_EQ(items[0].frame, Frame::make(0x704, {0x05}));
+    EXPECT_EQ(items[0].iface, "pcan3");
+}

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
-// CAN traces exported as CSV (SavvyCAN, python-can, PCAN-View/BusMaster style exports).
+// CAN traces exported as CSV (SavvyCAN, python-can, any export whose header names the columns).
 #pragma once
 
 #include <codrive/dump/text_reader.hpp>
