@@ -7,7 +7,9 @@
 
 #include <gtest/gtest.h>
 
+#include <fstream>
 #include <memory>
+#include <sstream>
 
 namespace codrive::dump::testing {
 
@@ -60,6 +62,50 @@ std::string run_dump(const std::string& trace, DumpOptions options,
 std::string run_dump_bytes(std::string_view bytes, DumpOptions options) {
     auto in = BufferedInput::from_memory(bytes);
     return run_on(*in, "memory", std::move(options), {});
+}
+
+std::vector<ReadItem> read_trace(std::string_view bytes, TraceFormat* format) {
+    auto in = BufferedInput::from_memory(bytes);
+    auto reader = open_trace_reader(*in, format);
+    std::vector<ReadItem> items;
+    TraceRecord r;
+    for (int i = 0; i < 10000; ++i) {
+        ReadItem item;
+        item.status = reader->next(r);
+        if (item.status == ReadStatus::End) {
+            break;
+        }
+        if (item.status == ReadStatus::Frame) {
+            item.frame = r.frame;
+            item.ts_ns = r.ts_ns;
+            item.has_ts = r.has_ts;
+            item.iface = std::string(r.iface);
+        } else {
+            item.error = std::string(reader->error());
+        }
+        items.push_back(item);
+        if (item.status == ReadStatus::Fatal) {
+            break;
+        }
+    }
+    return items;
+}
+
+std::vector<ReadItem> frames_of(const std::vector<ReadItem>& items) {
+    std::vector<ReadItem> out;
+    for (const auto& i : items) {
+        if (i.status == ReadStatus::Frame) {
+            out.push_back(i);
+        }
+    }
+    return out;
+}
+
+std::string slurp(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    std::stringstream ss;
+    ss << in.rdbuf();
+    return ss.str();
 }
 
 } // namespace codrive::dump::testing

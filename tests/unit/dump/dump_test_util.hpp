@@ -3,6 +3,7 @@
 #pragma once
 
 #include <codrive/dump/dumper.hpp>
+#include <codrive/dump/trace_format.hpp>
 
 #include <cstdint>
 #include <string>
@@ -22,5 +23,25 @@ std::string run_dump(const std::string& trace, DumpOptions options,
 
 /// Decodes bytes in memory.
 std::string run_dump_bytes(std::string_view bytes, DumpOptions options);
+
+/// One step of a reader, kept (the record's interface copied).
+struct ReadItem {
+    ReadStatus status = ReadStatus::End;
+    Frame frame;
+    std::int64_t ts_ns = 0;
+    bool has_ts = false;
+    std::string iface;
+    std::string error; ///< for Malformed and Fatal
+};
+
+/// Reads `bytes` with the reader open_trace_reader() picks (its format in `format`) until End
+/// or Fatal; every Frame and Malformed step in order (at most 10000).
+std::vector<ReadItem> read_trace(std::string_view bytes, TraceFormat* format = nullptr);
+
+/// Only the frames of read_trace().
+std::vector<ReadItem> frames_of(const std::vector<ReadItem>& items);
+
+/// The contents of a file.
+std::string slurp(const std::string& path);
 
 } // namespace codrive::dump::testing

@@ -112,3 +112,15 @@ TEST(DumpGolden, StatisticsTablePerNodeAndBusLoad) {
 TEST(DumpGolden, EmcyVendorTextFromTheProfileMatchedByIdentity) {
     expect_golden("profile.expected", run_dump("profile.log", {}));
 }
+
+TEST(DumpGolden, PeakTrc21WithCanFdRemoteErrorStatusCounterAndEventLines) {
+    expect_golden("formats/features-v21.expected", run_dump("formats/features-v21.trc", {}));
+}
+
+TEST(DumpGolden, VectorAscRelativeTimesCanFdChannelAndErrorFrame) {
+    expect_golden("formats/features-asc.expected", run_dump("formats/features.asc", {}));
+}
+
+TEST(DumpGolden, CsvWithSemicolonsMillisecondsAndCanFd) {
+    expect_golden("formats/features-csv.expected", run_dump("formats/features.csv", {}));
+}

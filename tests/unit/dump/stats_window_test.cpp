@@ -1,5 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 // `--top` rates over the last second (not since the start), and a scan's silent ids in one line.
+#include "dump_test_util.hpp"
+
 #include <codrive/dump/stats.hpp>
 
 #include <gtest/gtest.h>
@@ -70,4 +72,25 @@ TEST(DumpStatsWindow, NodesThatNeverAnsweredAScanAreOneLineNotRows) {
     EXPECT_TRUE(row(t, 127).empty()) << t;
     EXPECT_NE(t.find("no answer to SDO requests from 126 nodes: 1..2, 4..127\n"), std::string::npos)
         << t;
+}
+
+TEST(DumpStatsWindow, WithoutTimestampsThereAreNoRatesNotCountsPerSecond) {
+    // candump screen output without -t: 3 TPDOs of node 4 and no time at all.
+    codrive::dump::DumpOptions o;
+    o.print = false;
+    o.stats = true;
+    const auto out = codrive::dump::testing::run_dump_bytes("  can0  704   [1]  05\n"
+                                                            "  can0  184   [2]  37 06\n"
+                                                            "  can0  184   [2]  37 06\n"
+                                                            "  can0  184   [2]  37 06\n",
+                                                            o);
+    EXPECT_NE(
+        out.find("4 frames (0 error frames) without timestamps: no PDO rates and no bus load"),
+        std::string::npos)
+        << out;
+    // The node row: TPDO/s and RPDO/s are "-", not the count 3.
+    const auto row = out.substr(out.find("\n   4 "),
+                                out.find('\n', out.find("\n   4 ") + 1) - out.find("\n   4 "));
+    EXPECT_EQ(row.find(" 3"), std::string::npos) << row;
+    EXPECT_NE(row.find("-         -"), std::string::npos) << row;
 }

@@ -118,7 +118,7 @@ void Decoder::decode(const TraceRecord& r, Decoded& out, std::vector<Note>& note
     out.severity = Severity::Info;
     out.service = Service::Other;
     if (stats_ != nullptr) {
-        stats_->on_frame(f, r.ts_ns);
+        stats_->on_frame(f, r.ts_ns, r.has_ts);
     }
     if (r.has_ts && r.ts_ns >= next_timeout_check_) {
         sdo_.check_timeouts(r.ts_ns, stalls_);

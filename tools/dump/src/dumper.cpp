@@ -2,7 +2,7 @@
 // The codrive-dump pipeline.
 #include <codrive/dump/dumper.hpp>
 
-#include <codrive/dump/log_parser.hpp>
+#include <codrive/dump/trace_format.hpp>
 
 namespace codrive::dump {
 namespace {
@@ -91,14 +91,9 @@ void Dumper::flush() {
 
 InputSummary dump_input(BufferedInput& input, std::string_view name, Dumper& dumper) {
     InputSummary sum;
-    input.ensure(4);
-    std::unique_ptr<ITraceSource> source;
-    std::unique_ptr<LogReader> log;
-    if (looks_like_pcap(input.data(), input.available())) {
-        source = std::make_unique<PcapReader>(input);
-    } else {
-        source = std::make_unique<LogReader>(input);
-    }
+    auto source = open_trace_reader(input);
+    // Text readers name the line ("trace.trc:12: ..."), container readers the record.
+    const std::string_view sep = source->line_numbered() ? ":" : ": ";
     TraceRecord rec;
     for (;;) {
         switch (source->next(rec)) {
@@ -108,11 +103,11 @@ InputSummary dump_input(BufferedInput& input, std::string_view name, Dumper& dum
             continue;
         case ReadStatus::Malformed:
             ++sum.malformed;
-            dumper.report(fmt::format("{}: {}", name, source->error()));
+            dumper.report(fmt::format("{}{}{}", name, sep, source->error()));
             continue;
         case ReadStatus::Fatal:
             sum.fatal = true;
-            dumper.report(fmt::format("{}: {}", name, source->error()));
+            dumper.report(fmt::format("{}{}{}", name, sep, source->error()));
             return sum;
         case ReadStatus::End:
             return sum;

@@ -2,149 +2,24 @@
 // Hand-written candump text parsers (log and screen formats).
 #include <codrive/dump/log_parser.hpp>
 
-#include <fmt/format.h>
+#include <codrive/dump/text_scan.hpp>
 
-#include <array>
+#include <fmt/format.h>
 
 namespace codrive::dump {
 namespace {
 
-constexpr std::array<std::int8_t, 256> make_hex_table() {
-    std::array<std::int8_t, 256> t{};
-    for (auto& v : t) {
-        v = -1;
-    }
-    for (int c = '0'; c <= '9'; ++c) {
-        t[static_cast<std::size_t>(c)] = static_cast<std::int8_t>(c - '0');
-    }
-    for (int c = 'a'; c <= 'f'; ++c) {
-        t[static_cast<std::size_t>(c)] = static_cast<std::int8_t>(c - 'a' + 10);
-    }
-    for (int c = 'A'; c <= 'F'; ++c) {
-        t[static_cast<std::size_t>(c)] = static_cast<std::int8_t>(c - 'A' + 10);
-    }
-    return t;
-}
-constexpr auto kHex = make_hex_table();
-
-inline int hexval(char c) {
-    return kHex[static_cast<unsigned char>(c)];
-}
-inline bool is_space(char c) {
-    return c == ' ' || c == '\t';
-}
-inline bool is_digit(char c) {
-    return c >= '0' && c <= '9';
-}
-
-struct Cursor {
-    const char* p;
-    const char* end;
-    [[nodiscard]] bool done() const { return p == end; }
-    void skip_space() {
-        while (p != end && is_space(*p)) {
-            ++p;
-        }
-    }
-    std::string_view token() {
-        const char* s = p;
-        while (p != end && !is_space(*p)) {
-            ++p;
-        }
-        return {s, static_cast<std::size_t>(p - s)};
-    }
-};
-
-// Days from 1970-01-01 to y-m-d (proleptic Gregorian), for `-t A` screen timestamps.
-std::int64_t days_from_civil(std::int64_t y, unsigned m, unsigned d) {
-    y -= m <= 2 ? 1 : 0;
-    const std::int64_t era = (y >= 0 ? y : y - 399) / 400;
-    const auto yoe = static_cast<unsigned>(y - era * 400);
-    const unsigned doy = (153 * (m + (m > 2 ? static_cast<unsigned>(-3) : 9)) + 2) / 5 + d - 1;
-    const unsigned doe = yoe * 365 + yoe / 4 - yoe / 100 + doy;
-    return era * 146097 + static_cast<std::int64_t>(doe) - 719468;
-}
-
-bool parse_digits(std::string_view s, std::int64_t& v) {
-    if (s.empty() || s.size() > 18) {
-        return false;
-    }
-    v = 0;
-    for (char c : s) {
-        if (!is_digit(c)) {
-            return false;
-        }
-        v = v * 10 + (c - '0');
-    }
-    return true;
-}
-
-// "1700000000.123456" (1..9 fraction digits) → ns.
-bool parse_seconds(std::string_view s, std::int64_t& ns) {
-    const auto dot = s.find('.');
-    std::int64_t sec = 0;
-    if (!parse_digits(s.substr(0, dot), sec) || sec > 9'000'000'000LL) {
-        return false;
-    }
-    std::int64_t frac = 0;
-    if (dot != std::string_view::npos) {
-        const auto f = s.substr(dot + 1);
-        if (f.empty() || f.size() > 9 || !parse_digits(f, frac)) {
-            return false;
-        }
-        for (std::size_t i = f.size(); i < 9; ++i) {
-            frac *= 10;
-        }
-    }
-    ns = sec * 1'000'000'000LL + frac;
-    return true;
-}
-
-// "2023-11-14 22:13:20.123456" → ns (read as UTC).
-bool parse_date_time(std::string_view s, std::int64_t& ns) {
-    if (s.size() < 19 || s[4] != '-' || s[7] != '-' || s[10] != ' ' || s[13] != ':' ||
-        s[16] != ':') {
-        return false;
-    }
-    std::int64_t y = 0;
-    std::int64_t mo = 0;
-    std::int64_t d = 0;
-    std::int64_t h = 0;
-    std::int64_t mi = 0;
-    std::int64_t sec_ns = 0;
-    if (!parse_digits(s.substr(0, 4), y) || !parse_digits(s.substr(5, 2), mo) ||
-        !parse_digits(s.substr(8, 2), d) || !parse_digits(s.substr(11, 2), h) ||
-        !parse_digits(s.substr(14, 2), mi) || !parse_seconds(s.substr(17), sec_ns) || y < 1970 ||
-        y > 2200 || mo < 1 || mo > 12 || d < 1 || d > 31 || h > 23 || mi > 59 ||
-        sec_ns >= 61'000'000'000LL) {
-        return false;
-    }
-    const auto days = days_from_civil(y, static_cast<unsigned>(mo), static_cast<unsigned>(d));
-    ns = ((days * 24 + h) * 60 + mi) * 60 * 1'000'000'000LL + sec_ns;
-    return true;
-}
-
-bool parse_hex_id(std::string_view s, std::uint32_t& id) {
-    if (s.empty() || s.size() > 8) {
-        return false;
-    }
-    std::uint32_t v = 0;
-    for (char c : s) {
-        const int h = hexval(c);
-        if (h < 0) {
-            return false;
-        }
-        v = (v << 4) | static_cast<std::uint32_t>(h);
-    }
-    id = v;
-    return true;
-}
+using scan::Cursor;
+using scan::hexval;
+using scan::parse_date_time;
+using scan::parse_digits;
+using scan::parse_seconds;
 
 // Sets id and flags from an id token: 3 digits (or fewer) 11-bit, 8 digits 29-bit; an 8-digit id
 // with CAN_ERR_FLAG (bit 29) is an error frame as candump logs it.
 bool set_id(std::string_view tok, Frame& f, std::string_view& error) {
     std::uint32_t id = 0;
-    if (!parse_hex_id(tok, id)) {
+    if (!scan::parse_hex_u32(tok, id)) {
         error = "bad CAN identifier";
         return false;
     }
@@ -231,10 +106,11 @@ bool parse_log_payload(std::string_view s, Frame& f, std::string_view& error) {
 LineStatus parse_screen_rest(Cursor& c, std::string_view id_tok, TraceRecord& out,
                              std::string_view& error) {
     Frame& f = out.frame;
+    const auto fd_flags = static_cast<std::uint8_t>(f.flags & (Frame::kFd | Frame::kBrs));
     if (!set_id(id_tok, f, error)) {
         return LineStatus::Error;
     }
-    c.skip_space();
+    f.flags = static_cast<std::uint8_t>(f.flags | fd_flags);
     auto len_tok = c.token();
     if (len_tok.size() < 3 || len_tok.front() != '[' || len_tok.back() != ']') {
         error = "expected a length such as [8]";
@@ -245,7 +121,8 @@ LineStatus parse_screen_rest(Cursor& c, std::string_view id_tok, TraceRecord& ou
         error = "bad length";
         return LineStatus::Error;
     }
-    if (len > 8) {
+    if (len > 8 || len_tok.size() == 4) {
+        // candump prints CAN FD lengths with two digits ("[08]", "[12]"), classic ones as "[8]".
         f.flags = static_cast<std::uint8_t>(f.flags | Frame::kFd);
     }
     c.skip_space();
@@ -276,7 +153,7 @@ LineStatus parse_screen_rest(Cursor& c, std::string_view id_tok, TraceRecord& ou
 } // namespace
 
 LineStatus parse_log_line(std::string_view line, TraceRecord& out, std::string_view& error) {
-    Cursor c{line.data(), line.data() + line.size()};
+    Cursor c(line);
     c.skip_space();
     if (c.done() || *c.p == '#') {
         return LineStatus::Skip;
@@ -308,8 +185,20 @@ LineStatus parse_log_line(std::string_view line, TraceRecord& out, std::string_v
         error = "missing interface name";
         return LineStatus::Error;
     }
-    c.skip_space();
-    const auto tok = c.token();
+    auto tok = c.token();
+    if (tok == "RX" || tok == "TX") {
+        // candump -x: direction, then BRS ('B' or '-') and ESI ('E' or '-') of CAN FD frames.
+        const auto brs = c.token();
+        const auto esi = c.token();
+        if ((brs != "B" && brs != "-") || (esi != "E" && esi != "-")) {
+            error = "expected candump -x flags such as 'RX B -'";
+            return LineStatus::Error;
+        }
+        if (brs == "B") {
+            out.frame.flags = Frame::kFd | Frame::kBrs;
+        }
+        tok = c.token();
+    }
     const auto hash = tok.find('#');
     if (hash == std::string_view::npos) {
         if (tok.empty()) {
@@ -327,34 +216,65 @@ LineStatus parse_log_line(std::string_view line, TraceRecord& out, std::string_v
     return LineStatus::Frame;
 }
 
-ReadStatus LogReader::next(TraceRecord& record) {
-    std::string_view line;
-    bool too_long = false;
-    while (input_.next_line(line, too_long)) {
-        ++line_no_;
-        if (too_long) {
-            error_ =
-                fmt::format("line {}: longer than {} bytes, skipped", line_no_, input_.capacity());
-            return ReadStatus::Malformed;
-        }
+namespace {
+// candump -t d/z screen stamps count from zero; a -t a stamp is seconds since the epoch. Anything
+// before 1973 is taken as relative.
+constexpr std::int64_t kRelativeBelowNs = 100'000'000LL * 1'000'000'000LL;
+
+bool is_screen_line(std::string_view line) {
+    return line.find('#') == std::string_view::npos && line.find('[') != std::string_view::npos;
+}
+} // namespace
+
+bool LogReader::looks_like_deltas() const {
+    // The bytes after the current line are still in the buffer: look ahead at up to 1000 lines.
+    std::string_view rest(reinterpret_cast<const char*>(input_.data()), input_.available());
+    std::int64_t prev = -1;
+    std::int64_t first = -1;
+    bool all_equal = true;
+    int seen = 0;
+    TraceRecord r;
+    for (int i = 0; i < 1000 && !rest.empty(); ++i) {
+        const auto nl = rest.find('\n');
+        auto line = rest.substr(0, nl);
+        rest = nl == std::string_view::npos ? std::string_view() : rest.substr(nl + 1);
         std::string_view why;
-        switch (parse_log_line(line, record, why)) {
-        case LineStatus::Frame:
-            return ReadStatus::Frame;
-        case LineStatus::Skip:
+        if (!is_screen_line(line) || parse_log_line(line, r, why) != LineStatus::Frame ||
+            !r.has_ts || r.ts_ns >= kRelativeBelowNs) {
             continue;
-        case LineStatus::Error: {
-            const auto shown = line.substr(0, 80);
-            error_ = fmt::format("line {}: {}: '{}'", line_no_, why, shown);
-            return ReadStatus::Malformed;
         }
+        if (prev >= 0 && r.ts_ns < prev) {
+            return true; // a -t z stamp never goes back; deltas do
+        }
+        if (seen == 1) {
+            first = r.ts_ns;
+        } else if (seen > 1 && r.ts_ns != first) {
+            all_equal = false;
+        }
+        prev = r.ts_ns;
+        ++seen;
+    }
+    return seen >= 3 && all_equal; // 0, p, p, p...: a constant period printed as deltas
+}
+
+LineStatus LogReader::parse_line(std::string_view line, TraceRecord& out, std::string& why) {
+    std::string_view w;
+    const auto status = parse_log_line(line, out, w);
+    if (status == LineStatus::Error) {
+        why = w;
+        return status;
+    }
+    if (status == LineStatus::Frame && out.has_ts && out.ts_ns < kRelativeBelowNs &&
+        is_screen_line(line)) {
+        if (relative_ == Relative::Unknown) {
+            relative_ = looks_like_deltas() ? Relative::Delta : Relative::FromZero;
+        }
+        if (relative_ == Relative::Delta) {
+            delta_sum_ns_ += out.ts_ns;
+            out.ts_ns = delta_sum_ns_;
         }
     }
-    if (!input_.read_error().empty()) {
-        error_ = fmt::format("read error after line {}: {}", line_no_, input_.read_error());
-        return ReadStatus::Fatal;
-    }
-    return ReadStatus::End;
+    return status;
 }
 
 } // namespace codrive::dump

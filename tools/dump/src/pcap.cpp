@@ -29,7 +29,6 @@ constexpr std::uint32_t kCanErr = 0x20000000U;
 constexpr std::uint8_t kCanFdBrs = 0x01;
 constexpr std::uint8_t kCanFdFdf = 0x04;
 constexpr std::uint8_t kCanFdDefinedFlags = 0x07;
-constexpr std::size_t kCanMtu = 16;
 constexpr std::size_t kCanFdMtu = 72;
 
 std::uint32_t bswap32(std::uint32_t v) {
@@ -327,85 +326,6 @@ ReadStatus PcapReader::next_ng(TraceRecord& record) {
             return status;
         }
     }
-}
-
-Result<std::unique_ptr<PcapWriter>> PcapWriter::open(const std::string& path) {
-    std::unique_ptr<PcapWriter> w(new PcapWriter());
-    if (path == "-") {
-        w->file_ = stdout;
-    } else {
-        w->file_ = std::fopen(path.c_str(), "wb");
-        if (w->file_ == nullptr) {
-            return fail_errno(errno);
-        }
-        w->own_ = true;
-    }
-    std::uint8_t h[24] = {};
-    put_le<std::uint32_t>(h, kPcapMagicUs);
-    put_le<std::uint16_t>(h + 4, 2);
-    put_le<std::uint16_t>(h + 6, 4);
-    put_le<std::uint32_t>(h + 16, kCanFdMtu);
-    put_le<std::uint32_t>(h + 20, kLinkTypeSocketCan);
-    w->buf_.assign(h, h + sizeof h);
-    return w;
-}
-
-PcapWriter::~PcapWriter() {
-    (void)flush();
-    if (own_) {
-        std::fclose(file_);
-    }
-}
-
-void PcapWriter::write(const TraceRecord& r) {
-    const Frame& f = r.frame;
-    const std::size_t body = f.fd() ? kCanFdMtu : kCanMtu;
-    const auto old = buf_.size();
-    buf_.resize(old + 16 + body);
-    auto* p = buf_.data() + old;
-    std::memset(p, 0, 16 + body);
-    const std::int64_t ts = r.ts_ns < 0 ? 0 : r.ts_ns;
-    put_le<std::uint32_t>(p, static_cast<std::uint32_t>(ts / 1'000'000'000LL));
-    put_le<std::uint32_t>(p + 4, static_cast<std::uint32_t>((ts % 1'000'000'000LL) / 1000));
-    put_le<std::uint32_t>(p + 8, static_cast<std::uint32_t>(body));
-    put_le<std::uint32_t>(p + 12, static_cast<std::uint32_t>(body));
-    auto* c = p + 16;
-    std::uint32_t id = f.id;
-    if (f.error()) {
-        id |= kCanErr;
-    } else if (f.extended()) {
-        id |= kCanEff;
-    }
-    if (f.rtr()) {
-        id |= kCanRtr;
-    }
-    c[0] = static_cast<std::uint8_t>(id >> 24);
-    c[1] = static_cast<std::uint8_t>(id >> 16);
-    c[2] = static_cast<std::uint8_t>(id >> 8);
-    c[3] = static_cast<std::uint8_t>(id);
-    c[4] = f.len;
-    if (f.fd()) {
-        c[5] =
-            static_cast<std::uint8_t>(kCanFdFdf | ((f.flags & Frame::kBrs) != 0 ? kCanFdBrs : 0));
-    }
-    if (!f.rtr()) {
-        std::memcpy(c + 8, f.data.data(), std::min<std::size_t>(f.len, body - 8));
-    }
-    if (buf_.size() >= (1U << 16)) {
-        (void)flush();
-    }
-}
-
-VoidResult PcapWriter::flush() {
-    if (!buf_.empty() && file_ != nullptr) {
-        if (std::fwrite(buf_.data(), 1, buf_.size(), file_) != buf_.size()) {
-            buf_.clear();
-            return fail_errno(errno);
-        }
-        buf_.clear();
-        std::fflush(file_);
-    }
-    return {};
 }
 
 } // namespace codrive::dump

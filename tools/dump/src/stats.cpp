@@ -21,14 +21,20 @@ std::uint32_t frame_bits_worst_case(const Frame& f) {
     return 47U + data_bits + (34U + data_bits - 1U) / 4U;
 }
 
-void Stats::on_frame(const Frame& f, std::int64_t ts) {
-    if (frames_ == 0) {
-        first_ns_ = ts;
-        window_start_ns_ = ts;
-    }
+void Stats::on_frame(const Frame& f, std::int64_t ts, bool timed) {
     ++frames_;
     if (f.error()) {
         ++error_frames_;
+    }
+    if (!timed) {
+        return;
+    }
+    if (timed_frames_++ == 0) {
+        first_ns_ = ts;
+        last_ns_ = ts;
+        window_start_ns_ = ts;
+    }
+    if (f.error()) {
         return;
     }
     const auto bits = frame_bits_worst_case(f);
@@ -216,8 +222,11 @@ std::string Stats::table(std::optional<std::int64_t> now_ns) const {
             if (now_ns) {
                 return fmt::format("{:.1f}", recent_rate(slots, n.slot_ids, *now_ns));
             }
+            if (timed_frames_ == 0) {
+                return std::string("-"); // no timestamps: a count is not a rate
+            }
             return secs > 0 ? fmt::format("{:.1f}", static_cast<double>(c) / secs)
-                            : fmt::format("{}", c);
+                            : std::string("-");
         };
         const std::string last =
             n.last_emcy_code != 0 ? fmt::format("0x{:04X} {}", n.last_emcy_code, n.last_emcy_text)
@@ -264,6 +273,13 @@ std::string Stats::table(std::optional<std::int64_t> now_ns) const {
     }
     if (secs < 1.0) {
         peak = std::max(peak, bus_load());
+    }
+    if (timed_frames_ == 0) {
+        fmt::format_to(it,
+                       "{} frames ({} error frames) without timestamps: no PDO rates and no bus "
+                       "load (record with candump -t a, or give a trace with timestamps)\n",
+                       frames_, error_frames_);
+        return {b.data(), b.size()};
     }
     fmt::format_to(it,
                    "{} frames ({} error frames) in {:.3f} s; bus load at {} kbit/s: {:.1f} % mean, "

@@ -74,8 +74,10 @@ struct InputSummary {
     bool fatal = false;
 };
 
-/// Reads a candump log/screen text or pcap/pcapng (detected from the first bytes) into `dumper`.
-/// Each bad line or record is reported through Dumper::report prefixed with `name` and skipped;
+/// Reads a trace in any format open_trace_reader() recognises (candump log/screen, PEAK trc,
+/// Vector asc, CSV, pcap/pcapng; detected from the content) into `dumper`. Each bad line or
+/// record is reported through Dumper::report as "name:12: cause" (text) or "name: pcap record
+/// 3: cause" and skipped;
 /// a truncated or unreadable container ends the input with a report and `fatal`.
 InputSummary dump_input(BufferedInput& input, std::string_view name, Dumper& dumper);
 

@@ -72,23 +72,35 @@ private:
     std::string error_;
 };
 
-/// Writes classic pcap (microsecond timestamps, link type 227) that Wireshark and tshark open.
+/// Writes the SocketCAN record body of `f` (the layout decode_socketcan_record() reads: 16 bytes
+/// for a classic frame, 72 for CAN FD) into `out`, which holds at least 72 bytes. Returns the size.
+std::size_t encode_socketcan_record(const Frame& f, std::uint8_t* out);
+
+/// Writes what was read to a file Wireshark and tshark open: classic pcap (microsecond
+/// timestamps) or pcapng (nanosecond timestamps, `if_tsresol` 9, one interface description per
+/// interface name seen, so the names survive the conversion). Link type SocketCAN (227).
 class PcapWriter {
 public:
-    /// Opens `path` ("-" is stdout) and writes the file header. Errors: the open/write errno.
+    enum class Format : std::uint8_t { Pcap, Pcapng };
+    /// Opens `path` ("-" is stdout) and writes the file header; a path ending in ".pcapng" gets
+    /// pcapng, any other classic pcap. Errors: the open/write errno.
     static Result<std::unique_ptr<PcapWriter>> open(const std::string& path);
+    static Result<std::unique_ptr<PcapWriter>> open(const std::string& path, Format format);
     ~PcapWriter();
     PcapWriter(const PcapWriter&) = delete;
     PcapWriter& operator=(const PcapWriter&) = delete;
-    /// Buffers one record (16 bytes for classic frames, 72 for CAN FD).
+    /// Buffers one record.
     void write(const TraceRecord& record);
     /// Writes buffered records. Errors: the write errno.
     VoidResult flush();
 
 private:
     PcapWriter() = default;
+    std::uint32_t interface_for(std::string_view name);
     std::FILE* file_ = nullptr;
     bool own_ = false;
+    Format format_ = Format::Pcap;
+    std::vector<std::string> interfaces_;
     std::vector<std::uint8_t> buf_;
 };
 

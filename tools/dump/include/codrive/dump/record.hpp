@@ -33,6 +33,9 @@ public:
     virtual ReadStatus next(TraceRecord& record) = 0;
     /// The message for the last Malformed or Fatal status: "line 12: bad data byte 'G1'".
     [[nodiscard]] virtual std::string_view error() const = 0;
+    /// True if error() starts with a line number ("12: ..."), so the caller writes
+    /// "file:12: ..." (text formats); false for container formats ("pcap record 3: ...").
+    [[nodiscard]] virtual bool line_numbered() const { return false; }
 };
 
 } // namespace codrive::dump

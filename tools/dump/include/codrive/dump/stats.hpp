@@ -56,7 +56,10 @@ public:
 
     explicit Stats(std::uint32_t bitrate = 500000) : bitrate_(bitrate) {}
 
-    void on_frame(const Frame& f, std::int64_t ts_ns);
+    /// Counts a frame; a frame without a timestamp (`timed` false: candump screen output without
+    /// `-t`) is counted but says nothing about time, so with no timed frame at all the table
+    /// shows no rates and no bus load instead of dividing by a zero duration.
+    void on_frame(const Frame& f, std::int64_t ts_ns, bool timed = true);
     void on_heartbeat(NodeId node, std::uint8_t state, std::int64_t ts_ns);
     /// A node guarding remote request to `node`.
     void on_guard_request(NodeId node);
@@ -84,6 +87,7 @@ private:
     std::array<Node, kMaxNodeId + 1> nodes_{};
     std::uint64_t frames_ = 0;
     std::uint64_t error_frames_ = 0;
+    std::uint64_t timed_frames_ = 0;
     std::uint64_t bits_ = 0;
     std::int64_t first_ns_ = 0;
     std::int64_t last_ns_ = 0;

@@ -1,0 +1,131 @@
+// SPDX-License-Identifier: Apache-2.0
+// Vector .asc reader: header, classic/extended/remote/error events, CAN FD events, relative
+// timestamps, decimal base, malformed lines.
+#include "dump_test_util.hpp"
+
+#include <codrive/core/socket_can_bus.hpp>
+
+#include <gtest/gtest.h>
+
+using namespace codrive;
+using namespace codrive::dump;
+using codrive::dump::testing::frames_of;
+using codrive::dump::testing::read_trace;
+using codrive::dump::testing::run_dump_bytes;
+
+namespace {
+// 2026-11-24 00:00:00 UTC.
+constexpr std::int64_t kMidnight = 1'795'478'400'000'000'000LL;
+} // namespace
+
+TEST(DumpAsc, ClassicExtendedRemoteAndErrorFramesWithTheDate) {
+    TraceFormat format{};
+    const auto items = read_trace("date Tue Nov 24 01:02:03.250 pm 2026\n"
+                                  "base hex  timestamps absolute\n"
+                                  "internal events logged\n"
+                                  "// version 9.0.0\n"
+                                  "Begin Triggerblock Tue Nov 24 01:02:03.250 pm 2026\n"
+                                  "   0.000000 Start of measurement\n"
+                                  "   0.012345 1  181             Rx   d 2 37 06  Length = 1 "
+                                  "BitCount = 2 ID = 385\n"
+                                  "   0.013000 2  18FEF100x       Tx   d 3 01 02 03\n"
+                                  "   0.014000 1  705             Rx   r 1\n"
+                                  "   0.014500 1  706             Rx   r\n"
+                                  "   0.015000 1  ErrorFrame\n"
+                                  "   0.016000 1  Statistic: D 3 R 1 XD 0 XR 0 E 1 O 0 B 0.5%\n"
+                                  "End TriggerBlock\n",
+                                  &format);
+    EXPECT_EQ(format, TraceFormat::VectorAsc);
+    ASSERT_EQ(items.size(), 5U);
+    const std::int64_t start = kMidnight + (13 * 3600 + 2 * 60 + 3) * 1'000'000'000LL + 250'000'000;
+    EXPECT_EQ(items[0].frame, Frame::make(0x181, {0x37, 0x06}));
+    EXPECT_EQ(items[0].ts_ns, start + 12'345'000);
+    EXPECT_EQ(items[0].iface, "can1");
+    EXPECT_TRUE(items[1].frame.extended());
+    EXPECT_EQ(items[1].frame.id, 0x18FEF100U);
+    EXPECT_EQ(items[1].iface, "can2");
+    EXPECT_EQ(items[2].frame, Frame::make_rtr(0x705, 1));
+    EXPECT_EQ(items[3].frame, Frame::make_rtr(0x706, 0));
+    ASSERT_TRUE(items[4].frame.error());
+    EXPECT_EQ(to_string(decode_error_frame(items[4].frame).at(0)), "protocol error: unspecified");
+}
+
+TEST(DumpAsc, CanFdEventsWithAndWithoutSymbolicName) {
+    const auto items = read_trace(
+        "date Tue Nov 24 00:00:00 2026\n"
+        "base hex  timestamps absolute\n"
+        "   1.000000 CANFD   1 Rx        123                                   1 0 9 12 01 02 03 "
+        "04 "
+        "05 06 07 08 09 0A 0B 0C   130000   140 303000 0 0 0 0 0\n"
+        "   1.100000 CANFD   1 Tx 1ABCDEFx  MotorCmd                           0 0 2  2 AA BB   "
+        "50000   80 201000 0 0 0 0 0\n"
+        "   1.200000 CANFD   1 Rx        181                                   0 0 2  2 37 06   "
+        "50000   80 0 0 0 0 0 0\n"
+        "   1.300000 CANFD   1 Rx        705                                   0 0 1  0   "
+        "50000   80 10 0 0 0 0 0\n"
+        "   1.400000 CANFD   1 Rx        ErrorFrame\n");
+    const auto f = frames_of(items);
+    ASSERT_EQ(f.size(), 5U) << (items.empty() ? "" : items[0].error);
+    EXPECT_TRUE(f[0].frame.fd());
+    EXPECT_TRUE((f[0].frame.flags & Frame::kBrs) != 0);
+    EXPECT_EQ(f[0].frame.len, 12);
+    EXPECT_EQ(f[0].frame.data[11], 0x0C);
+    EXPECT_EQ(f[0].ts_ns, kMidnight + 1'000'000'000LL);
+    EXPECT_TRUE(f[1].frame.fd() && f[1].frame.extended());
+    EXPECT_EQ(f[1].frame.id, 0x1ABCDEFU);
+    EXPECT_FALSE(f[2].frame.fd()) << "no EDL flag: a classic frame on a CAN FD channel";
+    EXPECT_EQ(f[2].frame, Frame::make(0x181, {0x37, 0x06}));
+    EXPECT_EQ(f[3].frame, Frame::make_rtr(0x705, 1));
+    EXPECT_TRUE(f[4].frame.error());
+}
+
+TEST(DumpAsc, RelativeTimestampsAddUpAndDecimalBase) {
+    const auto items = read_trace("date Tue Nov 24 00:00:00.000 2026\n"
+                                  "base dec  timestamps relative\n"
+                                  "   0.010000 1  385             Rx   d 2 55 6\n"
+                                  "   0.005000 1  1796            Rx   d 1 5\n");
+    ASSERT_EQ(items.size(), 2U);
+    EXPECT_EQ(items[0].frame, Frame::make(0x181, {0x37, 0x06}));
+    EXPECT_EQ(items[0].ts_ns, kMidnight + 10'000'000);
+    EXPECT_EQ(items[1].frame, Frame::make(0x704, {0x05}));
+    EXPECT_EQ(items[1].ts_ns, kMidnight + 15'000'000);
+}
+
+TEST(DumpAsc, DetectedFromEventLinesWithoutHeader) {
+    TraceFormat format{};
+    const auto items = read_trace("   0.012345 1  181             Rx   d 1 05\n", &format);
+    EXPECT_EQ(format, TraceFormat::VectorAsc);
+    ASSERT_EQ(items.size(), 1U);
+    EXPECT_EQ(items[0].ts_ns, 12'345'000) << "no date: time since the start of the measurement";
+}
+
+TEST(DumpAsc, MalformedLinesNameLineAndCause) {
+    const std::string asc = "date Tue Nov 24 00:00:00.000 2026\n"
+                            "base hex  timestamps absolute\n"
+                            "   0.010000 1  181             Rx   d 2 37\n"
+                            "   0.020000 1  8000            Rx   d 1 05\n"
+                            "   0.030000 1  181             Rx   q 1 05\n"
+                            "   0.040000 1  181             Rx   d 1 XY\n"
+                            "garbage here\n"
+                            "   0.050000 CANFD   1 Rx 123  1 0 9 10 01 02\n"
+                            "   0.060000 1  181             Rx   d 1 05\n";
+    const auto items = read_trace(asc);
+    ASSERT_EQ(items.size(), 7U);
+    EXPECT_EQ(items[0].error.rfind("3: fewer data bytes than the DLC says", 0), 0U)
+        << items[0].error;
+    EXPECT_EQ(items[1].error.rfind("4: bad CAN identifier", 0), 0U) << items[1].error;
+    EXPECT_EQ(items[2].error.rfind("5: expected 'd <dlc>' or 'r'", 0), 0U) << items[2].error;
+    EXPECT_EQ(items[3].error.rfind("6: bad data byte", 0), 0U) << items[3].error;
+    EXPECT_EQ(items[4].error.rfind("7: not an ASC header or event line", 0), 0U) << items[4].error;
+    EXPECT_EQ(items[5].error.rfind("8: data length does not match the DLC", 0), 0U)
+        << items[5].error;
+    EXPECT_EQ(items[6].status, ReadStatus::Frame);
+    EXPECT_EQ(items[6].ts_ns, kMidnight + 60'000'000);
+}
+
+TEST(DumpAsc, UnreadableDateIsReportedAndTimesCountFromZero) {
+    const auto items = read_trace("date someday\n   0.010000 1  181  Rx   d 1 05\n");
+    ASSERT_EQ(items.size(), 2U);
+    EXPECT_EQ(items[0].error.rfind("1: unreadable date", 0), 0U) << items[0].error;
+    EXPECT_EQ(items[1].ts_ns, 10'000'000);
+}

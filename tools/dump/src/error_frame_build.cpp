@@ -1,0 +1,72 @@
+// SPDX-License-Identifier: Apache-2.0
+// SocketCAN error frames built from trace lines.
+#include <codrive/dump/error_frame_build.hpp>
+
+#include <linux/can/error.h>
+
+namespace codrive::dump {
+namespace {
+void add_counters(Frame& f, int tec, int rec) {
+    if (tec >= 0 || rec >= 0) {
+        f.id |= CAN_ERR_CNT;
+        f.data[6] = static_cast<std::uint8_t>(tec < 0 ? 0 : (tec > 255 ? 255 : tec));
+        f.data[7] = static_cast<std::uint8_t>(rec < 0 ? 0 : (rec > 255 ? 255 : rec));
+    }
+}
+Frame blank() {
+    Frame f;
+    f.flags = Frame::kError;
+    f.len = CAN_ERR_DLC;
+    return f;
+}
+} // namespace
+
+Frame protocol_error_frame(std::uint8_t prot, bool on_tx, std::uint8_t location, int tec, int rec) {
+    Frame f = blank();
+    f.id = CAN_ERR_PROT;
+    f.data[2] = static_cast<std::uint8_t>(prot | (on_tx ? CAN_ERR_PROT_TX : 0));
+    f.data[3] = location;
+    add_counters(f, tec, rec);
+    return f;
+}
+
+Frame state_error_frame(TraceBusState state, int tec, int rec) {
+    Frame f = blank();
+    switch (state) {
+    case TraceBusState::BusOff:
+        f.id = CAN_ERR_BUSOFF;
+        break;
+    case TraceBusState::Passive:
+        f.id = CAN_ERR_CRTL;
+        f.data[1] = CAN_ERR_CRTL_RX_PASSIVE | CAN_ERR_CRTL_TX_PASSIVE;
+        break;
+    case TraceBusState::Warning:
+        f.id = CAN_ERR_CRTL;
+        f.data[1] = CAN_ERR_CRTL_RX_WARNING | CAN_ERR_CRTL_TX_WARNING;
+        break;
+    case TraceBusState::Active:
+        f.id = CAN_ERR_CRTL;
+        f.data[1] = CAN_ERR_CRTL_ACTIVE;
+        break;
+    case TraceBusState::RxOverflow:
+        f.id = CAN_ERR_CRTL;
+        f.data[1] = CAN_ERR_CRTL_RX_OVERFLOW;
+        break;
+    case TraceBusState::Unknown:
+        f.id = CAN_ERR_CRTL;
+        f.data[1] = CAN_ERR_CRTL_UNSPEC;
+        break;
+    }
+    add_counters(f, tec, rec);
+    return f;
+}
+
+TraceBusState state_from_counters(int tec, int rec) {
+    const int worst = tec > rec ? tec : rec;
+    if (worst >= 128) {
+        return TraceBusState::Passive;
+    }
+    return worst >= 96 ? TraceBusState::Warning : TraceBusState::Active;
+}
+
+} // namespace codrive::dump
