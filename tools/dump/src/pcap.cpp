@@ -2,6 +2,8 @@
 // pcap / pcapng SocketCAN reader and pcap writer.
 #include <codrive/dump/pcap.hpp>
 
+#include "pcap_format.hpp"
+
 #include <codrive/core/endian.hpp>
 
 #include <fmt/format.h>
@@ -12,24 +14,9 @@
 namespace codrive::dump {
 namespace {
 
-constexpr std::uint32_t kPcapMagicUs = 0xA1B2C3D4;
-constexpr std::uint32_t kPcapMagicNs = 0xA1B23C4D;
-constexpr std::uint32_t kNgShb = 0x0A0D0D0A;
-constexpr std::uint32_t kNgIdb = 0x00000001;
-constexpr std::uint32_t kNgSpb = 0x00000003;
-constexpr std::uint32_t kNgEpb = 0x00000006;
-constexpr std::uint32_t kNgByteOrder = 0x1A2B3C4D;
-constexpr std::size_t kMaxBlock = 1U << 18; // larger blocks cannot hold CAN and mean corruption
+using namespace pcap_format;
 
-constexpr std::uint32_t kCanEff = 0x80000000U;
-constexpr std::uint32_t kCanRtr = 0x40000000U;
-constexpr std::uint32_t kCanErr = 0x20000000U;
-// canfd_frame.flags (linux/can.h): CANFD_BRS 0x01, CANFD_ESI 0x02, CANFD_FDF 0x04. Any other
-// bit set means the byte is not an FD flags byte (old kernels left it uninitialised).
-constexpr std::uint8_t kCanFdBrs = 0x01;
-constexpr std::uint8_t kCanFdFdf = 0x04;
-constexpr std::uint8_t kCanFdDefinedFlags = 0x07;
-constexpr std::size_t kCanFdMtu = 72;
+constexpr std::size_t kMaxBlock = 1U << 18; // larger blocks cannot hold CAN and mean corruption
 
 std::uint32_t bswap32(std::uint32_t v) {
     return __builtin_bswap32(v);
@@ -72,6 +59,8 @@ SocketCanDecode decode_socketcan_record(const std::uint8_t* p, std::size_t n, st
     // after the length is can_frame.__pad on classic frames and was left uninitialised by older
     // kernels (e.g. `7f 00 00`), so - as Wireshark does - the FDF bit is believed only when no
     // undefined flag bit is set and both reserved bytes are zero.
+    // A bit outside kCanFdDefinedFlags means the byte is not an FD flags byte (old kernels left
+    // it uninitialised).
     const bool flags_clean = (p[5] & ~kCanFdDefinedFlags) == 0 && p[6] == 0 && p[7] == 0;
     const bool fd = wire_len == kCanFdMtu || (flags_clean && (p[5] & kCanFdFdf) != 0);
     std::size_t len = p[4];

@@ -2,6 +2,8 @@
 // pcap and pcapng writer for SocketCAN frames (what `codrive-dump -w` writes).
 #include <codrive/dump/pcap.hpp>
 
+#include "pcap_format.hpp"
+
 #include <codrive/core/endian.hpp>
 
 #include <cerrno>
@@ -10,25 +12,12 @@
 namespace codrive::dump {
 namespace {
 
-constexpr std::uint32_t kPcapMagicUs = 0xA1B2C3D4;
-// pcapng (IETF draft-ietf-opsawg-pcapng): section header, interface description, enhanced packet.
-constexpr std::uint32_t kNgShb = 0x0A0D0D0A;
-constexpr std::uint32_t kNgIdb = 0x00000001;
-constexpr std::uint32_t kNgEpb = 0x00000006;
-constexpr std::uint32_t kNgByteOrder = 0x1A2B3C4D;
+using namespace pcap_format;
+
 constexpr std::uint16_t kOptEnd = 0;
 constexpr std::uint16_t kOptIfName = 2;
 constexpr std::uint16_t kOptIfTsresol = 9;
 constexpr std::size_t kMaxInterfaces = 64; // more names than this share the last description
-
-// linux/can.h: CAN_EFF_FLAG, CAN_RTR_FLAG, CAN_ERR_FLAG; canfd_frame.flags CANFD_BRS, CANFD_FDF.
-constexpr std::uint32_t kCanEff = 0x80000000U;
-constexpr std::uint32_t kCanRtr = 0x40000000U;
-constexpr std::uint32_t kCanErr = 0x20000000U;
-constexpr std::uint8_t kCanFdBrs = 0x01;
-constexpr std::uint8_t kCanFdFdf = 0x04;
-constexpr std::size_t kCanMtu = 16;
-constexpr std::size_t kCanFdMtu = 72;
 
 void append(std::vector<std::uint8_t>& b, const void* p, std::size_t n) {
     const auto* c = static_cast<const std::uint8_t*>(p);
