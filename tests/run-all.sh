@@ -195,6 +195,10 @@ vcan_stage() {
     set -e
     [[ $rc -eq 0 ]] || status=1
     count_gtest vcan "$log"
+    # A guest that timed out or crashed before gtest's summary is one failure, not a pass.
+    if [[ $rc -ne 0 ]] && ! grep -qE '^\[  FAILED  \] [0-9]+ test' "$log"; then
+        failed[vcan]=$((${failed[vcan]:-0} + 1))
+    fi
     rm -f "$log"
 }
 
