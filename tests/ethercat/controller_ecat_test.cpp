@@ -49,6 +49,14 @@ int open_fds() {
 int threads() {
     return count_dir_entries("/proc/self/task");
 }
+/// Thread counts are exact except under ThreadSanitizer, whose background thread starts when
+/// it pleases.
+constexpr bool kExactThreadCount =
+#if defined(__SANITIZE_THREAD__)
+    false;
+#else
+    true;
+#endif
 
 class ControllerOverEthercat : public EcatVethTest {
 protected:
@@ -342,7 +350,9 @@ TEST_F(ControllerOverEthercat, DedicatedCyclicThreadEnablesMovesAndStopsWithinOn
         if (HasFatalFailure()) {
             return;
         }
-        EXPECT_EQ(threads(), threads_before + 1) << "one cyclic thread";
+        if (kExactThreadCount) {
+            EXPECT_EQ(threads(), threads_before + 1) << "one cyclic thread";
+        }
         auto* axis = c->axis(0, 1, 0);
         ASSERT_NE(axis, nullptr);
         // The axis belongs to the cyclic thread: everything starts from the cycle callback.
@@ -379,7 +389,9 @@ TEST_F(ControllerOverEthercat, DedicatedCyclicThreadEnablesMovesAndStopsWithinOn
 #endif
     }
     EXPECT_EQ(open_fds(), fds_before);
-    EXPECT_EQ(threads(), threads_before);
+    if (kExactThreadCount) {
+        EXPECT_EQ(threads(), threads_before);
+    }
 }
 
 TEST_F(ControllerOverEthercat, DedicatedCyclicThreadAllocatesNothingOverAThousandCycles) {
