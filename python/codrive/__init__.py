@@ -1,0 +1,33 @@
+# SPDX-License-Identifier: Apache-2.0
+"""codrive from Python: CANopen SDO/NMT, simulated drives, EDS files and trace decoding.
+
+The protocol work is done by the C++ stack (the extension ``codrive._native``); this package
+gives it Python names. See docs/python.md.
+"""
+from ._native import (
+    Bus,
+    BusError,
+    Error,
+    Nmt,
+    SdoAbortError,
+    SdoClient,
+    SdoError,
+    SdoTimeoutError,
+    VirtualNetwork,
+    __version__,
+)
+from . import sim
+
+__all__ = [
+    "Bus",
+    "BusError",
+    "Error",
+    "Nmt",
+    "SdoAbortError",
+    "SdoClient",
+    "SdoError",
+    "SdoTimeoutError",
+    "VirtualNetwork",
+    "__version__",
+    "sim",
+]

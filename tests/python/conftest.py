@@ -1,0 +1,19 @@
+# SPDX-License-Identifier: Apache-2.0
+"""pytest set-up: import codrive from a build tree (CODRIVE_PYTHON_DIR, default
+build-ubsan/python) unless CODRIVE_PYTHON_DIR=installed asks for the installed package."""
+import os
+import pathlib
+import sys
+
+ROOT = pathlib.Path(__file__).resolve().parents[2]
+_where = os.environ.get("CODRIVE_PYTHON_DIR", str(ROOT / "build-ubsan" / "python"))
+if _where != "installed":
+    sys.path.insert(0, _where)
+
+import pytest  # noqa: E402
+
+
+@pytest.fixture
+def root():
+    """The repository root (test data lives under tests/data)."""
+    return ROOT
