@@ -16,7 +16,7 @@ from ._native import (
     VirtualNetwork,
     __version__,
 )
-from . import sim
+from . import eds, sim
 
 __all__ = [
     "Bus",
@@ -29,5 +29,6 @@ __all__ = [
     "SdoTimeoutError",
     "VirtualNetwork",
     "__version__",
+    "eds",
     "sim",
 ]

@@ -18,4 +18,5 @@ PYBIND11_MODULE(_native, m) {
     bind_sdo(m, bus);
     bind_nmt(m, bus);
     bind_sim(m);
+    bind_eds(m);
 }
