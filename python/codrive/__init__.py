@@ -16,7 +16,7 @@ from ._native import (
     VirtualNetwork,
     __version__,
 )
-from . import eds, sim
+from . import dump, eds, sim
 
 __all__ = [
     "Bus",
@@ -29,6 +29,7 @@ __all__ = [
     "SdoTimeoutError",
     "VirtualNetwork",
     "__version__",
+    "dump",
     "eds",
     "sim",
 ]

@@ -19,4 +19,5 @@ PYBIND11_MODULE(_native, m) {
     bind_nmt(m, bus);
     bind_sim(m);
     bind_eds(m);
+    bind_dump(m);
 }

@@ -17,3 +17,9 @@ import pytest  # noqa: E402
 def root():
     """The repository root (test data lives under tests/data)."""
     return ROOT
+
+
+@pytest.fixture
+def build_dir():
+    """The build tree whose tools the tests run (CODRIVE_BUILD_DIR, default build-ubsan)."""
+    return pathlib.Path(os.environ.get("CODRIVE_BUILD_DIR", str(ROOT / "build-ubsan")))
