@@ -40,7 +40,14 @@ bool SocketBus::run_until(const std::function<bool()>& done, Duration limit) {
         (void)blocking_->loop().poll_once(Duration{0});
         return true;
     }
-    return blocking_->loop().run_until(done, limit);
+    if (limit != Duration::max()) {
+        return blocking_->loop().run_until(done, limit);
+    }
+    // No limit (a transfer, which always ends by itself): in day-long steps, as BlockingSdo
+    // does, since the loop adds the limit to the current time.
+    while (!blocking_->loop().run_until(done, std::chrono::hours(24))) {
+    }
+    return true;
 }
 
 VirtualNet::VirtualNet(Duration default_timeout)

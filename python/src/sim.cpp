@@ -103,6 +103,32 @@ private:
 
 void bind_sim(py::module_& m) {
     py::module_ s = m.def_submodule("sim", "Simulated drives (the codrive::sim library).");
+    s.attr("CONTROL_OBJECT") = sim::kControlObject;
+    s.def(
+        "control_subindex",
+        [](const std::string& kind) {
+            sim::FaultKind k{};
+            if (!sim::parse_fault_kind(kind, k)) {
+                throw py::value_error("unknown fault '" + kind +
+                                      "' (sto, overcurrent, following-error, heartbeat, reset)");
+            }
+            switch (k) {
+            case sim::FaultKind::Sto:
+                return sim::kControlSto;
+            case sim::FaultKind::OverCurrent:
+                return sim::kControlOverCurrent;
+            case sim::FaultKind::FollowingError:
+                return sim::kControlFollowingError;
+            case sim::FaultKind::HeartbeatLoss:
+                return sim::kControlHeartbeatLoss;
+            case sim::FaultKind::NodeReset:
+                break;
+            }
+            return sim::kControlNodeReset;
+        },
+        py::arg("fault"),
+        "The sub-index of the simulator's control object (CONTROL_OBJECT + axis - 1) that "
+        "injects `fault` when 1 is written (docs/codrive-sim.md, Fault injection).");
     py::class_<VirtualDrive>(
         s, "VirtualDrive",
         "A simulated CiA 402 drive (codrive::sim::SimDevice: object dictionary from the "

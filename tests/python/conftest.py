@@ -23,3 +23,9 @@ def root():
 def build_dir():
     """The build tree whose tools the tests run (CODRIVE_BUILD_DIR, default build-ubsan)."""
     return pathlib.Path(os.environ.get("CODRIVE_BUILD_DIR", str(ROOT / "build-ubsan")))
+
+
+@pytest.fixture(scope="module")
+def build_dir_module():
+    """build_dir for module-scoped fixtures."""
+    return pathlib.Path(os.environ.get("CODRIVE_BUILD_DIR", str(ROOT / "build-ubsan")))
