@@ -9,6 +9,7 @@ ROOT = pathlib.Path(__file__).resolve().parents[2]
 _where = os.environ.get("CODRIVE_PYTHON_DIR", str(ROOT / "build-ubsan" / "python"))
 if _where != "installed":
     sys.path.insert(0, _where)
+sys.path.insert(0, str(pathlib.Path(__file__).resolve().parent))  # docs_blocks for vcan/
 
 import pytest  # noqa: E402
 
