@@ -5,8 +5,11 @@ The protocol work is done by the C++ stack (the extension ``codrive._native``); 
 gives it Python names. See docs/python.md.
 """
 from ._native import (
+    Axis,
     Bus,
     BusError,
+    Controller,
+    DriveError,
     Error,
     Nmt,
     SdoAbortError,
@@ -19,8 +22,11 @@ from ._native import (
 from . import dump, eds, sim
 
 __all__ = [
+    "Axis",
     "Bus",
     "BusError",
+    "Controller",
+    "DriveError",
     "Error",
     "Nmt",
     "SdoAbortError",

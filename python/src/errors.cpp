@@ -15,6 +15,7 @@ PyObject* g_bus_error = nullptr;
 PyObject* g_sdo_error = nullptr;
 PyObject* g_sdo_abort = nullptr;
 PyObject* g_sdo_timeout = nullptr;
+PyObject* g_drive_error = nullptr;
 
 PyObject* make_class(py::module_& m, const char* name, PyObject* base, const char* doc) {
     const std::string qualified = std::string("codrive.") + name;
@@ -48,6 +49,9 @@ void bind_errors(py::module_& m) {
     g_sdo_timeout = make_class(m, "SdoTimeoutError", g_sdo_error,
                                "The node did not answer within the timeout (attribute timeout, "
                                "seconds).");
+    g_drive_error = make_class(m, "DriveError", g_error,
+                               "A CiA 402 axis operation failed (wrong state, fault, timeout); "
+                               "the message names the axis and the cause.");
 }
 
 void raise_sdo_error(const sdo::SdoError& e) {
@@ -75,6 +79,10 @@ void raise_sdo_error(const sdo::SdoError& e) {
 
 void raise_bus_error(const std::string& message) {
     raise(g_bus_error, message);
+}
+
+void raise_drive_error(const std::string& message) {
+    raise(g_drive_error, message);
 }
 
 void raise_error(const std::string& message) {

@@ -10,7 +10,7 @@
 
 namespace codrive::python {
 
-/// Creates codrive.Error, BusError, SdoError, SdoAbortError, SdoTimeoutError in `m`.
+/// Creates codrive.Error, BusError, SdoError, SdoAbortError, SdoTimeoutError, DriveError in `m`.
 void bind_errors(pybind11::module_& m);
 
 /// Raises the Python exception for a failed transfer: SdoAbortError (an abort frame ended it),
@@ -18,6 +18,8 @@ void bind_errors(pybind11::module_& m);
 [[noreturn]] void raise_sdo_error(const sdo::SdoError& e);
 /// Raises codrive.BusError with `message` (a sentence naming the interface and the cause).
 [[noreturn]] void raise_bus_error(const std::string& message);
+/// Raises codrive.DriveError with `message` (a sentence naming the axis and the cause).
+[[noreturn]] void raise_drive_error(const std::string& message);
 /// Raises codrive.Error with `message`.
 [[noreturn]] void raise_error(const std::string& message);
 

@@ -20,4 +20,5 @@ PYBIND11_MODULE(_native, m) {
     bind_sim(m);
     bind_eds(m);
     bind_dump(m);
+    bind_controller(m);
 }

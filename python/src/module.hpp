@@ -18,5 +18,6 @@ void bind_nmt(pybind11::module_& m, PyBusClass& bus); ///< bus.nmt
 void bind_sim(pybind11::module_& m);                  ///< sim.VirtualDrive
 void bind_eds(pybind11::module_& m);                  ///< eds.load
 void bind_dump(pybind11::module_& m);                 ///< dump.read
+void bind_controller(pybind11::module_& m);           ///< Controller, Axis
 
 } // namespace codrive::python

@@ -51,7 +51,8 @@ def test_every_stubbed_member_exists():
 
 def test_every_public_class_and_method_is_stubbed():
     stubbed = dict(stub_classes())
-    for cls in (codrive.Bus, codrive.VirtualNetwork, codrive.SdoClient, codrive.Nmt):
+    for cls in (codrive.Bus, codrive.VirtualNetwork, codrive.SdoClient, codrive.Nmt,
+                codrive.Controller, codrive.Axis):
         public = {m for m in vars(cls) if not m.startswith("__")}
         assert public <= stubbed[cls.__name__], (cls.__name__, public - stubbed[cls.__name__])
 
