@@ -21,6 +21,12 @@ from ._native import (
 )
 from . import dump, eds, sim
 
+
+def scan(bus, first=1, last=127, timeout=0.3):
+    """The nodes on `bus` (a Bus or VirtualNetwork), as ``codrive scan`` finds them: a list of
+    dicts with node, state, device_type, vendor_id, product_code, revision, serial, name."""
+    return bus.scan(first, last, timeout)
+
 __all__ = [
     "Axis",
     "Bus",
@@ -37,5 +43,6 @@ __all__ = [
     "__version__",
     "dump",
     "eds",
+    "scan",
     "sim",
 ]

@@ -17,6 +17,7 @@ PYBIND11_MODULE(_native, m) {
     bind_bus(m, bus);
     bind_sdo(m, bus);
     bind_nmt(m, bus);
+    bind_scan(m, bus);
     bind_sim(m);
     bind_eds(m);
     bind_dump(m);

@@ -145,3 +145,16 @@ def test_the_gil_is_released_while_a_transfer_waits():
 def test_bus_on_a_missing_interface_raises_bus_error():
     with pytest.raises(codrive.BusError, match="nosuchcan0"):
         codrive.Bus("nosuchcan0")
+
+
+def test_scan_finds_the_simulated_nodes_with_identity_and_name():
+    net = codrive.VirtualNetwork()
+    drives = [codrive.sim.VirtualDrive(net, 3, "akd2g"), codrive.sim.VirtualDrive(net, 7, "ds-bvs")]
+    rows = codrive.scan(net, 1, 10, timeout=0.1)
+    assert [r["node"] for r in rows] == [3, 7]
+    assert rows[0]["vendor_id"] == 0x6A  # Kollmorgen (AKD2G manual, 1018h:1)
+    assert rows[1]["name"] == "DS-BVS"
+    assert all(r["device_type"] == 0x00020192 for r in rows)
+    assert len(drives) == 2
+    with pytest.raises(ValueError):
+        net.scan(0, 200)
