@@ -274,6 +274,30 @@ void bind_controller(py::module_& m) {
             py::arg("target"), py::arg("relative") = false, py::arg("velocity") = py::none(),
             py::arg("timeout") = py::none(),
             "Profile position move; returns when target reached (statusword bit 10).")
+        .def(
+            "run_velocity",
+            [](PyAxis& a, long velocity, std::optional<double> t) {
+                const std::int32_t v = i32_arg(velocity, "velocity");
+                a.operate([&](Done d, Duration to) { a.axis().run_velocity(v, std::move(d), to); },
+                          t);
+            },
+            py::arg("velocity"), py::arg("timeout") = py::none(),
+            "Profile velocity: writes 60FFh; returns when target reached (statusword bit 10).")
+        .def(
+            "home",
+            [](PyAxis& a, int method, long offset, std::optional<double> t) {
+                if (method < -128 || method > 127) {
+                    throw py::value_error("homing method " + std::to_string(method) +
+                                          " is not -128..127");
+                }
+                drives::HomingParams p;
+                p.method = static_cast<std::int8_t>(method);
+                p.offset = i32_arg(offset, "offset");
+                a.operate([&](Done d, Duration to) { a.axis().home(p, std::move(d), to); }, t);
+            },
+            py::arg("method") = 35, py::arg("offset") = 0, py::arg("timeout") = py::none(),
+            "Homing (the axis must be in homing mode 6): 6098h = method, 607Ch = offset; "
+            "returns when homing attained (statusword bits 12 and 10).")
         .def("set_target_position", &PyAxis::set_target_position, py::arg("target"),
              "CSP: the set-point sent with the next cycles (run the controller to send it).")
         .def("set_target_velocity", &PyAxis::set_target_velocity, py::arg("target"),

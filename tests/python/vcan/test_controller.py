@@ -1,6 +1,7 @@
 # SPDX-License-Identifier: Apache-2.0
 """codrive.Controller from Python over vcan: boot a bus file against codrive-sim, enable both
-AKD2G axes, move one in CSP with set-points queued from Python, safe shutdown (guest)."""
+AKD2G axes, move one in CSP with set-points queued from Python, home the other, PP and PV moves,
+safe shutdown (guest)."""
 import pytest
 
 import codrive
@@ -28,6 +29,10 @@ def test_boot_enable_and_move_two_akd2g_axes_in_csp(root, build_dir):
         assert stats["cycles"] > 50 and stats["tpdos_received"] > 0
         with pytest.raises(KeyError):
             c.axis(1, 3)
+        second.set_mode(6)  # homing, then back to CSP (as examples/demo.cpp does)
+        second.home(35, offset=-5000)  # method 35: the current position is home (CiA 402)
+        assert abs(second.status["position"] - (-5000)) < 100
+        second.set_mode(8)
         c.shutdown()
         assert first.status["state"] != "operation enabled"
         assert not c.running
@@ -38,3 +43,24 @@ def test_a_broken_bus_file_raises_with_its_findings(tmp_path):
     bad.write_text("bus:\n  interface: vcan0\nnodes:\n  - id: 300\n")
     with pytest.raises(codrive.Error, match="bus.yml"):
         codrive.Controller.from_file(str(bad))
+
+
+def test_profile_position_and_velocity_from_python(root, build_dir, tmp_path):
+    bus_file = tmp_path / "pp-pv.yml"
+    bus_file.write_text("bus:\n  interface: vcan0\n  sync_period_us: 4000\n"
+                        "nodes:\n  - id: 1\n    profile: akd2g\n    heartbeat_ms: 100\n"
+                        "    axes:\n      - {axis: 1, mode: pp}\n      - {axis: 2, mode: pv}\n")
+    with codrive.sim.can("vcan0", {1: "akd2g"}, executable=str(build_dir / "tools/codrive-sim")):
+        c = codrive.Controller.from_file(str(bus_file))
+        c.start()
+        pp, pv = c.axis(1, 1), c.axis(1, 2)
+        pp.enable()
+        pv.enable()
+        start = pp.status["position"]
+        pp.move_to(start + 4000, velocity=100000, timeout=5.0)
+        assert abs(pp.status["position"] - (start + 4000)) < 100
+        pv.run_velocity(20000, timeout=5.0)
+        assert pv.status["statusword"] & 0x0400  # target reached (bit 10)
+        with pytest.raises(codrive.DriveError, match="axis"):
+            pv.move_to(1000, timeout=0.5)  # PV axis: a profile position move is refused
+        c.shutdown()
