@@ -272,24 +272,28 @@ stage release release_stage
 # count_pytest SUITE LOG: adds up pytest's last line ("3 failed, 40 passed, 1 skipped in 2.1s";
 # errors count as failures).
 count_pytest() {
-    local suite=$1 log=$2 line p f s e
-    line=$(grep -E '^=*[ ]*[0-9]+ (passed|failed|skipped|error|errors)' "$log" | tail -1)
-    p=$(grep -oE '[0-9]+ passed' <<<"$line" | awk '{print $1}')
-    f=$(grep -oE '[0-9]+ failed' <<<"$line" | awk '{print $1}')
-    s=$(grep -oE '[0-9]+ skipped' <<<"$line" | awk '{print $1}')
-    e=$(grep -oE '[0-9]+ errors?' <<<"$line" | awk '{print $1}')
-    passed[$suite]=$((${passed[$suite]:-0} + ${p:-0}))
-    failed[$suite]=$((${failed[$suite]:-0} + ${f:-0} + ${e:-0}))
-    skipped[$suite]=$((${skipped[$suite]:-0} + ${s:-0}))
+    local suite=$1 log=$2 line p f s
+    line=$(grep -E '^=*[ ]*[0-9]+ (passed|failed|skipped|error|errors)' "$log" | tail -1 || true)
+    read -r p f s < <(awk '{
+        for (i = 2; i <= NF; i++) {
+            w = $i; gsub(/[,=]/, "", w)
+            if (w == "passed") p += $(i - 1)
+            if (w == "failed" || w == "error" || w == "errors") f += $(i - 1)
+            if (w == "skipped") s += $(i - 1)
+        }
+    } END { print p + 0, f + 0, s + 0 }' <<<"$line")
+    passed[$suite]=$((${passed[$suite]:-0} + p))
+    failed[$suite]=$((${failed[$suite]:-0} + f))
+    skipped[$suite]=$((${skipped[$suite]:-0} + s))
     [[ -n $line ]] || failed[$suite]=$((${failed[$suite]:-0} + 1)) # pytest did not get to run
 }
 python_stage() {
     local log rc
     log=$(mktemp)
-    export CODRIVE_PYTHON_DIR=$release_build/python CODRIVE_BUILD_DIR=$release_build
+    local env=(env CODRIVE_PYTHON_DIR="$release_build/python" CODRIVE_BUILD_DIR="$release_build")
     set +e
-    /usr/bin/python3 -m pytest -p no:cacheprovider -q --ignore="$root/tests/python/vcan" \
-        "$root/tests/python" >"$log" 2>&1
+    "${env[@]}" /usr/bin/python3 -m pytest -p no:cacheprovider -q \
+        --ignore="$root/tests/python/vcan" "$root/tests/python" >"$log" 2>&1
     rc=$?
     set -e
     [[ $rc -eq 0 ]] || { cat "$log"; status=1; }
@@ -297,8 +301,8 @@ python_stage() {
     count_pytest python "$log"
     if [[ ${CODRIVE_SKIP_VCAN:-0} != 1 ]]; then
         set +e
-        bash vcan-scripts/run-in-vcan.sh --ifaces 2 --timeout 300 /usr/bin/python3 -m pytest \
-            -p no:cacheprovider -q "$root/tests/python/vcan" >"$log" 2>&1
+        "${env[@]}" bash vcan-scripts/run-in-vcan.sh --ifaces 2 --timeout 300 \
+            /usr/bin/python3 -m pytest -p no:cacheprovider -q "$root/tests/python/vcan" >"$log" 2>&1
         rc=$?
         set -e
         [[ $rc -eq 0 ]] || { cat "$log"; status=1; }
