@@ -47,6 +47,13 @@ class SdoClient:
     def download_file(self, index: int, subindex: int, path: str, *,
                       timeout: Optional[float] = None, mode: str = "auto",
                       progress: Optional[ProgressFn] = None) -> None: ...
+    async def aread(self, index: int, subindex: int, type: str = "bytes", *,
+                    timeout: Optional[float] = None, mode: str = "auto",
+                    progress: Optional[ProgressFn] = None) -> Union[int, float, str, bytes]: ...
+    async def awrite(self, index: int, subindex: int,
+                     value: Union[int, float, str, bytes, bytearray], type: Optional[str] = None,
+                     *, timeout: Optional[float] = None, mode: str = "auto",
+                     progress: Optional[ProgressFn] = None) -> None: ...
     def _cpp_round_trips(self, index: int, subindex: int, count: int) -> float: ...
 
 class Nmt:

@@ -158,3 +158,34 @@ def test_scan_finds_the_simulated_nodes_with_identity_and_name():
     assert len(drives) == 2
     with pytest.raises(ValueError):
         net.scan(0, 200)
+
+
+def test_asyncio_reads_and_writes_keep_the_event_loop_running():
+    import asyncio
+
+    net = codrive.VirtualNetwork()
+    drives = [codrive.sim.VirtualDrive(net, 1, "akd2g"), codrive.sim.VirtualDrive(net, 2, "ds-bvs")]
+
+    async def main():
+        ticks = 0
+
+        async def ticker():
+            nonlocal ticks
+            while True:
+                ticks += 1
+                await asyncio.sleep(0)
+
+        t = asyncio.create_task(ticker())
+        await net.sdo(2).awrite(0x6060, 0, 1, "i8")
+        names = await asyncio.gather(net.sdo(1).aread(0x1008, 0, "str"),
+                                     net.sdo(2).aread(0x1008, 0, "str"),
+                                     net.sdo(2).aread(0x6060, 0, "i8"))
+        with pytest.raises(codrive.SdoAbortError):
+            await net.sdo(1).aread(0x1234, 0, "u8")
+        t.cancel()
+        return names, ticks
+
+    names, ticks = asyncio.run(main())
+    assert names[1] == "DS-BVS" and names[2] == 1 and names[0]
+    assert ticks > 0
+    assert len(drives) == 2
