@@ -143,12 +143,13 @@ else
 fi
 
 # The .deb: build it, install it with dpkg (as root) and build README's consumer against /usr.
+# (-B: no __pycache__ left in /usr/lib/python3/dist-packages/codrive after dpkg -r.)
 if [[ $(id -u) -eq 0 ]]; then
     rm -f "$work/build"/codrive_*.deb
     if (cd "$work/build" && cpack -G DEB >/dev/null) && deb=$(ls "$work/build"/codrive_*.deb) &&
         dpkg -i "$deb" >/dev/null &&
         consumer deb main.cpp "$readme_cmake" "cmake -S . -B build && cmake --build build && ./build/app" &&
-        py_out=$(cd / && env -u PYTHONPATH /usr/bin/python3 -c "import codrive; print(codrive.__version__)") &&
+        py_out=$(cd / && env -u PYTHONPATH /usr/bin/python3 -B -c "import codrive; print(codrive.__version__)") &&
         [[ $py_out == "$version" ]] &&
         dpkg -r codrive >/dev/null; then
         pass ".deb package ($(basename "$deb")) installed with dpkg, README consumer OK, import codrive OK"
