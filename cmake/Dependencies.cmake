@@ -16,3 +16,15 @@ endif()
 if(CODRIVE_BUILD_BENCH)
     find_package(benchmark REQUIRED)
 endif()
+# The Python module (python/, docs/python.md): Debian's /usr/bin/python3 (a python3 earlier in
+# PATH may be another interpreter the module would not load in) and pybind11-dev. Built by
+# default when both are found; -DCODRIVE_BUILD_PYTHON=ON makes their absence an error.
+if(NOT DEFINED CODRIVE_BUILD_PYTHON OR CODRIVE_BUILD_PYTHON)
+    if(NOT DEFINED Python_EXECUTABLE AND EXISTS /usr/bin/python3)
+        set(Python_EXECUTABLE /usr/bin/python3 CACHE FILEPATH "Python the module is built for")
+    endif()
+    find_package(Python 3 COMPONENTS Interpreter Development.Module QUIET)
+    if(Python_FOUND)
+        find_package(pybind11 CONFIG QUIET)
+    endif()
+endif()

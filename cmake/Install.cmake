@@ -53,6 +53,12 @@ set(CPACK_PACKAGE_CONTACT "codrive developers <codrive@localhost>")
 set(CPACK_PACKAGE_DESCRIPTION_SUMMARY "CANopen and EtherCAT master stack for CiA 402 drives")
 set(CPACK_DEBIAN_PACKAGE_DEPENDS
     "libsocketcan-dev, libfmt-dev, libexpected-dev, libyaml-cpp-dev, libeigen3-dev")
+if(CODRIVE_BUILD_PYTHON)
+    # The `codrive` module in /usr/lib/python3/dist-packages is built for this Python version.
+    string(APPEND CPACK_DEBIAN_PACKAGE_DEPENDS
+           ", python3 (>= ${Python_VERSION_MAJOR}.${Python_VERSION_MINOR}),"
+           " python3 (<< ${Python_VERSION_MAJOR}.${Python_VERSION_MINOR}.99)")
+endif()
 set(CPACK_DEBIAN_FILE_NAME DEB-DEFAULT)
 set(CPACK_PACKAGING_INSTALL_PREFIX "/usr")
 include(CPack)

@@ -3,7 +3,8 @@
 # Builds and runs every codrive test: unit and virtual-bus tests under ASan+UBSan on the host,
 # vcan tests (real sockets, real processes) under UBSan in vcan (natively or in a UML guest),
 # EtherCAT tests on veth, the host threading tests under ThreadSanitizer, the allocation tests
-# in a Release build, the libFuzzer targets (clang 14, bounded time) and a valgrind leak check of
+# and the Python module's pytest suites (host, and vcan in the guest) in a Release build, the
+# libFuzzer targets (clang 14, bounded time) and a valgrind leak check of
 # a vcan subset in the guest. Each build directory builds only the targets its stages run.
 # The summary gives per suite: passed, failed, skipped, and the stage's wall time. A suite that
 # exists but ran no test fails the run, and so does a skipped test that was not asked for.
@@ -21,7 +22,7 @@ jobs=${CODRIVE_JOBS:-$(nproc)}
 t_start=$(date +%s)
 
 declare -A passed failed skipped seconds note
-suites=(unit tsan release vcan leak fuzz ethercat install)
+suites=(unit tsan release python vcan leak fuzz ethercat install)
 stage_order=()
 status=0
 
@@ -163,7 +164,7 @@ echo "== build: UBSan (vcan and EtherCAT tests, tools; ASan cannot run in a UML 
 all_jobs=$jobs
 jobs=$((all_jobs > 1 ? all_jobs - 1 : 1))
 stage build-ubsan configure_build "$root/build-ubsan" Debug "undefined" \
-    'vcan_tests|ethercat_tests|codrive[a-z_-]*' || status=1
+    'vcan_tests|ethercat_tests|codrive(-[a-z_-]+)?' || status=1
 jobs=$all_jobs
 echo "== unit tests (ASan+UBSan)"
 wait "$unit_pid" || true
@@ -264,9 +265,58 @@ stage tsan tsan_stage
 echo "== build: Release (allocation tests)"
 mkdir -p "$root/build-install"
 stage build-release configure_build "$release_build" Release "" \
-    'unit_pdo|unit_sync|unit_drives' || status=1
+    'unit_pdo|unit_sync|unit_drives|codrive_python|codrive-sim|codrive-dump' || status=1
 echo "== allocation tests (Release)"
 stage release release_stage
+
+# The Python module under pytest: the host suites (in-process VirtualNetwork, EDS files, traces),
+# then the vcan suites in a guest (codrive-sim processes on real SocketCAN). The module and the
+# tools the tests start come from the Release build, which the install stage builds anyway (the
+# package ships that module): a second, sanitized build of the pybind11 code would cost minutes.
+# count_pytest SUITE LOG: adds up pytest's last line ("3 failed, 40 passed, 1 skipped in 2.1s";
+# errors count as failures).
+count_pytest() {
+    local suite=$1 log=$2 line p f s
+    line=$(grep -E '^=*[ ]*[0-9]+ (passed|failed|skipped|error|errors)' "$log" | tail -1 || true)
+    read -r p f s < <(awk '{
+        for (i = 2; i <= NF; i++) {
+            w = $i; gsub(/[,=]/, "", w)
+            if (w == "passed") p += $(i - 1)
+            if (w == "failed" || w == "error" || w == "errors") f += $(i - 1)
+            if (w == "skipped") s += $(i - 1)
+        }
+    } END { print p + 0, f + 0, s + 0 }' <<<"$line")
+    passed[$suite]=$((${passed[$suite]:-0} + p))
+    failed[$suite]=$((${failed[$suite]:-0} + f))
+    skipped[$suite]=$((${skipped[$suite]:-0} + s))
+    [[ -n $line ]] || failed[$suite]=$((${failed[$suite]:-0} + 1)) # pytest did not get to run
+}
+python_stage() {
+    local log rc
+    log=$(mktemp)
+    local env=(env CODRIVE_PYTHON_DIR="$release_build/python" CODRIVE_BUILD_DIR="$release_build")
+    set +e
+    "${env[@]}" /usr/bin/python3 -m pytest -p no:cacheprovider -q \
+        --ignore="$root/tests/python/vcan" "$root/tests/python" >"$log" 2>&1
+    rc=$?
+    set -e
+    [[ $rc -eq 0 ]] || { cat "$log"; status=1; }
+    tail -1 "$log" | sed 's/^/python (host): /'
+    count_pytest python "$log"
+    if [[ ${CODRIVE_SKIP_VCAN:-0} != 1 ]]; then
+        set +e
+        "${env[@]}" bash vcan-scripts/run-in-vcan.sh --ifaces 2 --timeout 300 \
+            /usr/bin/python3 -m pytest -p no:cacheprovider -q "$root/tests/python/vcan" >"$log" 2>&1
+        rc=$?
+        set -e
+        [[ $rc -eq 0 ]] || { cat "$log"; status=1; }
+        tail -1 "$log" | sed 's/^/python (vcan): /'
+        count_pytest python "$log"
+    fi
+    rm -f "$log"
+}
+echo "== Python module (pytest: host, then vcan in a guest; Release build)"
+stage python python_stage
 
 install_stage() {
     local log rc

@@ -31,7 +31,8 @@ readme_cmake=$(block "$root/README.md" "Using the library" cmake 1)
 readme_cmake_build=$(block "$root/README.md" "Using the library" sh 2)
 readme_pkgconfig=$(block "$root/README.md" "Using the library" sh 3)
 sim_link=$(block "$root/docs/codrive-sim.md" "Library use" cmake 1)
-for v in readme_install readme_cmake readme_cmake_build readme_pkgconfig sim_link; do
+readme_python=$(block "$root/README.md" "Python" sh 1)
+for v in readme_install readme_cmake readme_cmake_build readme_pkgconfig sim_link readme_python; do
     [[ -n ${!v} ]] || { echo "install: FAILED: README.md / docs/codrive-sim.md lost the block $v"; exit 1; }
 done
 # The README's commands with its example prefix and build directory replaced by ours.
@@ -95,6 +96,16 @@ else
     fail "codrive.pc includedir is $moved_inc after moving the tree, not under it"
 fi
 
+# The Python package: README's two lines against the installed tree (Debian's python3).
+version=$(awk -F'[ )]' '/^project\(codrive VERSION/ {print $3}' "$root/CMakeLists.txt")
+if out=$(cd "$work" && bash -euo pipefail -c "$(readme_cmd <<<"$readme_python")" 2>&1) &&
+    [[ $out == "$version" ]]; then
+    pass "README Python lines: import codrive from $prefix prints $out"
+else
+    printf '%s\n' "$out" | tail -5
+    fail "README Python lines printed '$out', not $version"
+fi
+
 # --version on every tool.
 for tool in codrive codrive-dump codrive-sim codrive-ecat-sim; do
     if out=$("$prefix/bin/$tool" --version 2>&1) && [[ $out =~ ^$tool\ [0-9]+\.[0-9]+\.[0-9]+$ ]]; then
@@ -132,13 +143,16 @@ else
 fi
 
 # The .deb: build it, install it with dpkg (as root) and build README's consumer against /usr.
+# (-B: no __pycache__ left in /usr/lib/python3/dist-packages/codrive after dpkg -r.)
 if [[ $(id -u) -eq 0 ]]; then
     rm -f "$work/build"/codrive_*.deb
     if (cd "$work/build" && cpack -G DEB >/dev/null) && deb=$(ls "$work/build"/codrive_*.deb) &&
         dpkg -i "$deb" >/dev/null &&
         consumer deb main.cpp "$readme_cmake" "cmake -S . -B build && cmake --build build && ./build/app" &&
+        py_out=$(cd / && env -u PYTHONPATH /usr/bin/python3 -B -c "import codrive; print(codrive.__version__)") &&
+        [[ $py_out == "$version" ]] &&
         dpkg -r codrive >/dev/null; then
-        pass ".deb package ($(basename "$deb")) installed with dpkg, README consumer OK"
+        pass ".deb package ($(basename "$deb")) installed with dpkg, README consumer OK, import codrive OK"
     else
         dpkg -r codrive >/dev/null 2>&1 || true
         fail ".deb package"

@@ -1,0 +1,64 @@
+# SPDX-License-Identifier: Apache-2.0
+"""codrive.dump.read against the repository's traces and codrive-dump --json itself (host)."""
+import json
+import subprocess
+
+import pytest
+
+import codrive
+
+TRACES = ["pdo.log", "sdo.log", "sdo_block.log", "services.log", "screen.log", "profile.log"]
+
+
+@pytest.mark.parametrize("name", TRACES)
+def test_records_are_what_codrive_dump_json_prints(root, build_dir, name):
+    trace = root / "tests/data/traces" / name
+    out = subprocess.run([str(build_dir / "tools/codrive-dump"), "-r", str(trace), "--json"],
+                         check=True, capture_output=True, text=True).stdout
+    expected = [json.loads(line) for line in out.splitlines() if line]
+    records = list(codrive.dump.read(trace))
+    assert records == expected
+    assert len(records) > 5
+
+
+def test_the_golden_json_file_matches(root):
+    records = [r for r in codrive.dump.read(root / "tests/data/traces/pdo.log")
+               if r.get("service") in ("sdo", "pdo")]
+    golden = [json.loads(line) for line in open(root / "tests/data/traces/pdo.json.expected")]
+    assert records == golden
+
+
+def test_an_eds_names_the_objects(root):
+    trace = root / "tests/data/traces/eds.log"
+    plain = list(codrive.dump.read(trace))
+    named = list(codrive.dump.read(trace, eds={10: root / "tests/data/eds/real/canopendemo-demodevice.eds"}))
+    assert len(plain) == len(named)
+    assert [r["text"] for r in plain] != [r["text"] for r in named]
+
+
+def test_bad_lines_are_problems_not_exceptions(tmp_path):
+    log = tmp_path / "bad.log"
+    log.write_text("(1700000000.000000) can0 704#05\n"
+                   "(1700000000.100000) can0 7G4#05\n"
+                   "(1700000000.200000) can0 704#05\n")
+    trace = codrive.dump.read(log)
+    records = list(trace)
+    assert [r["id"] for r in records] == [0x704, 0x704]
+    assert len(trace.problems) == 1 and "line 2" in trace.problems[0]
+
+
+def test_a_missing_file_raises_os_error(tmp_path):
+    with pytest.raises(FileNotFoundError):
+        codrive.dump.read(tmp_path / "absent.log")
+
+
+def test_a_large_trace_streams_and_an_abandoned_one_is_released(tmp_path):
+    log = tmp_path / "big.log"
+    with open(log, "w") as f:
+        for i in range(50_000):
+            f.write(f"({1700000000 + i / 1000:.6f}) can0 704#05\n")
+    count = sum(1 for _ in codrive.dump.read(log))
+    assert count == 50_000
+    it = iter(codrive.dump.read(log))
+    assert next(it)["service"] == "hb"
+    del it  # the decoding thread ends without the rest being consumed
