@@ -22,12 +22,12 @@ void CoeTransport::submitted(VoidResult r, Completion c) {
     }
 }
 
-void CoeTransport::read(std::uint16_t index, std::uint8_t subindex, ReadDone done) {
-    Completion c;
-    c.read_done = std::move(done);
+void CoeTransport::submit(Completion c, const std::function<VoidResult(CoeDone)>& launch) {
+    // The master calls back from its mailbox state machine; the completion waits in the sink
+    // until poll() delivers it on the caller's thread.
     auto sink = completed_;
     auto pending = std::make_shared<Completion>(std::move(c));
-    auto r = master_.sdo_upload_async(slave_, index, subindex, [sink, pending](CoeOutcome o) {
+    auto r = launch([sink, pending](CoeOutcome o) {
         pending->outcome = std::move(o);
         sink->push_back(std::move(*pending));
     });
@@ -38,23 +38,23 @@ void CoeTransport::read(std::uint16_t index, std::uint8_t subindex, ReadDone don
     submitted(r, {});
 }
 
+void CoeTransport::read(std::uint16_t index, std::uint8_t subindex, ReadDone done) {
+    Completion c;
+    c.read_done = std::move(done);
+    submit(std::move(c), [&](CoeDone d) {
+        return master_.sdo_upload_async(slave_, index, subindex, std::move(d));
+    });
+}
+
 void CoeTransport::write(std::uint16_t index, std::uint8_t subindex, drives::Bytes data,
                          WriteDone done) {
     Completion c;
     c.write_done = std::move(done);
-    auto sink = completed_;
-    auto pending = std::make_shared<Completion>(std::move(c));
-    auto r = master_.sdo_download_async(slave_, index, subindex,
-                                        std::vector<std::uint8_t>(data.begin(), data.end()),
-                                        [sink, pending](CoeOutcome o) {
-                                            pending->outcome = std::move(o);
-                                            sink->push_back(std::move(*pending));
-                                        });
-    if (!r) {
-        submitted(r, std::move(*pending));
-        return;
-    }
-    submitted(r, {});
+    submit(std::move(c), [&](CoeDone d) {
+        return master_.sdo_download_async(slave_, index, subindex,
+                                          std::vector<std::uint8_t>(data.begin(), data.end()),
+                                          std::move(d));
+    });
 }
 
 std::size_t CoeTransport::poll() {

@@ -7,6 +7,7 @@
 #include <codrive/ethercat/master.hpp>
 
 #include <deque>
+#include <functional>
 #include <memory>
 #include <vector>
 
@@ -63,6 +64,9 @@ private:
     using Completions = std::deque<Completion>;
     drives::CyclicHandle resolve(std::uint16_t index, std::uint8_t subindex, bool output) const;
     void submitted(VoidResult r, Completion c);
+    /// Starts one transfer with `launch` (the master's async upload or download), its outcome
+    /// queued for poll().
+    void submit(Completion c, const std::function<VoidResult(CoeDone)>& launch);
 
     Master& master_;
     std::size_t slave_;
