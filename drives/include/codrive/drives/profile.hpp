@@ -102,6 +102,32 @@ struct Quirks {
     bool fault_reset_only_without_cause = true; ///< transition 15 only if the cause is gone
 };
 
+/// The signatures CiA 301 §7.5.2.13/§7.5.2.14 defines for 1010h (store) and 1011h (restore):
+/// "save" and "load" read as little-endian UNSIGNED32.
+inline constexpr std::uint32_t kSaveSignature = 0x65766173;
+inline constexpr std::uint32_t kLoadSignature = 0x64616F6C;
+
+/// A parameter category of 1010h (store) and 1011h (restore): one sub-index in each.
+struct StoreCategory {
+    std::uint8_t subindex = 1;
+    std::string_view name;  ///< "all", "comm", "app", … (what `codrive save --what` takes)
+    std::string_view title; ///< the manual's name of the sub-index
+    /// Indexes the category stores; empty: every writable object the drive backs up (for a
+    /// drive with several categories, every object of the others).
+    std::span<const std::uint16_t> objects;
+};
+
+/// How a drive keeps parameters in non-volatile memory (1010h/1011h).
+struct Persistence {
+    /// The categories the drive offers; empty: one, "all" at sub-index 1 (CiA 301).
+    std::span<const StoreCategory> categories;
+    std::uint8_t highest_subindex = 1;        ///< 1010h/1011h sub 0
+    std::uint32_t store_read_before_save = 1; ///< 1010h:n read before any save (FIO: 0)
+    /// 1011h makes the drive restart on its own (FIO §7.12.4.16); otherwise the defaults take
+    /// effect at the next reset node or power-on (CiA 301 §7.5.2.14).
+    bool restore_restarts = false;
+};
+
 /// Description of one CiA 402 object (or sub-object) as a device holds it.
 struct ObjectSpec {
     std::uint16_t index = 0;
@@ -157,6 +183,8 @@ struct Profile {
     bool fault_code_in_1003 = false;
     /// Manufacturer-specific axis objects: offset per axis (AKD2G: 0x100 for 50xxh → 51xxh).
     std::uint16_t manufacturer_axis_offset = 0;
+    /// 1010h/1011h categories and rules.
+    Persistence persistence;
 
     /// Index of a CiA 402 object for axis `axis` (1-based): 6040h → 6840h for AKD2G axis 2.
     [[nodiscard]] std::uint16_t axis_index(std::uint16_t index, unsigned axis) const;
@@ -171,6 +199,15 @@ struct Profile {
     /// "F2006 Bus over voltage", or "" if the code is unknown to the profile.
     [[nodiscard]] std::string fault_text(std::uint16_t code) const;
     [[nodiscard]] bool has_object(std::uint16_t index) const;
+    /// The 1010h/1011h categories (at least "all" at sub-index 1).
+    [[nodiscard]] std::span<const StoreCategory> store_categories() const;
+    /// The category named `name` ("all", "comm", …), or nullptr.
+    [[nodiscard]] const StoreCategory* store_category(std::string_view name) const;
+    /// The category at 1010h/1011h sub-index `subindex`, or nullptr.
+    [[nodiscard]] const StoreCategory* store_category(std::uint8_t subindex) const;
+    /// True if a save of category `c` stores object `index`: a member of the category, never
+    /// 1010h/1011h themselves, never a PDO map the drive marks "Backup NO" (pdo_maps_volatile).
+    [[nodiscard]] bool saves(const StoreCategory& c, std::uint16_t index) const;
     /// Axis count encoded in a product code (AKD2G bits 23..20), else 1.
     [[nodiscard]] unsigned axes_from_product_code(std::uint32_t product_code) const;
 };

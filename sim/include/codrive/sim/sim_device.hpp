@@ -39,6 +39,8 @@ class DevicePdo;
 
 namespace codrive::sim {
 
+class ParameterStore;
+
 /// The manufacturer object that controls the simulation (sub-indexes below); axis n uses
 /// kControlObject + n. Writing 1 injects, writing 0 to kControlSto releases STO.
 inline constexpr std::uint16_t kControlObject = 0x2FF0;
@@ -118,8 +120,6 @@ private:
     void build_objects();
     void install_hooks();
     void apply_comm_parameters(TimePoint now);
-    void restore(bool communication_only);
-    void save();
     void on_axis_event(const AxisEvent& e);
     void raise_error(const FaultCode& code, int axis, bool warning);
     void clear_errors(int axis, bool warnings_only, std::uint16_t code);
@@ -141,8 +141,7 @@ private:
     std::unique_ptr<sync::SyncConsumer> sync_;
     std::unique_ptr<emcy::EmcyProducer> emcy_;
     std::unique_ptr<pdo::DevicePdo> pdo_;
-    std::map<std::uint32_t, Value> factory_; ///< (index << 8 | sub) → value after construction
-    std::map<std::uint32_t, Value> stored_;  ///< what reset node restores (1010h "save")
+    std::unique_ptr<ParameterStore> store_; ///< 1010h/1011h: what reset node restores
     std::vector<ActiveError> errors_;
     std::uint8_t consumer_node_ = 0;
     bool started_ = false;
