@@ -31,6 +31,8 @@ PAGES = {
     "codrive-nmt": ["codrive", "nmt"],
     "codrive-supervise": ["codrive", "supervise"],
     "codrive-drive": ["codrive", "drive"],
+    "codrive-save": ["codrive", "save"],
+    "codrive-restore": ["codrive", "restore"],
     "codrive-run": ["codrive", "run"],
     "codrive-eds": ["codrive", "eds"],
     "codrive-ecat": ["codrive", "ecat"],
