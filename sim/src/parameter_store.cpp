@@ -149,6 +149,25 @@ void ParameterStore::write_factory(ObjectDictionary& od) const {
     }
 }
 
+std::map<std::uint32_t, Value> ParameterStore::changes() const {
+    std::map<std::uint32_t, Value> out;
+    for (const auto& [k, v] : stored_) {
+        const auto f = factory_.find(k);
+        if (f == factory_.end() || !(f->second == v)) {
+            out.emplace(k, v);
+        }
+    }
+    return out;
+}
+
+void ParameterStore::adopt(const std::map<std::uint32_t, Value>& saved) {
+    for (const auto& [k, v] : saved) {
+        if (factory_.count(k) != 0) {
+            stored_[k] = v;
+        }
+    }
+}
+
 void ParameterStore::keep(std::uint16_t index, std::uint8_t subindex) {
     if (const SubObject* s = od_.find(index, subindex)) {
         stored_[key(index, subindex)] = s->value;

@@ -38,6 +38,10 @@ public:
     void load(bool communication_only);
     /// Sets the value and default of every sub-object of `od` to the factory value (an EDS).
     void write_factory(ObjectDictionary& od) const;
+    /// The saved values that differ from the factory ones (what a restart carries over).
+    [[nodiscard]] std::map<std::uint32_t, Value> changes() const;
+    /// Takes saved values from changes() of an earlier store (the same memory after a restart).
+    void adopt(const std::map<std::uint32_t, Value>& saved);
     /// Marks the current value of one sub-object as saved (command-line settings).
     void keep(std::uint16_t index, std::uint8_t subindex);
 

@@ -30,6 +30,19 @@ using WriteResult = tl::expected<void, SdoAbort>;
 } // namespace
 
 SimDevice::SimDevice(ICanBus& bus, SimDeviceConfig config) : bus_(bus), config_(config) {
+    assemble();
+    // The node-ID the command line gave is the one the drive was commissioned to (DS-BVS
+    // §6.2.74: 5000h, default 1): a saved value, so a restore of the defaults brings back 1.
+    const drives::Commissioning& com = config_.profile->drive->commissioning;
+    if (com.node_id_object != 0 && od_.set<std::uint8_t>(com.node_id_object, 0, config_.node)) {
+        store_->keep(com.node_id_object, 0);
+    }
+    if (com.bit_rate_object != 0) {
+        bit_rate_code_ = od_.get<std::uint8_t>(com.bit_rate_object, 0).value_or(0);
+    }
+}
+
+void SimDevice::assemble() {
     const SimProfile& p = *config_.profile;
     store_ = std::make_unique<ParameterStore>(od_, *p.drive);
     unsigned n = config_.axes == 0 ? p.default_axes : config_.axes;
@@ -91,6 +104,9 @@ void SimDevice::install_hooks() {
     nmt_->set_reset_handler([this](nmt::NmtCommand c) {
         // Handled after the frame: restore parameters, then boot-up (CiA 301 §7.3.2.2).
         store_->load(c == nmt::NmtCommand::ResetCommunication);
+        if (c == nmt::NmtCommand::ResetNode && take_commissioning()) {
+            return; // boots at its new node-ID on the next tick
+        }
         if (c == nmt::NmtCommand::ResetNode) {
             for (auto& a : axes_) {
                 a->power_on();
@@ -355,7 +371,7 @@ TimePoint SimDevice::next_deadline() const {
         return kNever;
     }
     TimePoint t = next_step_;
-    if (reset_pending_) {
+    if (reset_pending_ || restart_as_) {
         t = now_;
     }
     for (const ITimed* s :
@@ -372,6 +388,12 @@ TimePoint SimDevice::next_deadline() const {
 void SimDevice::on_tick(TimePoint now) {
     now_ = std::max(now_, now);
     if (!started_) {
+        return;
+    }
+    if (restart_as_) {
+        const NodeId node = *restart_as_;
+        restart_as_.reset();
+        restart_as(node, now);
         return;
     }
     if (reset_pending_) {
@@ -404,6 +426,58 @@ void SimDevice::on_tick(TimePoint now) {
     if (guarding_ && guarding_->next_deadline() <= now) {
         guarding_->on_tick(now);
     }
+}
+
+bool SimDevice::take_commissioning() {
+    // DS-BVS §6.2.74/§6.2.76: node-ID and bit rate take effect at a restart.
+    const drives::Commissioning& com = config_.profile->drive->commissioning;
+    if (com.bit_rate_object != 0) {
+        const auto code = od_.get<std::uint8_t>(com.bit_rate_object, 0).value_or(bit_rate_code_);
+        if (code != bit_rate_code_) {
+            bit_rate_code_ = code;
+            unsigned kbit = 0;
+            for (const drives::BitRateCode& b : com.bit_rates) {
+                kbit = b.code == code ? b.kbit : kbit;
+            }
+            // A virtual CAN bus has no bit rate: the change is recorded and reported only.
+            log(fmt::format("node {}: CAN bit rate now {} kbit/s (5002h = {}; recorded only, "
+                            "the virtual bus has no bit rate)",
+                            config_.node, kbit, code));
+        }
+    }
+    if (com.node_id_object == 0) {
+        return false;
+    }
+    const auto id = od_.get<std::uint8_t>(com.node_id_object, 0).value_or(config_.node);
+    if (id == config_.node || !valid_node_id(id)) {
+        return false;
+    }
+    restart_as_ = id;
+    return true;
+}
+
+void SimDevice::restart_as(NodeId node, TimePoint now) {
+    // A restart at a new node-ID: a fresh dictionary and services built for `node` (COB-IDs
+    // of the predefined connection set follow it), the same non-volatile memory.
+    log(fmt::format("node {}: restarting as node {}", config_.node, node));
+    const auto saved = store_->changes();
+    pdo_.reset();
+    emcy_.reset();
+    sync_.reset();
+    guarding_.reset();
+    consumer_.reset();
+    heartbeat_.reset();
+    nmt_.reset();
+    server_.reset();
+    axes_.clear();
+    od_ = ObjectDictionary{};
+    errors_.clear();
+    consumer_node_ = 0;
+    config_.node = node;
+    assemble();
+    store_->adopt(saved);
+    store_->load(false);
+    start(now);
 }
 
 void SimDevice::inject(unsigned axis, FaultKind kind, TimePoint now) {

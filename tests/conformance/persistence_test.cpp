@@ -32,26 +32,27 @@ void reset_node(sim::testing::DeviceFixture& f, NodeId node) {
 TEST(Persistence, SavedValueSurvivesResetNodeAndRestoredDefaultReturnsAfterTheNextReset) {
     // DS-BVS §6.2.6: "save" stores all parameters; §6.2.7: "load" restores the defaults,
     // "valid only after the device is reset or power cycled".
-    CanProbe probe("ds-bvs", 4);
+    // Node 1, where the drive ships (§6.2.74): restoring all defaults also brings 5000h back to 1.
+    CanProbe probe("ds-bvs", 1);
     auto& f = probe.fixture();
     const drives::Profile& p = drives::ds_bvs_profile();
     drives::CanopenTransport t(f.client);
     const std::uint32_t factory = *f.read<std::uint32_t>(0x6065, 0);
     ASSERT_TRUE(f.write<std::uint32_t>(0x6065, 0, factory + 1000));
-    reset_node(f, 4);
+    reset_node(f, 1);
     EXPECT_EQ(*f.read<std::uint32_t>(0x6065, 0), factory) << "not saved: reset loses it";
 
     ASSERT_TRUE(f.write<std::uint32_t>(0x6065, 0, factory + 1000));
     auto saved = run_can(f, [&](auto d) { drives::store_parameters(t, p, "all", std::move(d)); });
     ASSERT_TRUE(saved) << saved.error().message;
-    reset_node(f, 4);
+    reset_node(f, 1);
     EXPECT_EQ(*f.read<std::uint32_t>(0x6065, 0), factory + 1000) << "saved: kept";
 
     auto restored =
         run_can(f, [&](auto d) { drives::restore_default_parameters(t, p, "all", std::move(d)); });
     ASSERT_TRUE(restored) << restored.error().message;
     EXPECT_EQ(*f.read<std::uint32_t>(0x6065, 0), factory + 1000) << "defaults wait for a reset";
-    reset_node(f, 4);
+    reset_node(f, 1);
     EXPECT_EQ(*f.read<std::uint32_t>(0x6065, 0), factory) << "default back after the reset";
 }
 
@@ -71,6 +72,21 @@ TEST(Persistence, DsBvsRestoreWhilePoweredIsRefusedWithTheDrivesAbortAndTheRule)
     EXPECT_NE(r.error().message.find("pre-operational with the power stage disabled"),
               std::string::npos)
         << r.error().message;
+}
+
+TEST(Persistence, DsBvsRestoreOfAllDefaultsBringsTheDriveBackToNode1) {
+    // §6.2.74: 5000h is a saved parameter with default 1; restoring the defaults resets it.
+    CanProbe probe("ds-bvs", 4);
+    auto& f = probe.fixture();
+    drives::CanopenTransport t(f.client);
+    auto r = run_can(f, [&](auto d) {
+        drives::restore_default_parameters(t, drives::ds_bvs_profile(), "all", std::move(d));
+    });
+    ASSERT_TRUE(r) << r.error().message;
+    f.frames.clear();
+    reset_node(f, 4);
+    EXPECT_EQ(f.with_id(0x701).size(), 1U) << "boot-up at node 1";
+    EXPECT_TRUE(f.with_id(0x704).empty());
 }
 
 TEST(Persistence, PdoMapsAreNotSavedWhereTheDriveSaysBackupNo) {

@@ -128,6 +128,29 @@ struct Persistence {
     bool restore_restarts = false;
 };
 
+/// One CAN bit rate a drive accepts in its bit-rate object, and the code it is written as.
+struct BitRateCode {
+    std::uint8_t code = 0;
+    unsigned kbit = 0;
+};
+
+/// Node-ID and bit-rate objects a drive reads at start (DS-BVS 5000h/5002h, §6.2.74/§6.2.76):
+/// written, saved with 1010h and effective after a restart.
+struct Commissioning {
+    std::uint16_t node_id_object = 0; ///< 0: the drive has none (set the node-ID otherwise)
+    std::uint16_t bit_rate_object = 0;
+    std::span<const BitRateCode> bit_rates; ///< the supported codes
+    /// The code for `kbit`, or nullopt if the drive does not support that rate.
+    [[nodiscard]] std::optional<std::uint8_t> code_for(unsigned kbit) const {
+        for (const BitRateCode& b : bit_rates) {
+            if (b.kbit == kbit) {
+                return b.code;
+            }
+        }
+        return std::nullopt;
+    }
+};
+
 /// Description of one CiA 402 object (or sub-object) as a device holds it.
 struct ObjectSpec {
     std::uint16_t index = 0;
@@ -185,6 +208,8 @@ struct Profile {
     std::uint16_t manufacturer_axis_offset = 0;
     /// 1010h/1011h categories and rules.
     Persistence persistence;
+    /// Node-ID / bit-rate objects (commissioning over the bus).
+    Commissioning commissioning;
 
     /// Index of a CiA 402 object for axis `axis` (1-based): 6040h → 6840h for AKD2G axis 2.
     [[nodiscard]] std::uint16_t axis_index(std::uint16_t index, unsigned axis) const;
