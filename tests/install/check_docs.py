@@ -33,6 +33,7 @@ PAGES = {
     "codrive-drive": ["codrive", "drive"],
     "codrive-save": ["codrive", "save"],
     "codrive-restore": ["codrive", "restore"],
+    "codrive-commission": ["codrive", "commission"],
     "codrive-run": ["codrive", "run"],
     "codrive-eds": ["codrive", "eds"],
     "codrive-ecat": ["codrive", "ecat"],
