@@ -161,6 +161,27 @@ constexpr std::array<StoreCategory, 7> kStoreCategories{{
     {0x0C, "ethernet", "Ethernet configuration", kEthernetObjects},
 }};
 
+// §7.13.11-§7.13.18: the default PDO maps (mapping entry = index << 16 | sub << 8 | bits).
+// 1603h "Output Control" repeats 1602h's 60420010h in the manual: kept as written.
+constexpr std::array<std::uint32_t, 4> kRx1600{0x60400010, 0x607A0020, 0x32020020, 0x60600008};
+constexpr std::array<std::uint32_t, 2> kRx1601{0x607A0020, 0x60810020};
+constexpr std::array<std::uint32_t, 1> kRx1602{0x60420010};
+constexpr std::array<std::uint32_t, 1> kRx1603{0x60420010};
+constexpr std::array<std::uint32_t, 3> kTx1A00{0x60410010, 0x60640020, 0x60610008};
+constexpr std::array<std::uint32_t, 1> kTx1A01{0x60640020};
+constexpr std::array<std::uint32_t, 1> kTx1A02{0x60440010};
+constexpr std::array<std::uint32_t, 3> kTx1A03{0x60FD0020, 0x64020120, 0x64020220};
+constexpr std::array<DefaultPdoMap, 8> kDefaultMaps{{
+    {0x1600, kRx1600},
+    {0x1601, kRx1601},
+    {0x1602, kRx1602},
+    {0x1603, kRx1603},
+    {0x1A00, kTx1A00},
+    {0x1A01, kTx1A01},
+    {0x1A02, kTx1A02},
+    {0x1A03, kTx1A03},
+}};
+
 Profile make_fio() {
     Profile p;
     p.name = "fio";
@@ -186,6 +207,9 @@ Profile make_fio() {
     p.quirks.canopen = false;
     p.quirks.remote_bit9_always_set = true;
     p.quirks.si_unit_objects = true;
+    p.default_pdo_maps = kDefaultMaps;
+    p.quirks.csp_bit8_synchronised = true;        // §7.8.1.4
+    p.quirks.statusword_bit15_closed_loop = true; // §7.13 6041h CLA
     p.persistence.categories = kStoreCategories;
     p.persistence.highest_subindex = 0x0D;    // §7.13.7/§7.13.8: sub 0 = 0Dh
     p.persistence.store_read_before_save = 0; // §7.13.7 default 0; "1" once saved (§7.12.4.15)

@@ -57,12 +57,11 @@ DriveDef fio_def() {
     DriveDef d;
     d.name = "FIO Drive Control";
     d.profile = "fio";
-    d.rx = {{0x1600, {0x60400010, 0x607A0020, 0x32020020, 0x60600008}},
-            {0x1601, {}},
-            {0x1602, {}},
-            {0x1603, {}}};
-    d.tx = {
-        {0x1A00, {0x60410010, 0x60640020, 0x60610008}}, {0x1A01, {}}, {0x1A02, {}}, {0x1A03, {}}};
+    // The default maps are the profile's (one table, §7.13.11-§7.13.18).
+    for (const drives::DefaultPdoMap& m : drives::fio_profile().default_pdo_maps) {
+        PdoDef def{m.index, std::vector<std::uint32_t>(m.entries.begin(), m.entries.end())};
+        (m.index < 0x1A00 ? d.rx : d.tx).push_back(std::move(def));
+    }
     d.rx_assign = {0x1600};
     d.tx_assign = {0x1A00};
     // Manual §7.13.22/§7.13.23: 1C32h sub 0 = 05h, 1C33h sub 0 = 03h; both describe sub 1
@@ -269,6 +268,7 @@ public:
         // connection option 6007h (FIO §7.13.77: default -1, clear the PDOs and coast). A
         // profile without 6007h (AKD2G) disables the voltage.
         if (core_) {
+            core_->set_fieldbus_synchronised(to == AlState::Op);
             if (from == AlState::Op) {
                 core_->abort_connection(od_.get<std::int16_t>(0x6007, 0).value_or(2));
             }

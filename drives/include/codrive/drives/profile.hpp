@@ -85,6 +85,11 @@ struct Quirks {
     std::uint8_t max_pdo_entries = 8;        ///< mapping entries per CAN PDO
     bool switch_on_needs_bit3_clear = false; ///< DS-BVS: 0x0F in READY does only transition 3
     bool sto_in_statusword_bit8 = false;     ///< AKD2G: statusword bit 8 = STO active
+    /// Statusword bit 8 in CSP = "synchronised with the fieldbus" (FIO §7.8.1.4).
+    bool csp_bit8_synchronised = false;
+    /// Statusword bit 15 = CLA "closed loop available": 1 after a successful auto setup (FIO
+    /// §7.13 6041h); the simulator runs no auto setup, so it stays 0.
+    bool statusword_bit15_closed_loop = false;
     bool voltage_bit4_is_dc_bus = false;     ///< AKD2G: statusword bit 4 = DC bus present
     bool remote_bit9_always_set = false;     ///< DS-BVS, FIO: bit 9 always 1
     bool has_shutdown_option_codes = true;   ///< 605Bh..605Eh exist (AKD2G: no)
@@ -151,6 +156,12 @@ struct Commissioning {
     }
 };
 
+/// A PDO mapping object as the drive ships it: entries index << 16 | sub << 8 | bits.
+struct DefaultPdoMap {
+    std::uint16_t index = 0;
+    std::span<const std::uint32_t> entries;
+};
+
 /// Description of one CiA 402 object (or sub-object) as a device holds it.
 struct ObjectSpec {
     std::uint16_t index = 0;
@@ -208,6 +219,8 @@ struct Profile {
     std::uint16_t manufacturer_axis_offset = 0;
     /// 1010h/1011h categories and rules.
     Persistence persistence;
+    /// The PDO maps the drive ships with, where its manual gives them (FIO §7.13.11-§7.13.18).
+    std::span<const DefaultPdoMap> default_pdo_maps;
     /// Node-ID / bit-rate objects (commissioning over the bus).
     Commissioning commissioning;
 
