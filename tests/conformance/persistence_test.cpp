@@ -143,10 +143,12 @@ TEST(Persistence, FioSavesPerCategoryOverCoeAndRestartsAfterRestore) {
     };
     auto u32 = [&](std::uint16_t index, std::uint8_t sub) {
         const Reply r = probe.upload(index, sub);
-        EXPECT_TRUE(r.ok) << std::hex << index;
-        return r.ok ? get_le<std::uint32_t>(r.data.data()) : 0xFFFFFFFFU;
+        EXPECT_TRUE(r.ok && r.data.size() == 4) << std::hex << index;
+        return r.ok && r.data.size() == 4 ? get_le<std::uint32_t>(r.data.data()) : 0xFFFFFFFFU;
     };
-    EXPECT_EQ(u32(0x1010, 0) & 0xFF, 0x0DU);
+    const Reply highest = probe.upload(0x1010, 0);
+    ASSERT_TRUE(highest.ok && highest.data.size() == 1);
+    EXPECT_EQ(highest.data[0], 0x0DU);
     EXPECT_EQ(u32(0x1010, 3), 0U) << "§7.13.7 default 0 before a save";
     ASSERT_TRUE(probe.write<std::uint32_t>(0x6065, 0, 4321).ok); // application category
     ASSERT_TRUE(probe.write<std::uint32_t>(0x3202, 0, 1).ok);    // drive category
