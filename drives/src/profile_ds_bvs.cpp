@@ -60,7 +60,15 @@ using builders::limited;
 using builders::spec;
 
 // §4.3 defaults, ranges and PDO flags that differ from the generic set.
+// §6.2.76 0x5002: 1 (10 kbps) and 7 (800 kbps) "Not supported", 0 "None".
+constexpr std::array<BitRateCode, 6> kBitRates{
+    {{2, 20}, {3, 50}, {4, 125}, {5, 250}, {6, 500}, {8, 1000}}};
+
 constexpr std::array kOverrides{
+    // §6.2.74 0x5000 "ID for CAN, UART": 1..127, default 1, Backup YES, effective after restart.
+    limited(spec(0x5000, 0, "ID for CAN, UART", DT::Unsigned8, A::Rw, false, 1), 1, 127),
+    // §6.2.76 0x5002 "CAN Bitrate": code 0..8 (table), default 5 = 250 kbps, Backup YES.
+    limited(spec(0x5002, 0, "CAN Bitrate", DT::Unsigned8, A::Rw, false, 5), 0, 8),
     limited(spec(0x6007, 0, "Abort connection option code", DT::Integer16, A::Rw, false, 0), 0, 3),
     limited(spec(0x605A, 0, "Quick stop option code", DT::Integer16, A::Rw, false, 6), 0, 6),
     limited(spec(0x605B, 0, "Shutdown option code", DT::Integer16, A::Rw, false, 0), 0, 1),
@@ -134,6 +142,9 @@ Profile make_ds_bvs() {
     p.quirks.remote_bit9_always_set = true;
     p.quirks.interpolation_period_object = false;
     p.quirks.error_behaviour_1029 = true;
+    p.commissioning.node_id_object = 0x5000;  // §6.2.74
+    p.commissioning.bit_rate_object = 0x5002; // §6.2.76
+    p.commissioning.bit_rates = kBitRates;
     return p;
 }
 

@@ -131,6 +131,57 @@ constexpr std::array kOverrides{
     spec(0x6502, 0, "Supported drive modes", DT::Unsigned32, A::Ro, true, 0x3AF),
 };
 
+// §7.12.4.3-§7.12.4.13: the objects of each 1010h/1011h category. §7.12.4.4 lists 6040h
+// (controlword) under "application", but §7.12.4.2 says control words are never saved: left out.
+constexpr std::array<std::uint16_t, 11> kCommObjects{0x1600, 0x1601, 0x1602, 0x1603, 0x1A00, 0x1A01,
+                                                     0x1A02, 0x1A03, 0x1C12, 0x1C13, 0x2102};
+constexpr std::array<std::uint16_t, 86> kAppObjects{
+    0x2034, 0x2035, 0x2036, 0x2037, 0x2038, 0x203A, 0x203D, 0x203E, 0x203F, 0x2057, 0x2058,
+    0x205B, 0x2084, 0x2290, 0x2291, 0x2800, 0x3210, 0x3212, 0x3240, 0x3242, 0x3243, 0x3250,
+    0x3252, 0x3700, 0x3701, 0x4013, 0x6042, 0x6046, 0x6048, 0x6049, 0x604A, 0x604C, 0x605A,
+    0x605B, 0x605C, 0x605D, 0x605E, 0x6060, 0x6065, 0x6066, 0x6067, 0x6068, 0x606D, 0x606E,
+    0x6071, 0x6072, 0x607A, 0x607B, 0x607C, 0x607D, 0x607E, 0x607F, 0x6081, 0x6082, 0x6083,
+    0x6084, 0x6085, 0x6086, 0x6087, 0x6091, 0x6092, 0x6096, 0x6097, 0x6098, 0x6099, 0x609A,
+    0x60A2, 0x60A4, 0x60A8, 0x60A9, 0x60B0, 0x60B1, 0x60B2, 0x60C1, 0x60C2, 0x60C4, 0x60C5,
+    0x60C6, 0x60E8, 0x60E9, 0x60ED, 0x60EE, 0x60F2, 0x60F8, 0x60FE, 0x60FF};
+constexpr std::array<std::uint16_t, 1> kCustomerObjects{0x2701};
+constexpr std::array<std::uint16_t, 4> kDriveObjects{0x3202, 0x3203, 0x6073, 0x6080};
+constexpr std::array<std::uint16_t, 11> kTuningObjects{
+    0x2030, 0x2031, 0x203B, 0x2059, 0x3390, 0x33A0, 0x6075, 0x608F, 0x6090, 0x60E6, 0x60EB};
+constexpr std::array<std::uint16_t, 3> kEthernetObjects{0x2010, 0x2011, 0x2012};
+// §7.12.4.15 (sub-indexes 01h..06h and 0Ch save; §7.13.7 lists 07h..0Bh and 0Dh without a
+// category: they are in 1010h/1011h but hold no objects here).
+constexpr std::array<StoreCategory, 7> kStoreCategories{{
+    {0x01, "all", "all categories", {}},
+    {0x02, "comm", "communication objects", kCommObjects},
+    {0x03, "app", "application objects", kAppObjects},
+    {0x04, "customer", "customer objects", kCustomerObjects},
+    {0x05, "drive", "drive objects", kDriveObjects},
+    {0x06, "tuning", "tuning objects", kTuningObjects},
+    {0x0C, "ethernet", "Ethernet configuration", kEthernetObjects},
+}};
+
+// §7.13.11-§7.13.18: the default PDO maps (mapping entry = index << 16 | sub << 8 | bits).
+// 1603h "Output Control" repeats 1602h's 60420010h in the manual: kept as written.
+constexpr std::array<std::uint32_t, 4> kRx1600{0x60400010, 0x607A0020, 0x32020020, 0x60600008};
+constexpr std::array<std::uint32_t, 2> kRx1601{0x607A0020, 0x60810020};
+constexpr std::array<std::uint32_t, 1> kRx1602{0x60420010};
+constexpr std::array<std::uint32_t, 1> kRx1603{0x60420010};
+constexpr std::array<std::uint32_t, 3> kTx1A00{0x60410010, 0x60640020, 0x60610008};
+constexpr std::array<std::uint32_t, 1> kTx1A01{0x60640020};
+constexpr std::array<std::uint32_t, 1> kTx1A02{0x60440010};
+constexpr std::array<std::uint32_t, 3> kTx1A03{0x60FD0020, 0x64020120, 0x64020220};
+constexpr std::array<DefaultPdoMap, 8> kDefaultMaps{{
+    {0x1600, kRx1600},
+    {0x1601, kRx1601},
+    {0x1602, kRx1602},
+    {0x1603, kRx1603},
+    {0x1A00, kTx1A00},
+    {0x1A01, kTx1A01},
+    {0x1A02, kTx1A02},
+    {0x1A03, kTx1A03},
+}};
+
 Profile make_fio() {
     Profile p;
     p.name = "fio";
@@ -156,6 +207,13 @@ Profile make_fio() {
     p.quirks.canopen = false;
     p.quirks.remote_bit9_always_set = true;
     p.quirks.si_unit_objects = true;
+    p.default_pdo_maps = kDefaultMaps;
+    p.quirks.csp_bit8_synchronised = true;        // §7.8.1.4
+    p.quirks.statusword_bit15_closed_loop = true; // §7.13 6041h CLA
+    p.persistence.categories = kStoreCategories;
+    p.persistence.highest_subindex = 0x0D;    // §7.13.7/§7.13.8: sub 0 = 0Dh
+    p.persistence.store_read_before_save = 0; // §7.13.7 default 0; "1" once saved (§7.12.4.15)
+    p.persistence.restore_restarts = true;    // §7.12.4.16: restarts after clearing
     return p;
 }
 

@@ -777,6 +777,11 @@ void DriveCore::update_outputs() {
     if (profile_.drive->quirks.sto_in_statusword_bit8 && sto_) {
         s |= sw::kManufacturer8;
     }
+    // FIO §7.8.1.4: in CSP bit 8 = synchronised with the fieldbus (process data arriving).
+    // Bit 15 (CLA, closed loop available after an auto setup) stays 0: no auto setup is run.
+    if (profile_.drive->quirks.csp_bit8_synchronised && mode_ == 8 && fieldbus_synchronised_) {
+        s |= sw::kManufacturer8;
+    }
     s |= sw::kRemote;
     const bool standstill = std::abs(motor_.velocity()) < 1e-3 * profile_.counts_per_rev;
     const bool halt = (last_cw_ & cia::cw::kHalt) != 0;

@@ -4,6 +4,7 @@
 #include <codrive/sim/ecat/drive_profiles.hpp>
 
 #include "error_history.hpp"
+#include "parameter_store.hpp"
 
 #include <codrive/sim/drive_core.hpp>
 #include <codrive/sim/profile.hpp>
@@ -56,12 +57,11 @@ DriveDef fio_def() {
     DriveDef d;
     d.name = "FIO Drive Control";
     d.profile = "fio";
-    d.rx = {{0x1600, {0x60400010, 0x607A0020, 0x32020020, 0x60600008}},
-            {0x1601, {}},
-            {0x1602, {}},
-            {0x1603, {}}};
-    d.tx = {
-        {0x1A00, {0x60410010, 0x60640020, 0x60610008}}, {0x1A01, {}}, {0x1A02, {}}, {0x1A03, {}}};
+    // The default maps are the profile's (one table, §7.13.11-§7.13.18).
+    for (const drives::DefaultPdoMap& m : drives::fio_profile().default_pdo_maps) {
+        PdoDef def{m.index, std::vector<std::uint32_t>(m.entries.begin(), m.entries.end())};
+        (m.index < 0x1A00 ? d.rx : d.tx).push_back(std::move(def));
+    }
     d.rx_assign = {0x1600};
     d.tx_assign = {0x1A00};
     // Manual §7.13.22/§7.13.23: 1C32h sub 0 = 05h, 1C33h sub 0 = 03h; both describe sub 1
@@ -182,12 +182,32 @@ public:
                                             "Standard error field", DataType::Unsigned32,
                                             profile->drive->error_history_depth));
         }
+        if (profile != nullptr && profile->drive != nullptr) {
+            install_store(*profile->drive);
+        }
     }
     [[nodiscard]] bool uses_drive_core() const { return core_ != nullptr; }
+
+    bool take_restart() {
+        if (!restart_due_) {
+            return false;
+        }
+        // Power cycle: the saved values come back and the drive starts over.
+        restart_due_ = false;
+        restart_at_.reset();
+        store_->load(false);
+        if (core_) {
+            core_->power_on();
+        }
+        return true;
+    }
 
     ObjectDictionary& od() override { return od_; }
 
     void step(TimePoint now) override {
+        if (restart_at_ && now >= *restart_at_) {
+            restart_due_ = true;
+        }
         if (last_ == TimePoint{}) {
             last_ = now;
             return;
@@ -235,6 +255,7 @@ public:
     }
 
     void on_state_change(AlState from, AlState to) override {
+        esm_ = to;
         if (has_slave_status_) {
             // FIO 2110h (§7.13.51): the ECAT bus status follows the ESM; bit 4 = active error.
             const auto error = od_.get<std::uint8_t>(0x1001, 0).value_or(0) != 0;
@@ -247,6 +268,7 @@ public:
         // connection option 6007h (FIO §7.13.77: default -1, clear the PDOs and coast). A
         // profile without 6007h (AKD2G) disables the voltage.
         if (core_) {
+            core_->set_fieldbus_synchronised(to == AlState::Op);
             if (from == AlState::Op) {
                 core_->abort_connection(od_.get<std::int16_t>(0x6007, 0).value_or(2));
             }
@@ -559,6 +581,34 @@ private:
                      });
     }
 
+    /// 1010h/1011h over CoE, from the same store as the CAN simulator.
+    void install_store(const drives::Profile& p) {
+        store_ = std::make_unique<ParameterStore>(od_, p);
+        store_->add_objects();
+        store_->snapshot_factory();
+        store_->install_hooks(
+            [this, &p]() -> tl::expected<void, SdoAbort> {
+                // DS-BVS §6.2.7: pre-operational (ESM PREOP) and power disabled.
+                if (!p.quirks.restore_needs_preop_power_disabled || !core_) {
+                    return {};
+                }
+                const auto st = core_->state();
+                const bool power_disabled = st == drives::cia402::State::NotReadyToSwitchOn ||
+                                            st == drives::cia402::State::SwitchOnDisabled ||
+                                            st == drives::cia402::State::ReadyToSwitchOn;
+                if (esm_ != AlState::PreOp || !power_disabled) {
+                    return tl::unexpected(SdoAbort::DataTransferState);
+                }
+                return {};
+            },
+            [this, &p] {
+                if (p.persistence.restore_restarts) {
+                    // FIO §7.12.4.16: restarts after clearing; the answer goes out first.
+                    restart_at_ = last_ + milliseconds(100);
+                }
+            });
+    }
+
     // The write hook runs before the value is stored; apply the controlword on the next access.
     void apply_cw() {
         if (has_cw_) {
@@ -582,6 +632,10 @@ private:
     std::uint32_t device_type_ = 0x00020192; ///< CiA 402 drive
     bool has_slave_status_ = false;          ///< FIO 2110h
     std::vector<emcy::EmcyMessage> emergencies_;
+    std::unique_ptr<ParameterStore> store_;
+    AlState esm_ = AlState::Init;
+    std::optional<TimePoint> restart_at_; ///< FIO: restart after 1011h
+    bool restart_due_ = false;
 };
 
 /// Wraps the device so the controlword is applied after every frame and every step.
@@ -600,6 +654,7 @@ public:
         return dev_->take_emergencies();
     }
     void inject_fault(std::uint16_t error_code) override { dev_->raise_fault(error_code); }
+    bool take_restart() override { return dev_->take_restart(); }
 
 private:
     std::unique_ptr<Cia402Device> dev_;

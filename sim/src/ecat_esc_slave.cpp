@@ -410,16 +410,20 @@ void EscSlave::on_al_control(std::uint16_t value) {
     state_ = *to;
     set_al_status(state_, false, 0);
     if (state_ == AlState::Init) {
-        mailbox_in_full_ = false;
-        mailbox_out_full_ = false;
-        outbox_.clear();
-        sm1_message_.clear();
-        last_read_.clear();
-        last_request_counter_ = 0; // a new master session starts counting again
-        set_sm_status(0, 0);
-        set_sm_status(1, 0);
+        clear_mailboxes();
     }
     app_->on_state_change(from, state_);
+}
+
+void EscSlave::clear_mailboxes() {
+    mailbox_in_full_ = false;
+    mailbox_out_full_ = false;
+    outbox_.clear();
+    sm1_message_.clear();
+    last_read_.clear();
+    last_request_counter_ = 0; // a new master session starts counting again
+    set_sm_status(0, 0);
+    set_sm_status(1, 0);
 }
 
 void EscSlave::load_mailbox_out() {
@@ -574,6 +578,14 @@ void EscSlave::before_frame(TimePoint now) {
     }
     (void)tick(now);
     app_->step(now);
+    if (app_->take_restart() && state_ != AlState::Init) {
+        // The device restarted: its ESC comes back in INIT, mailbox empty.
+        const AlState from = state_;
+        state_ = AlState::Init;
+        set_al_status(state_, false, 0);
+        clear_mailboxes();
+        app_->on_state_change(from, state_);
+    }
     if (state_ == AlState::SafeOp || state_ == AlState::Op) {
         pack_inputs();
     }

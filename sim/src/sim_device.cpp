@@ -3,6 +3,7 @@
 #include <codrive/sim/sim_device.hpp>
 
 #include "error_history.hpp"
+#include "parameter_store.hpp"
 
 #include <codrive/emcy/producer.hpp>
 #include <codrive/nmt/heartbeat_consumer.hpp>
@@ -24,18 +25,26 @@ pdo::PdoQuirks sim_pdo_quirks(const SimProfile& p); // sim_device_objects.cpp
 
 namespace {
 
-constexpr std::uint32_t key(std::uint16_t index, std::uint8_t sub) {
-    return (static_cast<std::uint32_t>(index) << 8) | sub;
-}
-constexpr std::uint32_t kSaveSignature = 0x65766173; // "save" (CiA 301 §7.5.2.13)
-constexpr std::uint32_t kLoadSignature = 0x64616F6C; // "load" (CiA 301 §7.5.2.14)
-
 using WriteResult = tl::expected<void, SdoAbort>;
 
 } // namespace
 
 SimDevice::SimDevice(ICanBus& bus, SimDeviceConfig config) : bus_(bus), config_(config) {
+    assemble();
+    // The node-ID the command line gave is the one the drive was commissioned to (DS-BVS
+    // §6.2.74: 5000h, default 1): a saved value, so a restore of the defaults brings back 1.
+    const drives::Commissioning& com = config_.profile->drive->commissioning;
+    if (com.node_id_object != 0 && od_.set<std::uint8_t>(com.node_id_object, 0, config_.node)) {
+        store_->keep(com.node_id_object, 0);
+    }
+    if (com.bit_rate_object != 0) {
+        bit_rate_code_ = od_.get<std::uint8_t>(com.bit_rate_object, 0).value_or(0);
+    }
+}
+
+void SimDevice::assemble() {
     const SimProfile& p = *config_.profile;
+    store_ = std::make_unique<ParameterStore>(od_, *p.drive);
     unsigned n = config_.axes == 0 ? p.default_axes : config_.axes;
     n = std::clamp(n, 1U, p.max_axes());
     for (unsigned a = 0; a < n; ++a) {
@@ -43,12 +52,7 @@ SimDevice::SimDevice(ICanBus& bus, SimDeviceConfig config) : bus_(bus), config_(
         axes_.back()->set_event_handler([this](const AxisEvent& e) { on_axis_event(e); });
     }
     build_objects();
-    for (const auto& [index, o] : od_.objects()) {
-        for (const auto& [si, s] : o.subs) {
-            factory_[key(index, si)] = s.value;
-        }
-    }
-    stored_ = factory_;
+    store_->snapshot_factory();
 
     sdo::ServerConfig sc;
     sc.node = config_.node;
@@ -99,7 +103,10 @@ void SimDevice::install_hooks() {
     });
     nmt_->set_reset_handler([this](nmt::NmtCommand c) {
         // Handled after the frame: restore parameters, then boot-up (CiA 301 §7.3.2.2).
-        restore(c == nmt::NmtCommand::ResetCommunication);
+        store_->load(c == nmt::NmtCommand::ResetCommunication);
+        if (c == nmt::NmtCommand::ResetNode && take_commissioning()) {
+            return; // boots at its new node-ID on the next tick
+        }
         if (c == nmt::NmtCommand::ResetNode) {
             for (auto& a : axes_) {
                 a->power_on();
@@ -201,47 +208,25 @@ void SimDevice::install_hooks() {
         od_.on_write(0x1005, sync);
         od_.on_write(0x1006, sync);
     }
-    od_.on_write(
-        0x1010,
-        [this](std::uint16_t, std::uint8_t, std::span<const std::uint8_t> d) -> WriteResult {
-            if (d.size() < 4 || get_le<std::uint32_t>(d.data()) != kSaveSignature) {
-                return tl::unexpected(SdoAbort::DataTransfer);
+    store_->install_hooks(
+        [this]() -> WriteResult {
+            if (!config_.profile->drive->quirks.restore_needs_preop_power_disabled) {
+                return {};
             }
-            save();
+            // DS-BVS §6.2.7: NMT pre-operational and every axis power disabled (CiA 402: not
+            // ready to switch on, switch on disabled or ready to switch on).
+            const bool power_disabled = std::all_of(axes_.begin(), axes_.end(), [](auto& a) {
+                const auto st = a->state();
+                return st == drives::cia402::State::NotReadyToSwitchOn ||
+                       st == drives::cia402::State::SwitchOnDisabled ||
+                       st == drives::cia402::State::ReadyToSwitchOn;
+            });
+            if (nmt_->state() != nmt::NmtState::PreOperational || !power_disabled) {
+                return tl::unexpected(SdoAbort::DataTransferState);
+            }
             return {};
-        });
-    od_.on_read(0x1010, [](std::uint16_t, std::uint8_t sub, SubObject& s) {
-        if (sub == 1) {
-            s.value = *Value::from_uint(DataType::Unsigned32, 1); // saves on command only
-        }
-    });
-    od_.on_read(0x1011, [](std::uint16_t, std::uint8_t sub, SubObject& s) {
-        if (sub == 1) {
-            s.value = *Value::from_uint(DataType::Unsigned32, 1);
-        }
-    });
-    od_.on_write(
-        0x1011,
-        [this](std::uint16_t, std::uint8_t, std::span<const std::uint8_t> d) -> WriteResult {
-            if (d.size() < 4 || get_le<std::uint32_t>(d.data()) != kLoadSignature) {
-                return tl::unexpected(SdoAbort::DataTransfer);
-            }
-            if (config_.profile->drive->quirks.restore_needs_preop_power_disabled) {
-                // DS-BVS §6.2.7: NMT pre-operational and every axis power disabled (CiA 402:
-                // not ready to switch on, switch on disabled or ready to switch on).
-                const bool power_disabled = std::all_of(axes_.begin(), axes_.end(), [](auto& a) {
-                    const auto st = a->state();
-                    return st == drives::cia402::State::NotReadyToSwitchOn ||
-                           st == drives::cia402::State::SwitchOnDisabled ||
-                           st == drives::cia402::State::ReadyToSwitchOn;
-                });
-                if (nmt_->state() != nmt::NmtState::PreOperational || !power_disabled) {
-                    return tl::unexpected(SdoAbort::DataTransferState);
-                }
-            }
-            stored_ = factory_; // effective after the next reset (CiA 301 §7.5.2.14)
-            return {};
-        });
+        },
+        nullptr);
     const auto clear_history = [](std::uint16_t, std::uint8_t sub,
                                   std::span<const std::uint8_t> d) -> WriteResult {
         if (sub == 0 && (d.empty() || d[0] != 0)) {
@@ -298,56 +283,13 @@ void SimDevice::install_hooks() {
     }
 }
 
-void SimDevice::save() {
-    // PDO maps the drive does not store (AKD2G §2.9, DS-BVS "Backup NO" §6.2.14-§6.2.17).
-    const bool volatile_maps = config_.profile->drive->quirks.pdo_maps_volatile;
-    for (const auto& [index, o] : od_.objects()) {
-        if (volatile_maps &&
-            ((index >= 0x1600 && index <= 0x1603) || (index >= 0x1A00 && index <= 0x1A03))) {
-            continue;
-        }
-        for (const auto& [si, sub] : o.subs) {
-            if (writable(sub.access)) {
-                stored_[key(index, si)] = sub.value;
-            }
-        }
-    }
-}
-
 tl::expected<void, SdoAbort> SimDevice::store_parameter(std::uint16_t index, std::uint8_t subindex,
                                                         std::span<const std::uint8_t> data) {
     auto r = od_.write(index, subindex, data, true);
     if (r) {
-        if (const SubObject* s = od_.find(index, subindex)) {
-            stored_[key(index, subindex)] = s->value;
-        }
+        store_->keep(index, subindex);
     }
     return r;
-}
-
-void SimDevice::restore(bool communication_only) {
-    for (const auto& [k, v] : stored_) {
-        const auto index = static_cast<std::uint16_t>(k >> 8);
-        const auto sub = static_cast<std::uint8_t>(k & 0xFF);
-        if (communication_only && (index < 0x1000 || index > 0x1FFF)) {
-            continue;
-        }
-        if (SubObject* s = od_.find(index, sub)) {
-            s->value = v;
-        }
-    }
-    if (!communication_only) {
-        // Values that are not "stored" parameters come back from the factory table (actual
-        // values are rewritten by the axes at once).
-        for (const auto& [k, v] : factory_) {
-            if (stored_.count(k) == 0) {
-                if (SubObject* s = od_.find(static_cast<std::uint16_t>(k >> 8),
-                                            static_cast<std::uint8_t>(k & 0xFF))) {
-                    s->value = v;
-                }
-            }
-        }
-    }
 }
 
 void SimDevice::apply_comm_parameters(TimePoint now) {
@@ -429,7 +371,7 @@ TimePoint SimDevice::next_deadline() const {
         return kNever;
     }
     TimePoint t = next_step_;
-    if (reset_pending_) {
+    if (reset_pending_ || restart_as_) {
         t = now_;
     }
     for (const ITimed* s :
@@ -446,6 +388,12 @@ TimePoint SimDevice::next_deadline() const {
 void SimDevice::on_tick(TimePoint now) {
     now_ = std::max(now_, now);
     if (!started_) {
+        return;
+    }
+    if (restart_as_) {
+        const NodeId node = *restart_as_;
+        restart_as_.reset();
+        restart_as(node, now);
         return;
     }
     if (reset_pending_) {
@@ -478,6 +426,58 @@ void SimDevice::on_tick(TimePoint now) {
     if (guarding_ && guarding_->next_deadline() <= now) {
         guarding_->on_tick(now);
     }
+}
+
+bool SimDevice::take_commissioning() {
+    // DS-BVS §6.2.74/§6.2.76: node-ID and bit rate take effect at a restart.
+    const drives::Commissioning& com = config_.profile->drive->commissioning;
+    if (com.bit_rate_object != 0) {
+        const auto code = od_.get<std::uint8_t>(com.bit_rate_object, 0).value_or(bit_rate_code_);
+        if (code != bit_rate_code_) {
+            bit_rate_code_ = code;
+            unsigned kbit = 0;
+            for (const drives::BitRateCode& b : com.bit_rates) {
+                kbit = b.code == code ? b.kbit : kbit;
+            }
+            // A virtual CAN bus has no bit rate: the change is recorded and reported only.
+            log(fmt::format("node {}: CAN bit rate now {} kbit/s (5002h = {}; recorded only, "
+                            "the virtual bus has no bit rate)",
+                            config_.node, kbit, code));
+        }
+    }
+    if (com.node_id_object == 0) {
+        return false;
+    }
+    const auto id = od_.get<std::uint8_t>(com.node_id_object, 0).value_or(config_.node);
+    if (id == config_.node || !valid_node_id(id)) {
+        return false;
+    }
+    restart_as_ = id;
+    return true;
+}
+
+void SimDevice::restart_as(NodeId node, TimePoint now) {
+    // A restart at a new node-ID: a fresh dictionary and services built for `node` (COB-IDs
+    // of the predefined connection set follow it), the same non-volatile memory.
+    log(fmt::format("node {}: restarting as node {}", config_.node, node));
+    const auto saved = store_->changes();
+    pdo_.reset();
+    emcy_.reset();
+    sync_.reset();
+    guarding_.reset();
+    consumer_.reset();
+    heartbeat_.reset();
+    nmt_.reset();
+    server_.reset();
+    axes_.clear();
+    od_ = ObjectDictionary{};
+    errors_.clear();
+    consumer_node_ = 0;
+    config_.node = node;
+    assemble();
+    store_->adopt(saved);
+    store_->load(false);
+    start(now);
 }
 
 void SimDevice::inject(unsigned axis, FaultKind kind, TimePoint now) {

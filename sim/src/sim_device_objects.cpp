@@ -3,6 +3,7 @@
 #include <codrive/sim/sim_device.hpp>
 
 #include "error_history.hpp"
+#include "parameter_store.hpp"
 
 #include <codrive/core/cob_id.hpp>
 #include <codrive/drives/canopen_transport.hpp>
@@ -77,10 +78,7 @@ void SimDevice::build_objects() {
         od_.add_var(0x100C, "Guard time", DT::Unsigned16, Access::Rw, u(DT::Unsigned16, 0));
         od_.add_var(0x100D, "Life time factor", DT::Unsigned8, Access::Rw, u(DT::Unsigned8, 0));
     }
-    od_.insert(record(0x1010, "Store parameters", ObjectCode::Array,
-                      {sub(1, "Save all parameters", DT::Unsigned32, Access::Rw, 1)}));
-    od_.insert(record(0x1011, "Restore default parameters", ObjectCode::Array,
-                      {sub(1, "Restore all default parameters", DT::Unsigned32, Access::Rw, 1)}));
+    store_->add_objects(); // 1010h/1011h with the drive's categories
     od_.add_var(0x1014, "COB-ID EMCY", DT::Unsigned32, Access::Rw,
                 u(DT::Unsigned32, cob::emcy(node)));
     od_.insert(record(0x1016, "Consumer heartbeat time", ObjectCode::Array,
@@ -178,17 +176,7 @@ DeviceDescription SimDevice::describe() const {
     d.device_info.nr_of_tx_pdo = 4;
     d.od = od_;
     // An EDS carries factory values: put every current value back to its default.
-    for (const auto& [index, o] : od_.objects()) {
-        for (const auto& [si, s] : o.subs) {
-            auto it = factory_.find((static_cast<std::uint32_t>(index) << 8) | si);
-            if (it != factory_.end()) {
-                if (SubObject* w = d.od.find(index, si)) {
-                    w->value = it->second;
-                    w->default_value = it->second;
-                }
-            }
-        }
-    }
+    store_->write_factory(d.od);
     return d;
 }
 

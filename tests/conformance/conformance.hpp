@@ -80,6 +80,7 @@ public:
     Reply download(std::uint16_t index, std::uint8_t sub, std::vector<std::uint8_t> data) override;
     ethercat::Master& master() { return master_; }
     sim::ecat::EcatSegment& segment() { return segment_; }
+    FakeClock& clock() { return clock_; }
 
 private:
     FakeClock clock_;

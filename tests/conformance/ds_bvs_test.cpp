@@ -19,6 +19,8 @@ const std::array kFacts{
     Fact{0x1018, 2, DT::Unsigned32, Acc::Ro, std::nullopt, "§6.2.11.2", false},
     Fact{0x4080, 0, DT::Unsigned8, Acc::Rw, 0, "§6.2.44.1", false},
     Fact{0x4080, 10, DT::Unsigned16, Acc::Ro, 0, "§6.2.44.2 (10 entries)", false},
+    Fact{0x5000, 0, DT::Unsigned8, Acc::Rw, 1, "§6.2.74 (node-ID as shipped)"},
+    Fact{0x5002, 0, DT::Unsigned8, Acc::Rw, 5, "§6.2.76 (250 kbps)"},
     Fact{0x4080, 11, DT::Unsigned16, Acc::Absent, std::nullopt, "§6.2.44.2 (10 entries)", false},
     Fact{0x6007, 0, DT::Integer16, Acc::Rw, 0, "§6.2.78"},
     Fact{0x6040, 0, DT::Unsigned16, Acc::Rw, std::nullopt, "§6.2.80"},

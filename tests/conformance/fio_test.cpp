@@ -23,6 +23,19 @@ const std::array kFacts{
     Fact{0x1C32, 2, DT::Unsigned32, Acc::Rw, 0, "§7.13.22", false},
     Fact{0x1C33, 0, DT::Unsigned8, Acc::Ro, 3, "§7.13.23", false},
     Fact{0x1C33, 3, DT::Unsigned32, Acc::Rw, 0, "§7.13.23", false},
+    Fact{0x1601, 1, DT::Unsigned32, Acc::Rw, 0x607A0020, "§7.13.12", false},
+    Fact{0x1601, 2, DT::Unsigned32, Acc::Rw, 0x60810020, "§7.13.12", false},
+    Fact{0x1601, 3, DT::Unsigned32, Acc::Rw, 0, "§7.13.12", false},
+    Fact{0x1602, 1, DT::Unsigned32, Acc::Rw, 0x60420010, "§7.13.13", false},
+    Fact{0x1603, 1, DT::Unsigned32, Acc::Rw, 0x60420010, "§7.13.14", false},
+    Fact{0x1A01, 1, DT::Unsigned32, Acc::Rw, 0x60640020, "§7.13.16", false},
+    Fact{0x1A02, 1, DT::Unsigned32, Acc::Rw, 0x60440010, "§7.13.17", false},
+    Fact{0x1A03, 1, DT::Unsigned32, Acc::Rw, 0x60FD0020, "§7.13.18", false},
+    Fact{0x1A03, 2, DT::Unsigned32, Acc::Rw, 0x64020120, "§7.13.18", false},
+    Fact{0x1A03, 3, DT::Unsigned32, Acc::Rw, 0x64020220, "§7.13.18", false},
+    Fact{0x1010, 0, DT::Unsigned8, Acc::Ro, 0x0D, "§7.13.7", false},
+    Fact{0x1011, 0, DT::Unsigned8, Acc::Ro, 0x0D, "§7.13.8", false},
+    Fact{0x1C33, 1, DT::Unsigned16, Acc::Rw, 0, "§7.13.23", false},
     Fact{0x2110, 0, DT::Unsigned16, Acc::Ro, std::nullopt, "§7.13.51", false},
     Fact{0x3202, 0, DT::Unsigned32, Acc::Rw, 0, "§7.13.52"},
     Fact{0x607A, 0, DT::Integer32, Acc::Rw, 4000, "§7.13.115"},
@@ -38,6 +51,47 @@ const std::array kFacts{
 TEST(FioConformance, ObjectTableMatchesTheManual) {
     EcatProbe probe("fio");
     check_facts("fio", drives::fio_profile(), probe, kFacts);
+}
+
+TEST(FioConformance, DefaultPdoMaps1600hTo1A03hComeFromTheProfileTable) {
+    // §7.13.11-§7.13.18: every default map, entry count and entries, as the profile holds them.
+    EcatProbe probe("fio");
+    const auto& maps = drives::fio_profile().default_pdo_maps;
+    ASSERT_EQ(maps.size(), 8U);
+    for (const drives::DefaultPdoMap& m : maps) {
+        const Reply n = probe.upload(m.index, 0);
+        ASSERT_TRUE(n.ok) << std::hex << m.index;
+        EXPECT_EQ(n.data.at(0), m.entries.size()) << std::hex << m.index;
+        for (std::size_t i = 0; i < m.entries.size(); ++i) {
+            const Reply e = probe.upload(m.index, static_cast<std::uint8_t>(i + 1));
+            ASSERT_TRUE(e.ok);
+            EXPECT_EQ(get_le<std::uint32_t>(e.data.data()), m.entries[i])
+                << std::hex << m.index << ":" << i + 1;
+        }
+    }
+    EXPECT_EQ(maps[1].entries.size(), 2U) << "§7.13.12: 1601h sub 0 = 02h";
+    EXPECT_EQ(maps[7].entries.size(), 3U) << "§7.13.18: 1A03h sub 0 = 03h";
+}
+
+TEST(FioConformance, StatuswordBit8InCspSaysSynchronisedAndBit15StaysClear) {
+    // §7.8.1.4: in CSP bit 8 = 1 "synchronised with the fieldbus"; §7.13 6041h bit 15 CLA = 1
+    // only after a successful auto setup (which the simulator does not run).
+    EcatProbe probe("fio");
+    ASSERT_TRUE(drives::fio_profile().quirks.csp_bit8_synchronised);
+    ASSERT_TRUE(probe.write<std::int8_t>(0x6060, 0, 8).ok);
+    auto sw = [&] {
+        const Reply r = probe.upload(0x6041, 0);
+        EXPECT_TRUE(r.ok);
+        return r.ok ? get_le<std::uint16_t>(r.data.data()) : std::uint16_t{0xFFFF};
+    };
+    probe.clock().advance(milliseconds(5));
+    probe.master().poll_mailboxes();
+    EXPECT_EQ(sw() & 0x0100, 0) << "PRE-OP: no process data, not synchronised";
+    ASSERT_TRUE(probe.master().set_state_all(ethercat::AlState::Op)) << probe.master().last_error();
+    probe.clock().advance(milliseconds(5));
+    ASSERT_TRUE(probe.master().exchange_process_data()) << probe.master().last_error();
+    EXPECT_EQ(sw() & 0x0100, 0x0100) << "OP in CSP: synchronised";
+    EXPECT_EQ(sw() & 0x8000, 0) << "no auto setup: closed loop not available";
 }
 
 TEST(FioConformance, InterpolationTimeIndex60C2h02AcceptsOnlyMinus3) {

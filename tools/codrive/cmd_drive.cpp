@@ -8,6 +8,7 @@
 
 #include <codrive/drives/axis.hpp>
 #include <codrive/drives/canopen_transport.hpp>
+#include <codrive/drives/persistence.hpp>
 #include <codrive/drives/profile.hpp>
 #include <codrive/drives/safe_stop.hpp>
 #include <codrive/ethercat/coe_transport.hpp>
@@ -77,50 +78,22 @@ struct DriveWire {
 
 /// Reads 1008h, 1000h and 1018h:1/:2 and picks the profile; nullptr (printed) without 1000h.
 const drives::Profile* identify(DriveWire& w) {
-    std::optional<std::uint32_t> device_type;
-    std::optional<std::uint32_t> vendor;
-    std::optional<std::uint32_t> product;
-    std::string error;
-    std::string device_name;
-    int pending = 4;
-    w.transport->read(0x1008, 0, [&](drives::DriveResult<drives::Bytes> r) {
-        --pending;
-        if (r) {
-            device_name.assign(r->begin(), r->end());
-        }
-    });
-    w.transport->read_as<std::uint32_t>(0x1000, 0, [&](drives::DriveResult<std::uint32_t> r) {
-        --pending;
-        if (r) {
-            device_type = *r;
-        } else {
-            error = r.error().message;
-        }
-    });
-    w.transport->read_as<std::uint32_t>(0x1018, 1, [&](drives::DriveResult<std::uint32_t> r) {
-        --pending;
-        if (r) {
-            vendor = *r;
-        }
-    });
-    w.transport->read_as<std::uint32_t>(0x1018, 2, [&](drives::DriveResult<std::uint32_t> r) {
-        --pending;
-        if (r) {
-            product = *r;
-        }
-    });
-    // Not cut short by a signal: the callbacks above hold this frame's locals.
-    w.run_until([&] { return pending == 0; }, seconds(5));
+    // Shared: the reads may answer after a signal ended the wait.
+    auto id = std::make_shared<std::optional<drives::DriveResult<const drives::Profile*>>>();
+    drives::identify_profile(*w.transport, [id](auto r) { *id = std::move(r); });
+    w.run_until([&] { return id->has_value(); }, seconds(5));
     if (stop_requested()) {
         return nullptr;
     }
-    if (!device_type) {
-        fmt::print(stderr, "codrive: {}\n", error.empty() ? w.who + ": no answer" : error);
+    if (!id->has_value()) {
+        fmt::print(stderr, "codrive: {}: no answer\n", w.who);
         return nullptr;
     }
-    const drives::Profile* profile =
-        drives::match_identity(*device_type, vendor.value_or(0), product.value_or(0), device_name);
-    return profile != nullptr ? profile : &drives::generic_profile();
+    if (!**id) {
+        fmt::print(stderr, "codrive: {}\n", (**id).error().message);
+        return nullptr;
+    }
+    return ***id;
 }
 
 /// SIGINT/SIGTERM arrived: once the command has commanded the axis (every action but

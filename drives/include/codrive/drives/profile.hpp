@@ -85,6 +85,11 @@ struct Quirks {
     std::uint8_t max_pdo_entries = 8;        ///< mapping entries per CAN PDO
     bool switch_on_needs_bit3_clear = false; ///< DS-BVS: 0x0F in READY does only transition 3
     bool sto_in_statusword_bit8 = false;     ///< AKD2G: statusword bit 8 = STO active
+    /// Statusword bit 8 in CSP = "synchronised with the fieldbus" (FIO §7.8.1.4).
+    bool csp_bit8_synchronised = false;
+    /// Statusword bit 15 = CLA "closed loop available": 1 after a successful auto setup (FIO
+    /// §7.13 6041h); the simulator runs no auto setup, so it stays 0.
+    bool statusword_bit15_closed_loop = false;
     bool voltage_bit4_is_dc_bus = false;     ///< AKD2G: statusword bit 4 = DC bus present
     bool remote_bit9_always_set = false;     ///< DS-BVS, FIO: bit 9 always 1
     bool has_shutdown_option_codes = true;   ///< 605Bh..605Eh exist (AKD2G: no)
@@ -100,6 +105,61 @@ struct Quirks {
     bool si_unit_objects = false;               ///< FIO: 60A8h/60A9h define the user units
     bool sync_consumer_only = true;             ///< the drive never produces SYNC
     bool fault_reset_only_without_cause = true; ///< transition 15 only if the cause is gone
+};
+
+/// The signatures CiA 301 §7.5.2.13/§7.5.2.14 defines for 1010h (store) and 1011h (restore):
+/// "save" and "load" read as little-endian UNSIGNED32.
+inline constexpr std::uint32_t kSaveSignature = 0x65766173;
+inline constexpr std::uint32_t kLoadSignature = 0x64616F6C;
+
+/// A parameter category of 1010h (store) and 1011h (restore): one sub-index in each.
+struct StoreCategory {
+    std::uint8_t subindex = 1;
+    std::string_view name;  ///< "all", "comm", "app", … (what `codrive save --what` takes)
+    std::string_view title; ///< the manual's name of the sub-index
+    /// Indexes the category stores; empty: every writable object the drive backs up (for a
+    /// drive with several categories, every object of the others).
+    std::span<const std::uint16_t> objects;
+};
+
+/// How a drive keeps parameters in non-volatile memory (1010h/1011h).
+struct Persistence {
+    /// The categories the drive offers; empty: one, "all" at sub-index 1 (CiA 301).
+    std::span<const StoreCategory> categories;
+    std::uint8_t highest_subindex = 1;        ///< 1010h/1011h sub 0
+    std::uint32_t store_read_before_save = 1; ///< 1010h:n read before any save (FIO: 0)
+    /// 1011h makes the drive restart on its own (FIO §7.12.4.16); otherwise the defaults take
+    /// effect at the next reset node or power-on (CiA 301 §7.5.2.14).
+    bool restore_restarts = false;
+};
+
+/// One CAN bit rate a drive accepts in its bit-rate object, and the code it is written as.
+struct BitRateCode {
+    std::uint8_t code = 0;
+    unsigned kbit = 0;
+};
+
+/// Node-ID and bit-rate objects a drive reads at start (DS-BVS 5000h/5002h, §6.2.74/§6.2.76):
+/// written, saved with 1010h and effective after a restart.
+struct Commissioning {
+    std::uint16_t node_id_object = 0; ///< 0: the drive has none (set the node-ID otherwise)
+    std::uint16_t bit_rate_object = 0;
+    std::span<const BitRateCode> bit_rates; ///< the supported codes
+    /// The code for `kbit`, or nullopt if the drive does not support that rate.
+    [[nodiscard]] std::optional<std::uint8_t> code_for(unsigned kbit) const {
+        for (const BitRateCode& b : bit_rates) {
+            if (b.kbit == kbit) {
+                return b.code;
+            }
+        }
+        return std::nullopt;
+    }
+};
+
+/// A PDO mapping object as the drive ships it: entries index << 16 | sub << 8 | bits.
+struct DefaultPdoMap {
+    std::uint16_t index = 0;
+    std::span<const std::uint32_t> entries;
 };
 
 /// Description of one CiA 402 object (or sub-object) as a device holds it.
@@ -157,6 +217,12 @@ struct Profile {
     bool fault_code_in_1003 = false;
     /// Manufacturer-specific axis objects: offset per axis (AKD2G: 0x100 for 50xxh → 51xxh).
     std::uint16_t manufacturer_axis_offset = 0;
+    /// 1010h/1011h categories and rules.
+    Persistence persistence;
+    /// The PDO maps the drive ships with, where its manual gives them (FIO §7.13.11-§7.13.18).
+    std::span<const DefaultPdoMap> default_pdo_maps;
+    /// Node-ID / bit-rate objects (commissioning over the bus).
+    Commissioning commissioning;
 
     /// Index of a CiA 402 object for axis `axis` (1-based): 6040h → 6840h for AKD2G axis 2.
     [[nodiscard]] std::uint16_t axis_index(std::uint16_t index, unsigned axis) const;
@@ -171,6 +237,15 @@ struct Profile {
     /// "F2006 Bus over voltage", or "" if the code is unknown to the profile.
     [[nodiscard]] std::string fault_text(std::uint16_t code) const;
     [[nodiscard]] bool has_object(std::uint16_t index) const;
+    /// The 1010h/1011h categories (at least "all" at sub-index 1).
+    [[nodiscard]] std::span<const StoreCategory> store_categories() const;
+    /// The category named `name` ("all", "comm", …), or nullptr.
+    [[nodiscard]] const StoreCategory* store_category(std::string_view name) const;
+    /// The category at 1010h/1011h sub-index `subindex`, or nullptr.
+    [[nodiscard]] const StoreCategory* store_category(std::uint8_t subindex) const;
+    /// True if a save of category `c` stores object `index`: a member of the category, never
+    /// 1010h/1011h themselves, never a PDO map the drive marks "Backup NO" (pdo_maps_volatile).
+    [[nodiscard]] bool saves(const StoreCategory& c, std::uint16_t index) const;
     /// Axis count encoded in a product code (AKD2G bits 23..20), else 1.
     [[nodiscard]] unsigned axes_from_product_code(std::uint32_t product_code) const;
 };

@@ -57,6 +57,8 @@ public:
     void inject(FaultKind kind);
     void set_sto(bool active);
     [[nodiscard]] bool sto() const { return sto_; }
+    /// The fieldbus delivers synchronous process data (EtherCAT OP): FIO CSP statusword bit 8.
+    void set_fieldbus_synchronised(bool on) { fieldbus_synchronised_ = on; }
     /// Raises a fault (transition 13). A `persistent` fault stays until clear_condition().
     void raise_fault(const FaultCode& code, bool persistent = false);
     /// The abort connection option code reaction (6007h): 2 disable voltage, 3 quick stop.
@@ -142,6 +144,7 @@ private:
     std::vector<FaultCode> faults_;
     std::vector<FaultCode> warnings_;
     std::vector<FaultKind> persistent_;
+    bool fieldbus_synchronised_ = false;
 
     // Profile position.
     bool pp_moving_ = false;

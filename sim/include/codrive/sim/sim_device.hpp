@@ -15,6 +15,7 @@
 #include <functional>
 #include <map>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -38,6 +39,8 @@ class DevicePdo;
 }
 
 namespace codrive::sim {
+
+class ParameterStore;
 
 /// The manufacturer object that controls the simulation (sub-indexes below); axis n uses
 /// kControlObject + n. Writing 1 injects, writing 0 to kControlSto releases STO.
@@ -94,7 +97,10 @@ public:
     [[nodiscard]] ObjectDictionary& od() { return od_; }
     [[nodiscard]] DriveCore& axis(unsigned i) { return *axes_.at(i); }
     [[nodiscard]] std::size_t axis_count() const { return axes_.size(); }
+    /// The node-ID in effect (changes when a commissioned 5000h takes effect at reset node).
     [[nodiscard]] NodeId node() const { return config_.node; }
+    /// The bit-rate code in effect (DS-BVS 5002h), 0 for a drive without one.
+    [[nodiscard]] std::uint8_t bit_rate_code() const { return bit_rate_code_; }
     [[nodiscard]] const SimProfile& profile() const { return *config_.profile; }
     [[nodiscard]] nmt::NmtState nmt_state() const;
     [[nodiscard]] const SimDeviceStats& stats() const { return stats_; }
@@ -115,11 +121,13 @@ private:
         bool warning = false;
     };
 
+    void assemble();
     void build_objects();
     void install_hooks();
+    /// At reset node: applies a new bit rate (recorded) and a new node-ID (restart_as_).
+    bool take_commissioning();
+    void restart_as(NodeId node, TimePoint now);
     void apply_comm_parameters(TimePoint now);
-    void restore(bool communication_only);
-    void save();
     void on_axis_event(const AxisEvent& e);
     void raise_error(const FaultCode& code, int axis, bool warning);
     void clear_errors(int axis, bool warnings_only, std::uint16_t code);
@@ -141,10 +149,11 @@ private:
     std::unique_ptr<sync::SyncConsumer> sync_;
     std::unique_ptr<emcy::EmcyProducer> emcy_;
     std::unique_ptr<pdo::DevicePdo> pdo_;
-    std::map<std::uint32_t, Value> factory_; ///< (index << 8 | sub) → value after construction
-    std::map<std::uint32_t, Value> stored_;  ///< what reset node restores (1010h "save")
+    std::unique_ptr<ParameterStore> store_; ///< 1010h/1011h: what reset node restores
     std::vector<ActiveError> errors_;
     std::uint8_t consumer_node_ = 0;
+    std::optional<NodeId> restart_as_; ///< the node-ID to boot as at the next tick
+    std::uint8_t bit_rate_code_ = 0;   ///< DS-BVS 5002h in effect
     bool started_ = false;
     bool reset_pending_ = false;
     bool emcy_enabled_ = true;

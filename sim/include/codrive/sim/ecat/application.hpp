@@ -25,6 +25,9 @@ public:
     virtual void on_outputs(TimePoint now) = 0;
     /// Emergencies raised since the last call; the ESC sends them as CoE emergency messages.
     virtual std::vector<emcy::EmcyMessage> take_emergencies() = 0;
+    /// True once when the device restarted on its own (FIO after 1011h, §7.12.4.16): the ESC
+    /// falls back to INIT as after a power cycle (ETG.1000.6 §6.4.1).
+    virtual bool take_restart() { return false; }
     /// Test hook: raise a device fault with this EMCY error code (no-op if unsupported).
     virtual void inject_fault(std::uint16_t /*error_code*/) {}
 };

@@ -85,6 +85,8 @@ private:
     void after_sm_read(std::uint16_t addr, std::size_t len);
     bool logical(const ethercat::DatagramRef& dg, bool& read_done, bool& write_done, TimePoint now);
     void on_al_control(std::uint16_t value);
+    /// INIT empties both mailboxes (ETG.1000.6 §5.6).
+    void clear_mailboxes();
     void set_al_status(ethercat::AlState s, bool error, std::uint16_t code);
     [[nodiscard]] std::uint16_t check_transition(ethercat::AlState to);
     void on_sii_control();
