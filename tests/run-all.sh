@@ -191,7 +191,7 @@ vcan_stage() {
     local log rc
     log=$(mktemp)
     set +e
-    bash vcan-scripts/run-in-vcan.sh -v "$root/build-ubsan/tests/vcan_tests" 2>&1 | tee "$log"
+    bash vcan-scripts/run-in-vcan.sh -v --timeout 2400 "$root/build-ubsan/tests/vcan_tests" 2>&1 | tee "$log"
     rc=${PIPESTATUS[0]}
     set -e
     [[ $rc -eq 0 ]] || status=1
