@@ -381,10 +381,12 @@ TEST_F(ControllerOverEthercat, DedicatedCyclicThreadEnablesMovesAndStopsWithinOn
         EXPECT_LE(stats.ecat_frame_errors, stats.cycles / 100) << events;
 #if !defined(__SANITIZE_THREAD__) // ThreadSanitizer slows the cycle several times over
         // One slave on a private veth pair, nothing acyclic going on: once the axis follows the
-        // ramp the cyclic thread keeps its 2 ms slots. A host (or its hypervisor) may hold even a
-        // SCHED_FIFO thread for a slot now and then (seen once: one overrun, 2.2 ms late); a
-        // cycle that waits for anything acyclic would miss hundreds.
-        EXPECT_LE(steady.overruns - moving.overruns, 2U) << steady.to_string();
+        // ramp the cyclic thread keeps its 2 ms slots. A busy host (or its hypervisor) may hold
+        // even a SCHED_FIFO thread for a slot now and then (seen: 1 overrun on an idle CI run, 6
+        // beside a compile); a cycle that waited for anything acyclic would miss most of them.
+        const std::uint64_t window = steady.cycles - moving.cycles;
+        EXPECT_LE((steady.overruns - moving.overruns) * 20, window)
+            << "more than 5 % of " << window << " slots missed: " << steady.to_string();
 #else
         (void)moving;
         (void)steady;
