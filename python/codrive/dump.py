@@ -44,7 +44,7 @@ class Trace:
 
     @property
     def problems(self) -> List[str]:
-        """Entries that could not be parsed and were skipped ("trace.log: line 12: ...") and
+        """Entries that could not be parsed and were skipped ("trace.log:12: ...") and
         error findings of the EDS files given, so far."""
         return self._stream.problems
 

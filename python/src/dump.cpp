@@ -114,7 +114,7 @@ public:
         return py::str(chunk);
     }
 
-    /// Input problems so far ("trace.log: line 12: bad data byte ..."), in order.
+    /// Input problems so far ("trace.log:12: bad data byte ..."), in order.
     std::vector<std::string> problems() {
         std::lock_guard lock(mutex_);
         return problems_;
