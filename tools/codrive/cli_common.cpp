@@ -27,6 +27,19 @@ std::optional<BusSession> open_bus(const std::string& ifname, SocketCanOptions o
     return BusSession{std::move(*loop), std::move(*bus)};
 }
 
+std::optional<MasterSession> open_master(const std::string& ifname) {
+    auto s = open_bus(ifname);
+    if (!s) {
+        return std::nullopt;
+    }
+    MasterSession ms;
+    ms.loop = std::move(s->loop);
+    ms.bus = std::move(s->bus);
+    ms.master = std::make_unique<master::Master>(*ms.bus, RealClock::instance());
+    ms.loop->add_timed(ms.master.get());
+    return ms;
+}
+
 std::optional<unsigned> parse_node(const std::string& text, bool allow_all) {
     if (allow_all && text == "all") {
         return 0U;

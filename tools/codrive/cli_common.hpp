@@ -4,6 +4,7 @@
 
 #include <codrive/core/event_loop.hpp>
 #include <codrive/core/socket_can_bus.hpp>
+#include <codrive/master/master.hpp>
 
 #include <memory>
 #include <optional>
@@ -21,6 +22,15 @@ struct BusSession {
 /// (describe_can_open_error()) and
 /// returns nullopt.
 std::optional<BusSession> open_bus(const std::string& ifname, SocketCanOptions options = {});
+
+/// An opened CAN interface with a master (default configuration) ticking on its loop: the
+/// preamble of the commands that talk to nodes (SDO, NMT, scan, drives).
+struct MasterSession : BusSession {
+    std::unique_ptr<master::Master> master;
+};
+
+/// open_bus() plus the master; nullopt (the sentence printed) when the bus cannot be opened.
+std::optional<MasterSession> open_master(const std::string& ifname);
 
 /// Parses a node id "1".."127" (decimal or 0x hex); prints an error and returns nullopt.
 std::optional<unsigned> parse_node(const std::string& text, bool allow_all = false);

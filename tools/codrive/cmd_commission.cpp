@@ -30,12 +30,11 @@ int run_commission(const CommissionArgs& a) {
         fmt::print(stderr, "codrive: node ids must be 1..127\n");
         return kExitUsage;
     }
-    auto s = open_bus(a.iface);
+    auto s = open_master(a.iface);
     if (!s) {
         return kExitNoBus;
     }
-    master::Master m(*s->bus, RealClock::instance());
-    s->loop->add_timed(&m);
+    master::Master& m = *s->master;
     // The boot-up message (CiA 301 §7.2.8.3.3: 700h + node-ID, one byte 00h) at the new id.
     bool booted = false;
     const std::uint32_t boot_id = 0x700U + a.new_node;

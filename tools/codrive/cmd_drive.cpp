@@ -273,12 +273,11 @@ int run_drive_can(const DriveArgs& a) {
         fmt::print(stderr, "codrive: node id must be 1..127\n");
         return kExitUsage;
     }
-    auto s = open_bus(a.iface);
+    auto s = open_master(a.iface);
     if (!s) {
         return kExitNoBus;
     }
-    master::Master m(*s->bus, RealClock::instance());
-    s->loop->add_timed(&m);
+    master::Master& m = *s->master;
     const auto node = static_cast<NodeId>(a.node);
     drives::CanopenTransport transport(m.sdo().client(node));
     DriveWire w;

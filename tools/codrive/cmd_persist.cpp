@@ -83,12 +83,11 @@ int run_can(const PersistArgs& a, bool save) {
         fmt::print(stderr, "codrive: node id must be 1..127\n");
         return kExitUsage;
     }
-    auto s = open_bus(a.iface);
+    auto s = open_master(a.iface);
     if (!s) {
         return kExitNoBus;
     }
-    master::Master m(*s->bus, RealClock::instance());
-    s->loop->add_timed(&m);
+    master::Master& m = *s->master;
     drives::CanopenTransport t(m.sdo().client(static_cast<NodeId>(a.node)));
     const int rc = persist(a, save, t, [&s](const std::function<bool()>& pred, Duration limit) {
         return s->loop->run_until(pred, limit);

@@ -41,12 +41,11 @@ int run_scan(const ScanArgs& a) {
     if (!a.ethercat.empty()) {
         return run_ecat_scan(a);
     }
-    auto s = open_bus(a.iface);
+    auto s = open_master(a.iface);
     if (!s) {
         return kExitNoBus;
     }
-    master::Master m(*s->bus, RealClock::instance());
-    s->loop->add_timed(&m);
+    master::Master& m = *s->master;
     master::ScanOptions o;
     o.timeout = milliseconds(a.timeout_ms);
     master::NetworkScan scan(m.sdo(), &m.nmt().states(), o);
