@@ -13,11 +13,16 @@
 
 namespace codrive::ethercat::detail {
 
+/// What a transfer wants after a reply. SendLast: `request` is the last message (FoE's final
+/// ACK, or an ERR telling the slave why the master gives up); the transfer ends, with its
+/// outcome, once the slave took it.
+enum class TransferStep : int { Send, Wait, Done, Failed, SendLast };
+
 /// One CoE exchange (ETG.1000.6 §5.6.2). The channel sends request(), feeds every reply of
 /// service() (and SDO aborts) to on_reply(), and finishes the transfer on Done or Failed.
 class CoeTransfer {
 public:
-    enum class Step { Send, Wait, Done, Failed };
+    using Step = TransferStep;
     virtual ~CoeTransfer() = default;
     /// The first request (CoE header first) into `request`.
     virtual void first(std::vector<std::uint8_t>& request) = 0;
@@ -27,6 +32,8 @@ public:
                           std::vector<std::uint8_t>& request) = 0;
     /// The CoE service the replies come with.
     [[nodiscard]] virtual CoeService service() const = 0;
+    /// The mailbox protocol of its messages: CoE here, FoE for file transfers (foe_transfer.cpp).
+    [[nodiscard]] virtual MailboxType mailbox_type() const { return MailboxType::Coe; }
 
     std::string label;  ///< "slave 2 (AKD2G)"
     std::string what;   ///< "SDO upload 0x6064:00"
@@ -68,6 +75,7 @@ struct MailboxChannel {
     TimePoint started{};               ///< of the current step (for the sentence)
     TimePoint next_poll{};             ///< emergency poll while idle
     bool sm0_full = false;             ///< the last write found SM0 full
+    bool last_write = false;           ///< the transfer ends once this write is taken (SendLast)
     bool repeated = false;             ///< the next read follows a repeat
     std::uint8_t repeat_want = 0;      ///< SM1 activate value with RepeatReq toggled
     int repeats_left = 0;

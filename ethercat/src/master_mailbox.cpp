@@ -34,9 +34,12 @@ VoidResult Master::submit(std::size_t slave, std::unique_ptr<detail::CoeTransfer
     if (auto c = check_slave(slave); !c) {
         return c;
     }
-    if (!slaves_[slave].sii.has_coe() || !slaves_[slave].sii.has_mailbox()) {
+    const SiiInfo& sii = slaves_[slave].sii;
+    const bool foe = t->mailbox_type() == MailboxType::Foe;
+    if (!sii.has_mailbox() || (foe ? !sii.has_foe() : !sii.has_coe())) {
         return set_error(make_error_code(EcatErrc::MailboxNotSupported),
-                         fmt::format("{}: the slave does not support CoE", slave_label(slave)));
+                         fmt::format("{}: the slave does not support {}", slave_label(slave),
+                                     foe ? "FoE (file access over EtherCAT)" : "CoE"));
     }
     t->label = slave_label(slave);
     channel(slave).queue.push_back(std::move(t));
@@ -93,7 +96,7 @@ void Master::mailbox_send(std::size_t slave, TimePoint now) {
     MailboxChannel& ch = channel(slave);
     const SiiInfo& sii = slaves_[slave].sii;
     MailboxMessage m;
-    m.header.type = MailboxType::Coe;
+    m.header.type = ch.queue.front()->mailbox_type();
     m.header.counter = next_counter(slave);
     m.payload = ch.request;
     ch.out = m.encode(sii.rx_mailbox_size);
@@ -101,6 +104,7 @@ void Master::mailbox_send(std::size_t slave, TimePoint now) {
     ch.deadline = now + config_.mailbox_timeout;
     ch.repeats_left = std::max(1, config_.frame_retries);
     ch.sm0_full = false;
+    ch.last_write = false;
     if (ch.out.size() > sii.rx_mailbox_size) {
         mailbox_fail(slave, make_error_code(EcatErrc::MailboxError),
                      fmt::format("{}: {}: a {}-byte mailbox message does not fit the {}-byte "
@@ -149,7 +153,8 @@ void Master::mailbox_add(TimePoint now) {
                               : ch.phase == MailboxPhase::Write ? "request frames lost"
                                                                 : "mailbox silent";
             mailbox_fail(i, make_error_code(EcatErrc::MailboxTimeout),
-                         fmt::format("{}: CoE {} timed out after {:.0f} ms ({})", t.label, t.what,
+                         fmt::format("{}: {}{} timed out after {:.0f} ms ({})", t.label,
+                                     t.mailbox_type() == MailboxType::Coe ? "CoE " : "", t.what,
                                      to_ms(config_.mailbox_timeout), why),
                          now);
         } else if (!ch.active && ch.phase != MailboxPhase::Idle && now >= ch.deadline) {
@@ -232,7 +237,9 @@ void Master::mailbox_done(bool lost, TimePoint now) {
         case MailboxPhase::Write:
             // Lost: written or not, the same message (same counter) goes again; a slave that got
             // it drops the copy (ETG.1000.6 §5.6.1). WKC 0: SM0 still full.
-            if (ok) {
+            if (ok && ch.last_write) {
+                mailbox_finish(i, now); // nothing comes back for it (SendLast)
+            } else if (ok) {
                 ch.phase = MailboxPhase::Read;
             } else if (!lost) {
                 ch.sm0_full = true;
@@ -331,6 +338,14 @@ void Master::mailbox_message(std::size_t slave, std::span<const std::uint8_t> sm
         }
         return;
     }
+    if (h.type == MailboxType::Foe) {
+        if (!ch.active || ch.queue.front()->mailbox_type() != MailboxType::Foe) {
+            ++stats_.stray_mailbox_messages;
+            return;
+        }
+        mailbox_step(slave, ch.queue.front()->on_reply(payload, ch.request), now);
+        return;
+    }
     if (h.type != MailboxType::Coe || payload.size() < kCoeHeaderSize) {
         ++stats_.stray_mailbox_messages;
         return;
@@ -349,13 +364,22 @@ void Master::mailbox_message(std::size_t slave, std::span<const std::uint8_t> sm
     const bool abort = t.service() == CoeService::SdoResponse && got == CoeService::SdoRequest &&
                        payload.size() > 2 &&
                        (payload[2] & sdo_cmd::kSpecifierMask) == sdo_cmd::kAbort;
-    if (got != t.service() && !abort) {
+    if ((got != t.service() && !abort) || t.mailbox_type() != MailboxType::Coe) {
         ++stats_.stray_mailbox_messages;
         return;
     }
-    switch (t.on_reply(payload, ch.request)) {
+    mailbox_step(slave, t.on_reply(payload, ch.request), now);
+}
+
+void Master::mailbox_step(std::size_t slave, detail::TransferStep step, TimePoint now) {
+    MailboxChannel& ch = channel(slave);
+    switch (step) {
     case detail::CoeTransfer::Step::Send:
         mailbox_send(slave, now);
+        break;
+    case detail::CoeTransfer::Step::SendLast:
+        mailbox_send(slave, now);
+        ch.last_write = ch.active; // mailbox_send() may have failed the transfer already
         break;
     case detail::CoeTransfer::Step::Wait:
         ch.deadline = now + config_.mailbox_timeout;

@@ -172,6 +172,7 @@ std::vector<std::uint8_t> build_sii(const SiiInfo& info) {
     general[3] = strings.empty() ? 0 : 1; // NameIdx: first string
     general[5] =
         (info.mailbox_protocols & mbx_proto::kCoe) != 0 ? 0x23 : 0; // CoE: SDO, SDO info, CA
+    general[6] = (info.mailbox_protocols & mbx_proto::kFoe) != 0 ? 0x01 : 0; // FoE details
     append_category(img, sii_cat::kGeneral, std::move(general));
 
     if (!info.fmmu_usage.empty()) {

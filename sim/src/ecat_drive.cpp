@@ -692,7 +692,9 @@ std::unique_ptr<EscSlave> make_drive_slave(std::string_view profile, std::uint32
     sii.rx_mailbox_size = 128;
     sii.tx_mailbox_offset = 0x1080;
     sii.tx_mailbox_size = 128;
-    sii.mailbox_protocols = mbx_proto::kCoe;
+    // The AKD2G takes its *.akd parameter file and its firmware over FoE (manual §2.3.3.4).
+    sii.mailbox_protocols =
+        profile == "akd2g" ? mbx_proto::kCoe | mbx_proto::kFoe : mbx_proto::kCoe;
     sii.fmmu_usage = {1, 2, 3};
     sii.sync_managers = {
         {0x1000, 128, 0x26, 0x01, SmType::MailboxOut},

@@ -38,6 +38,9 @@ constexpr std::uint16_t kWatchdogCounter = 0x0442;
 EscSlave::EscSlave(SiiInfo sii, std::unique_ptr<EcatApplication> app, bool has_dc)
     : sii_(std::move(sii)), eeprom_(build_sii(sii_)), app_(std::move(app)) {
     coe_ = std::make_unique<CoeServer>(app_->od(), sii_.tx_mailbox_size);
+    if (sii_.has_foe()) {
+        foe_ = std::make_unique<FoeServer>(sii_.rx_mailbox_size, sii_.tx_mailbox_size);
+    }
     mem_[reg::kType] = 0x11;
     mem_[reg::kRevision] = 0x02;
     mem_[reg::kFmmuCount] = 8;
@@ -422,6 +425,9 @@ void EscSlave::clear_mailboxes() {
     sm1_message_.clear();
     last_read_.clear();
     last_request_counter_ = 0; // a new master session starts counting again
+    if (foe_) {
+        foe_->reset();
+    }
     set_sm_status(0, 0);
     set_sm_status(1, 0);
 }
@@ -617,6 +623,10 @@ void EscSlave::after_frame(TimePoint now) {
             } else if (msg->header.type == MailboxType::Coe) {
                 for (auto& reply : coe_->handle(msg->payload, state_)) {
                     send_mailbox(std::move(reply), MailboxType::Coe);
+                }
+            } else if (msg->header.type == MailboxType::Foe && foe_) {
+                if (auto reply = foe_->handle(msg->payload, state_)) {
+                    send_mailbox(std::move(*reply), MailboxType::Foe);
                 }
             } else {
                 std::vector<std::uint8_t> err{0x01, 0x00, 0x02, 0x00}; // unsupported protocol

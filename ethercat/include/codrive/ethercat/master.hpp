@@ -5,6 +5,7 @@
 
 #include <codrive/ethercat/al_state.hpp>
 #include <codrive/ethercat/datagram.hpp>
+#include <codrive/ethercat/foe.hpp>
 #include <codrive/ethercat/link.hpp>
 #include <codrive/ethercat/mailbox.hpp>
 #include <codrive/ethercat/sii.hpp>
@@ -29,6 +30,7 @@ namespace codrive::ethercat {
 namespace detail {
 struct MailboxChannel;
 class CoeTransfer;
+enum class TransferStep : int;
 } // namespace detail
 
 /// Timeouts and retries. Mailbox traffic (CoE) runs as per-slave state machines that put one
@@ -126,9 +128,11 @@ struct EntryDescription {
     std::string name;
 };
 
-/// Outcome of an asynchronous CoE transfer.
+/// Outcome of an asynchronous mailbox transfer (CoE, FoE).
 struct CoeOutcome {
-    std::error_code error; ///< empty on success (SdoAbort codes, MailboxTimeout, ProtocolError)
+    /// Empty on success: SdoAbort codes, FoE error codes (foe_category()), MailboxTimeout,
+    /// ProtocolError.
+    std::error_code error;
     std::string sentence; ///< on failure: "slave 2 (AKD2G): CoE SDO upload 0x6064:00 timed out ..."
     std::vector<std::uint8_t> data; ///< uploads and SDO information answers
 };
@@ -294,6 +298,27 @@ public:
     Result<ObjectDescription> sdo_info_object(std::size_t slave, std::uint16_t index);
     Result<EntryDescription> sdo_info_entry(std::size_t slave, std::uint16_t index,
                                             std::uint8_t subindex);
+    // ---- FoE (file access over EtherCAT, ETG.1000.6 §5.7) ----------------------------------
+    /// Reads the file `name` from the slave: RRQ, then DATA/ACK one message per frame until a
+    /// DATA shorter than the slave's mailbox allows ends it. Runs on the slave's mailbox channel
+    /// like the CoE transfers (in the cyclic frame or run_mailbox_cycle()); `done` gets the
+    /// file in outcome.data, or the error and its sentence ("slave 1 (AKD2G): FoE read
+    /// 'x.akd': error 0x8001 (not found) ..."). Errors (returned at once): NoSuchSlave,
+    /// MailboxNotSupported (no mailbox or no FoE in the slave's SII).
+    VoidResult foe_read_async(std::size_t slave, std::string name, CoeDone done,
+                              FoeOptions options = {});
+    /// Writes `data` as the file `name`: WRQ, ACK 0, then DATA n / ACK n; BUSY answers make the
+    /// master send the same DATA again (up to options.busy_timeout).
+    VoidResult foe_write_async(std::size_t slave, std::string name, std::vector<std::uint8_t> data,
+                               CoeDone done, FoeOptions options = {});
+    /// Blocking forms over mailbox-only frames (no cyclic exchange running). Errors: FoE error
+    /// codes (foe_category()), MailboxTimeout, ProtocolError, MailboxNotSupported, with
+    /// last_error() naming slave, file and cause.
+    Result<std::vector<std::uint8_t>> foe_read(std::size_t slave, const std::string& name,
+                                               FoeOptions options = {});
+    VoidResult foe_write(std::size_t slave, const std::string& name,
+                         std::span<const std::uint8_t> data, FoeOptions options = {});
+
     /// Called with every CoE emergency (decoded with the emcy/ module's EmcyMessage).
     using EmergencyHandler = std::function<void(std::size_t slave, const emcy::EmcyMessage&)>;
     void on_emergency(EmergencyHandler handler) { emergency_handler_ = std::move(handler); }
@@ -419,6 +444,7 @@ private:
     void mailbox_start(std::size_t slave, TimePoint now);
     void mailbox_send(std::size_t slave, TimePoint now);
     void mailbox_finish(std::size_t slave, TimePoint now);
+    void mailbox_step(std::size_t slave, detail::TransferStep step, TimePoint now);
     void mailbox_fail(std::size_t slave, std::error_code ec, std::string sentence, TimePoint now);
     void dispatch_emergency(std::size_t slave, std::span<const std::uint8_t> coe);
     void deliver_finished();

@@ -90,6 +90,7 @@ struct SiiInfo {
 
     [[nodiscard]] bool has_mailbox() const { return rx_mailbox_size != 0 && tx_mailbox_size != 0; }
     [[nodiscard]] bool has_coe() const { return (mailbox_protocols & mbx_proto::kCoe) != 0; }
+    [[nodiscard]] bool has_foe() const { return (mailbox_protocols & mbx_proto::kFoe) != 0; }
 };
 
 /// CRC-8 (polynomial x^8+x^2+x+1, initial 0xFF) over bytes 0..13 of the EEPROM, stored in the

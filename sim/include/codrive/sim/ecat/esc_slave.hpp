@@ -5,6 +5,7 @@
 
 #include <codrive/sim/ecat/application.hpp>
 #include <codrive/sim/ecat/coe_server.hpp>
+#include <codrive/sim/ecat/foe_server.hpp>
 
 #include <codrive/ethercat/al_state.hpp>
 #include <codrive/ethercat/datagram.hpp>
@@ -64,6 +65,8 @@ public:
     [[nodiscard]] std::uint16_t station_address() const;
     [[nodiscard]] const ethercat::SiiInfo& sii() const { return sii_; }
     [[nodiscard]] EcatApplication& app() { return *app_; }
+    /// The FoE file server, or nullptr when the SII does not list FoE.
+    [[nodiscard]] FoeServer* foe() { return foe_.get(); }
     [[nodiscard]] EscFaults& faults() { return faults_; }
     [[nodiscard]] std::uint64_t system_time(TimePoint now) const;
     [[nodiscard]] bool sync0_active() const;
@@ -106,6 +109,7 @@ private:
     std::vector<std::uint8_t> eeprom_;
     std::unique_ptr<EcatApplication> app_;
     std::unique_ptr<CoeServer> coe_;
+    std::unique_ptr<FoeServer> foe_;
     std::vector<std::uint8_t> mem_ = std::vector<std::uint8_t>(0x10000, 0);
     ethercat::AlState state_ = ethercat::AlState::Init;
     EscFaults faults_;

@@ -1,0 +1,249 @@
+// SPDX-License-Identifier: Apache-2.0
+// FoE file transfers on the in-process segment with the fake clock: reads and writes ride in the
+// cyclic frame one step per cycle, BUSY makes the master send the same DATA again, errors and
+// a mute mailbox end only the transfer, with a sentence naming slave, file and cause.
+#include <codrive/ethercat/error.hpp>
+#include <codrive/ethercat/foe.hpp>
+#include <codrive/ethercat/master.hpp>
+#include <codrive/sim/ecat/drive_profiles.hpp>
+#include <codrive/sim/ecat/segment.hpp>
+
+#include <gtest/gtest.h>
+
+namespace codrive::ethercat {
+namespace {
+
+using sim::ecat::EcatSegment;
+using sim::ecat::make_drive_slave;
+using sim::ecat::SegmentLink;
+
+constexpr Duration kCycle = milliseconds(1);
+
+std::vector<std::uint8_t> pattern(std::size_t n) {
+    std::vector<std::uint8_t> v(n);
+    for (std::size_t i = 0; i < n; ++i) {
+        v[i] = static_cast<std::uint8_t>((i * 7 + i / 251) & 0xFF);
+    }
+    return v;
+}
+
+class Foe : public ::testing::Test {
+protected:
+    Foe() {
+        segment_.add(make_drive_slave("fio", 11));
+        segment_.add(make_drive_slave("akd2g", 22));
+    }
+    void to(AlState s) {
+        ASSERT_TRUE(master_.scan()) << master_.last_error();
+        ASSERT_TRUE(master_.set_state_all(s)) << master_.last_error();
+    }
+    /// One control cycle: the frame may take half the period; counts the cycles that took
+    /// longer and those whose frame did not come back.
+    void cycle() {
+        const TimePoint start = clock_.now();
+        if (auto s = master_.send_process_data(); s) {
+            auto r = master_.receive_process_data(start + kCycle / 2);
+            if (!r && r.error() == EcatErrc::NoResponse) {
+                ++lost_;
+            }
+        }
+        if (clock_.now() - start > kCycle / 2) {
+            ++late_cycles_;
+        }
+        for (std::size_t i = 0; i < segment_.size(); ++i) {
+            (void)segment_.slave(i).tick(clock_.now());
+        }
+        clock_.set(start + kCycle);
+    }
+    /// Cycles until `out` is set (at most `limit` cycles); returns the cycles it took.
+    int run_until(const std::optional<CoeOutcome>& out, int limit = 5000) {
+        int n = 0;
+        for (; n < limit && !out; ++n) {
+            cycle();
+        }
+        return n;
+    }
+    [[nodiscard]] std::size_t max_data() const {
+        return foe_max_data(master_.slaves()[1].sii.rx_mailbox_size);
+    }
+
+    FakeClock clock_;
+    EcatSegment segment_;
+    SegmentLink link_{segment_, clock_};
+    Master master_{link_, clock_};
+    int late_cycles_ = 0;
+    int lost_ = 0;
+};
+
+TEST_F(Foe, TenKilobyteFileWrittenAndReadBackInTheCyclicFrame) {
+    to(AlState::SafeOp); // the AKD2G takes parameter files up to SAFE-OP (manual §2.3.3.4)
+    const auto file = pattern(10 * 1024);
+    std::vector<std::size_t> progress;
+    FoeOptions o;
+    o.progress = [&](std::size_t done, std::optional<std::size_t> total) {
+        EXPECT_EQ(total, file.size());
+        progress.push_back(done);
+    };
+    std::optional<CoeOutcome> written;
+    ASSERT_TRUE(master_.foe_write_async(
+        1, "drive.akd", file, [&](CoeOutcome r) { written = r; }, o));
+    EXPECT_FALSE(written) << "completions run from the cycle, never inside the call";
+    const int write_cycles = run_until(written);
+    ASSERT_TRUE(written);
+    ASSERT_FALSE(written->error) << written->sentence;
+    EXPECT_EQ(segment_.slave(1).foe()->files().at("drive.akd"), file);
+    // One DATA per mailbox: each a write and a read cycle of its own.
+    const std::size_t packets = file.size() / max_data() + 1;
+    EXPECT_GE(write_cycles, static_cast<int>(2 * packets));
+    EXPECT_LE(write_cycles, static_cast<int>(2 * packets + 10));
+    ASSERT_EQ(progress.size(), packets);
+    EXPECT_EQ(progress.front(), max_data());
+    EXPECT_EQ(progress.back(), file.size());
+
+    std::optional<CoeOutcome> read;
+    std::size_t read_progress = 0;
+    FoeOptions ro;
+    ro.progress = [&](std::size_t done, std::optional<std::size_t> total) {
+        EXPECT_FALSE(total);
+        EXPECT_GT(done, read_progress);
+        read_progress = done;
+    };
+    ASSERT_TRUE(master_.foe_read_async(
+        1, "drive.akd", [&](CoeOutcome r) { read = r; }, ro));
+    run_until(read);
+    ASSERT_TRUE(read);
+    ASSERT_FALSE(read->error) << read->sentence;
+    EXPECT_EQ(read->data, file);
+    EXPECT_EQ(read_progress, file.size());
+    EXPECT_EQ(late_cycles_, 0);
+    EXPECT_EQ(lost_, 0);
+    EXPECT_EQ(master_.stats().stray_mailbox_messages, 0U)
+        << "the final ACK of a read gets no answer, and none is waited for";
+}
+
+TEST_F(Foe, ReadOfAMissingFileNamesSlaveFileAndTheFoeError) {
+    to(AlState::PreOp);
+    auto r = master_.foe_read(1, "missing.akd");
+    ASSERT_FALSE(r);
+    EXPECT_EQ(r.error(), make_foe_error(foe_error::kNotFound));
+    EXPECT_EQ(master_.last_error(), "slave 1 (AKD2G): FoE read 'missing.akd': the slave answered "
+                                    "error 0x8001 (not found): \"not found\"");
+}
+
+TEST_F(Foe, WriteInOpIsRefusedAsTheManualAsksForInitPreOpOrSafeOp) {
+    to(AlState::Op);
+    const auto file = pattern(300);
+    std::optional<CoeOutcome> out;
+    ASSERT_TRUE(master_.foe_write_async(1, "drive.akd", file, [&](CoeOutcome r) { out = r; }));
+    run_until(out);
+    ASSERT_TRUE(out);
+    EXPECT_EQ(out->error, make_foe_error(foe_error::kAccessDenied));
+    EXPECT_EQ(out->sentence, "slave 1 (AKD2G): FoE write 'drive.akd' (300 bytes): the slave "
+                             "answered error 0x8002 (access denied): \"access denied\"");
+    EXPECT_EQ(segment_.slave(1).foe()->files().count("drive.akd"), 0U);
+    EXPECT_EQ(late_cycles_, 0);
+}
+
+TEST_F(Foe, BusyAnswersMakeTheMasterSendTheSameDataAgain) {
+    to(AlState::PreOp);
+    segment_.slave(1).foe()->busy_next(3);
+    const auto file = pattern(1000);
+    ASSERT_TRUE(master_.foe_write(1, "busy.akd", file)) << master_.last_error();
+    EXPECT_EQ(segment_.slave(1).foe()->busy_sent(), 3U);
+    EXPECT_EQ(segment_.slave(1).foe()->files().at("busy.akd"), file);
+}
+
+TEST_F(Foe, ASlaveBusyForeverFailsTheWriteAfterTheBusyTimeout) {
+    to(AlState::PreOp);
+    segment_.slave(1).foe()->busy_next(1'000'000);
+    FoeOptions o;
+    o.busy_timeout = milliseconds(200);
+    const TimePoint start = clock_.now();
+    auto w = master_.foe_write(1, "stuck.akd", pattern(500), o);
+    ASSERT_FALSE(w);
+    EXPECT_EQ(w.error(), EcatErrc::MailboxTimeout);
+    EXPECT_NE(master_.last_error().find("slave 1 (AKD2G): FoE write 'stuck.akd' (500 bytes): the "
+                                        "slave stayed busy for 2"),
+              std::string::npos)
+        << master_.last_error();
+    EXPECT_LT(clock_.now() - start, seconds(1));
+    // The ERR told the slave to give up: the next transfer starts clean.
+    segment_.slave(1).foe()->busy_next(0);
+    ASSERT_TRUE(master_.foe_write(1, "stuck.akd", pattern(500))) << master_.last_error();
+}
+
+TEST_F(Foe, FilesFillingTheirLastPacketExactlyEndWithAnEmptyData) {
+    to(AlState::PreOp);
+    for (const std::size_t size : {std::size_t{0}, max_data(), 3 * max_data()}) {
+        const auto file = pattern(size);
+        ASSERT_TRUE(master_.foe_write(1, "exact.bin", file)) << master_.last_error();
+        EXPECT_EQ(segment_.slave(1).foe()->files().at("exact.bin"), file) << size;
+        auto back = master_.foe_read(1, "exact.bin");
+        ASSERT_TRUE(back) << master_.last_error();
+        EXPECT_EQ(*back, file) << size;
+    }
+}
+
+TEST_F(Foe, MuteMailboxDuringAWriteTimesOutAloneWithoutCostingACycle) {
+    to(AlState::SafeOp);
+    std::optional<CoeOutcome> out;
+    ASSERT_TRUE(master_.foe_write_async(1, "drive.akd", pattern(10 * 1024),
+                                        [&](CoeOutcome r) { out = r; }));
+    for (int i = 0; i < 20; ++i) {
+        cycle();
+    }
+    ASSERT_FALSE(out);
+    segment_.slave(1).faults().mailbox_silent = true;
+    const TimePoint muted = clock_.now();
+    std::optional<CoeOutcome> fio;
+    ASSERT_TRUE(master_.sdo_upload_async(0, 0x1018, 1, [&](CoeOutcome r) { fio = r; }));
+    run_until(out, 2000);
+    ASSERT_TRUE(out);
+    EXPECT_EQ(out->error, EcatErrc::MailboxTimeout);
+    EXPECT_EQ(out->sentence, "slave 1 (AKD2G): FoE write 'drive.akd' (10240 bytes) timed out "
+                             "after 1000 ms (mailbox silent)");
+    EXPECT_LE(clock_.now() - muted, seconds(1) + 3 * kCycle);
+    ASSERT_TRUE(fio) << "the other slave's mailbox went on";
+    EXPECT_FALSE(fio->error) << fio->sentence;
+    EXPECT_EQ(late_cycles_, 0);
+    EXPECT_EQ(lost_, 0);
+}
+
+TEST_F(Foe, ASlaveWithoutFoeIsRefusedAtOnce) {
+    to(AlState::PreOp);
+    auto r = master_.foe_read_async(0, "x.akd", [](CoeOutcome) { FAIL() << "not queued"; });
+    ASSERT_FALSE(r);
+    EXPECT_EQ(r.error(), EcatErrc::MailboxNotSupported);
+    EXPECT_EQ(
+        master_.last_error(),
+        "slave 0 (FIO Drive Control): the slave does not support FoE (file access over EtherCAT)");
+}
+
+TEST(FoeCodec, HeaderFieldsAreWhereTheStandardPutsThem) {
+    std::vector<std::uint8_t> out;
+    const std::uint8_t name[] = {'a', '.', 'k', 'd'};
+    encode_foe(out, FoeOpcode::WriteRequest, 0x12345678, name);
+    ASSERT_EQ(out.size(), kFoeHeaderSize + 4);
+    EXPECT_EQ(out[0], 2);
+    EXPECT_EQ(out[1], 0);
+    EXPECT_EQ(out[2], 0x78);
+    EXPECT_EQ(out[5], 0x12);
+    auto m = decode_foe(out);
+    ASSERT_TRUE(m);
+    EXPECT_EQ(m->opcode, FoeOpcode::WriteRequest);
+    EXPECT_EQ(m->value, 0x12345678U);
+    EXPECT_EQ(m->body.size(), 4U);
+    encode_foe(out, FoeOpcode::Busy, foe_busy_value(3, 10));
+    m = decode_foe(out);
+    ASSERT_TRUE(m);
+    EXPECT_EQ(m->done, 3);
+    EXPECT_EQ(m->entire, 10);
+    EXPECT_FALSE(decode_foe(std::vector<std::uint8_t>{7, 0, 0, 0, 0, 0})) << "opcode 7";
+    EXPECT_FALSE(decode_foe(std::vector<std::uint8_t>{3, 0, 1})) << "short header";
+    EXPECT_EQ(foe_max_data(128), 116U);
+    EXPECT_STREQ(foe_error_text(0x8005), "packet number wrong");
+    EXPECT_EQ(make_foe_error(0x8001).message(), "not found");
+}
+
+} // namespace
+} // namespace codrive::ethercat
