@@ -52,6 +52,8 @@ int main(int argc, char** argv) {
     std::vector<std::string> refuse;
     std::string lose_answers;
     std::string pcap;
+    std::vector<std::string> foe_dirs;
+    std::string foe_busy;
     bool echo = false;
     app.add_option("--ethercat", iface, "interface to answer on")->required();
     app.add_option("--slave", profiles, "slave profile in chain order: fio, akd2g, ds-bvs");
@@ -71,6 +73,11 @@ int main(int argc, char** argv) {
     app.add_option("--lose-mailbox-answers", lose_answers,
                    "POS:N — lose every other frame that carries slave POS's mailbox answer until "
                    "N are lost (the master must ask for a repeat, ETG.1000.4 §6.7.2)");
+    app.add_option("--foe-dir", foe_dirs,
+                   "POS:DIR — slave POS's FoE files live in DIR too (reads find them there, "
+                   "writes store them there)");
+    app.add_option("--foe-busy", foe_busy,
+                   "POS:N — slave POS answers the next N FoE DATA of a write with BUSY");
     app.add_option("--pcap", pcap, "write every frame received and sent to this pcap file");
     app.add_flag("--echo", echo, "return frames untouched (raw-socket floor for benchmarks)");
     CLI11_PARSE(app, argc, argv);
@@ -114,6 +121,40 @@ int main(int argc, char** argv) {
         }
         const AlState state = parsed.value_or(AlState::Init);
         segment.slave(*pos).faults().refuse[state] = static_cast<std::uint16_t>(*code);
+    }
+
+    // FoE options: the slave must list FoE in its SII (the AKD2G does).
+    const auto foe_slave = [&](const std::string& arg, const char* what, const char* form,
+                               std::string& rest) -> sim::ecat::FoeServer* {
+        const auto colon = arg.find(':');
+        const auto pos = parse_uint(arg.substr(0, colon));
+        if (colon == std::string::npos || !pos || *pos >= segment.size() ||
+            segment.slave(*pos).foe() == nullptr) {
+            std::fprintf(stderr,
+                         "codrive-ecat-sim: bad %s '%s' (%s, POS a slave with FoE such as "
+                         "an akd2g)\n",
+                         what, arg.c_str(), form);
+            return nullptr;
+        }
+        rest = arg.substr(colon + 1);
+        return segment.slave(*pos).foe();
+    };
+    for (const auto& d : foe_dirs) {
+        std::string dir;
+        auto* foe = foe_slave(d, "--foe-dir", "POS:DIR", dir);
+        if (foe == nullptr) {
+            return 2;
+        }
+        foe->set_directory(dir);
+    }
+    if (!foe_busy.empty()) {
+        std::string n;
+        auto* foe = foe_slave(foe_busy, "--foe-busy", "POS:N", n);
+        const auto count = parse_uint(n);
+        if (foe == nullptr || !count) {
+            return 2;
+        }
+        foe->busy_next(static_cast<int>(*count));
     }
 
     sim::ecat::MailboxAnswerLoss loss;

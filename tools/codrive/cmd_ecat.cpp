@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: Apache-2.0
 // `codrive ecat`: EtherCAT segment scan, CoE SDO read/write and state requests over a raw socket.
+#include "cmd_ecat_foe.hpp"
 #include "command_registry.hpp"
 #include "ecat_session.hpp"
 
@@ -32,12 +33,14 @@ int run_scan(const EcatOptions& o) {
         return kExitNoBus;
     }
     for (const auto& sl : s->master->slaves()) {
-        fmt::print("slave {} @0x{:04X}: {} vendor 0x{:08X} product 0x{:08X} revision 0x{:08X} "
-                   "serial {} mailbox {}/{}{} DC {} state {}\n",
-                   sl.position, sl.station_address, sl.display_name(), sl.sii.vendor_id,
-                   sl.sii.product_code, sl.sii.revision, sl.sii.serial, sl.sii.rx_mailbox_size,
-                   sl.sii.tx_mailbox_size, sl.sii.has_coe() ? " CoE" : "", sl.has_dc ? "yes" : "no",
-                   to_string(sl.state));
+        fmt::print(
+            "slave {} @0x{:04X}: {} vendor 0x{:08X} product 0x{:08X} revision 0x{:08X} "
+            "serial {} mailbox {}/{}{} DC {} state {}\n",
+            sl.position, sl.station_address, sl.display_name(), sl.sii.vendor_id,
+            sl.sii.product_code, sl.sii.revision, sl.sii.serial, sl.sii.rx_mailbox_size,
+            sl.sii.tx_mailbox_size,
+            fmt::format("{}{}", sl.sii.has_coe() ? " CoE" : "", sl.sii.has_foe() ? " FoE" : ""),
+            sl.has_dc ? "yes" : "no", to_string(sl.state));
     }
     return kExitOk;
 }
@@ -140,7 +143,8 @@ int run_state(const EcatOptions& o) {
 }
 
 void install_ecat(CLI::App& app, int& exit_code) {
-    auto* ecat = app.add_subcommand("ecat", "EtherCAT: scan, CoE SDO access, state requests");
+    auto* ecat =
+        app.add_subcommand("ecat", "EtherCAT: scan, CoE SDO access, state requests, FoE files");
     ecat->require_subcommand(1);
     auto opts = std::make_shared<EcatOptions>();
     auto* scan = ecat->add_subcommand("scan", "list the slaves with identity, mailbox, DC, state");
@@ -167,6 +171,8 @@ void install_ecat(CLI::App& app, int& exit_code) {
     state->add_option("--ethercat", opts->iface, "network interface")->required();
     state->add_option("state", opts->state, "init, preop, safeop or op")->required();
     state->callback([opts, &exit_code] { exit_code = run_state(*opts); });
+
+    install_ecat_foe(*ecat, exit_code);
 }
 
 } // namespace
