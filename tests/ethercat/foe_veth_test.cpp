@@ -175,9 +175,13 @@ TEST_F(FoeVeth, CyclicTransfersKeepTheCycleAndDissectAsFoe) {
     sched_param rt{};
     rt.sched_priority = 50;
     ASSERT_EQ(::sched_setscheduler(sim_->pid(), SCHED_FIFO, &rt), 0);
-    sched_param old{};
-    const int old_policy = ::sched_getscheduler(0);
-    ::sched_getparam(0, &old);
+    /// This thread at SCHED_FIFO for the cycles, back to its old policy however the test ends.
+    struct FifoScope {
+        int policy = ::sched_getscheduler(0);
+        sched_param param{};
+        FifoScope() { ::sched_getparam(0, &param); }
+        ~FifoScope() { ::sched_setscheduler(0, policy, &param); }
+    } fifo;
     rt.sched_priority = 60;
     ASSERT_EQ(::sched_setscheduler(0, SCHED_FIFO, &rt), 0);
 
@@ -223,7 +227,6 @@ TEST_F(FoeVeth, CyclicTransfersKeepTheCycleAndDissectAsFoe) {
     const std::uint64_t lost_muted = lost_ - lost_before;
     const std::uint64_t skipped_muted = skipped_ - skipped_before;
     const std::uint64_t cycles_muted = cycles_ - cycles_before;
-    ::sched_setscheduler(0, old_policy, &old);
     link_->set_tap({});
     writer.close();
 
@@ -261,12 +264,15 @@ TEST_F(FoeVeth, CyclicTransfersKeepTheCycleAndDissectAsFoe) {
     ASSERT_TRUE(fio) << "the FIO's mailbox went on beside the mute one";
     EXPECT_FALSE(fio->error) << fio->sentence;
     // A cycle that waited on the mute mailbox would lose its whole second (~1000 slots). The
-    // bound leaves room for the odd stall of a loaded 2-core CI host (a few frames beside a
-    // compile; the softirq that carries veth frames is not real-time).
+    // bound, 5 % of the slots as in controller_ecat_test, leaves room for the stalls of a loaded
+    // 2-core CI host (up to 21 frames seen beside other builds: the softirq that carries veth
+    // frames is not real-time).
     EXPECT_GE(cycles_muted, 900U) << "the cycle ran on while the mailbox was mute";
-    EXPECT_LE(lost_muted + skipped_muted, cycles_muted / 50)
+    EXPECT_LE(lost_muted + skipped_muted, cycles_muted / 20)
         << "cycles lost or skipped while the mailbox was mute";
-    EXPECT_LE(lost_clean + skipped_clean, cycles_clean / 20 + 1);
+    // The transfers themselves: a master that waited on FoE answers would lose most slots; the
+    // bound allows what this host loses without any mailbox traffic when loaded (up to ~7 %).
+    EXPECT_LE(lost_clean + skipped_clean, cycles_clean / 10);
 
     // tshark: EtherCAT mailbox FoE with every opcode, nothing malformed.
     auto ops = run({"/usr/bin/tshark", "-r", pcap, "-Y", "ecat_mailbox.foe", "-T", "fields", "-e",
