@@ -18,8 +18,9 @@ namespace codrive::ethercat::detail {
 /// outcome, once the slave took it.
 enum class TransferStep : int { Send, Wait, Done, Failed, SendLast };
 
-/// One CoE exchange (ETG.1000.6 §5.6.2). The channel sends request(), feeds every reply of
-/// service() (and SDO aborts) to on_reply(), and finishes the transfer on Done or Failed.
+/// One CoE exchange (ETG.1000.6 §5.6.2), or an FoE one (mailbox_type() Foe, §5.7: every FoE
+/// reply goes to on_reply()). The channel sends request(), feeds every reply of service() (and
+/// SDO aborts) to on_reply(), and finishes the transfer on Done or Failed.
 class CoeTransfer {
 public:
     using Step = TransferStep;

@@ -33,7 +33,7 @@ class CoeTransfer;
 enum class TransferStep : int;
 } // namespace detail
 
-/// Timeouts and retries. Mailbox traffic (CoE) runs as per-slave state machines that put one
+/// Timeouts and retries. Mailbox traffic (CoE, FoE) runs as per-slave state machines that put one
 /// datagram per slave into each frame: the cyclic LRW frame while process data runs, or a
 /// mailbox-only frame for the blocking calls (bring-up, CLI). The cyclic path never waits on
 /// the mailbox.
@@ -41,7 +41,7 @@ struct MasterConfig {
     Duration frame_timeout = milliseconds(20); ///< per attempt
     int frame_retries = 3;                     ///< attempts per acyclic frame
     Duration state_timeout = seconds(2);       ///< ESM transition
-    Duration mailbox_timeout = seconds(1);     ///< CoE answer, per request/reply step
+    Duration mailbox_timeout = seconds(1);     ///< CoE/FoE answer, per request/reply step
     Duration mailbox_poll = microseconds(200); ///< pause between mailbox-only frames (blocking)
     /// How often an idle CoE slave's send mailbox (SM1) is read for emergencies.
     Duration emergency_poll = milliseconds(10);
