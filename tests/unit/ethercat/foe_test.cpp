@@ -6,6 +6,7 @@
 #include <codrive/ethercat/foe.hpp>
 #include <codrive/ethercat/master.hpp>
 #include <codrive/sim/ecat/drive_profiles.hpp>
+#include <codrive/sim/ecat/foe_server.hpp>
 #include <codrive/sim/ecat/segment.hpp>
 
 #include <gtest/gtest.h>
@@ -217,6 +218,50 @@ TEST_F(Foe, ASlaveWithoutFoeIsRefusedAtOnce) {
     EXPECT_EQ(
         master_.last_error(),
         "slave 0 (FIO Drive Control): the slave does not support FoE (file access over EtherCAT)");
+}
+
+/// One FoE request to the simulated server; its answer decoded (opcode, value) or nullopt.
+std::optional<std::pair<FoeOpcode, std::uint32_t>> ask(sim::ecat::FoeServer& server, FoeOpcode op,
+                                                       std::uint32_t value, const std::string& body,
+                                                       AlState state = AlState::PreOp) {
+    std::vector<std::uint8_t> p;
+    encode_foe(p, op, value,
+               std::span<const std::uint8_t>(reinterpret_cast<const std::uint8_t*>(body.data()),
+                                             body.size()));
+    auto reply = server.handle(p, state);
+    if (!reply) {
+        return std::nullopt;
+    }
+    auto m = decode_foe(*reply);
+    EXPECT_TRUE(m) << "the server's answer decodes";
+    return m ? std::optional(std::make_pair(m->opcode, m->value)) : std::nullopt;
+}
+
+TEST(FoeServer, AnswersOutOfSequenceRequestsAndUnsafeNamesWithTheStandardsErrors) {
+    sim::ecat::FoeServer server(128, 128);
+    using P = std::pair<FoeOpcode, std::uint32_t>;
+    // DATA or ACK with no transfer open, BUSY from the master: illegal.
+    EXPECT_EQ(ask(server, FoeOpcode::Data, 1, "x"), P(FoeOpcode::Error, foe_error::kIllegal));
+    EXPECT_EQ(ask(server, FoeOpcode::Ack, 1, ""), P(FoeOpcode::Error, foe_error::kIllegal));
+    EXPECT_EQ(ask(server, FoeOpcode::Busy, 0, ""), P(FoeOpcode::Error, foe_error::kIllegal));
+    // Names that would leave the server's directory are refused.
+    EXPECT_EQ(ask(server, FoeOpcode::WriteRequest, 0, "../etc/passwd"),
+              P(FoeOpcode::Error, foe_error::kAccessDenied));
+    EXPECT_EQ(ask(server, FoeOpcode::WriteRequest, 0, ""),
+              P(FoeOpcode::Error, foe_error::kAccessDenied));
+    // A DATA that skips a packet ends the write; an ERR from the master is not answered.
+    EXPECT_EQ(ask(server, FoeOpcode::WriteRequest, 0, "a.akd"), P(FoeOpcode::Ack, 0U));
+    EXPECT_EQ(ask(server, FoeOpcode::Data, 2, "late"),
+              P(FoeOpcode::Error, foe_error::kPacketNumberWrong));
+    EXPECT_EQ(ask(server, FoeOpcode::WriteRequest, 0, "a.akd"), P(FoeOpcode::Ack, 0U));
+    EXPECT_EQ(ask(server, FoeOpcode::Error, foe_error::kNotDefined, "stop"), std::nullopt);
+    EXPECT_EQ(server.files().count("a.akd"), 0U) << "an abandoned write stores nothing";
+    // A file larger than the store allows: disk full.
+    server.set_max_file(100);
+    EXPECT_EQ(ask(server, FoeOpcode::WriteRequest, 0, "big.akd"), P(FoeOpcode::Ack, 0U));
+    EXPECT_EQ(ask(server, FoeOpcode::Data, 1, std::string(116, 'b')),
+              P(FoeOpcode::Error, foe_error::kDiskFull));
+    EXPECT_EQ(server.errors_sent(), 7U);
 }
 
 TEST(FoeCodec, HeaderFieldsAreWhereTheStandardPutsThem) {
