@@ -234,13 +234,14 @@ TEST_F(FoeVeth, CyclicTransfersKeepTheCycleAndDissectAsFoe) {
         return static_cast<double>(file.size()) / 1000.0 / std::chrono::duration<double>(d).count();
     };
     std::printf(
-        "FoE over veth at a %lld us cycle, 128-byte mailbox: write 10240 bytes in %.0f ms "
+        "FoE over veth at a %lld us cycle, %u-byte mailbox: write 10240 bytes in %.0f ms "
         "(%.1f kB/s, 2 BUSY), read back in %.0f ms (%.1f kB/s); %llu of %llu frames lost, %llu "
         "slots skipped; mute mailbox: failed after %.0f ms, %llu of %llu frames lost, %llu "
         "slots skipped\n",
-        static_cast<long long>(kCycle / 1us), to_ms(write_time), kbs(write_time), to_ms(read_time),
-        kbs(read_time), static_cast<unsigned long long>(lost_clean),
-        static_cast<unsigned long long>(cycles_clean),
+        static_cast<long long>(kCycle / 1us),
+        static_cast<unsigned>(master_->slaves()[1].sii.rx_mailbox_size), to_ms(write_time),
+        kbs(write_time), to_ms(read_time), kbs(read_time),
+        static_cast<unsigned long long>(lost_clean), static_cast<unsigned long long>(cycles_clean),
         static_cast<unsigned long long>(skipped_clean), to_ms(mute_time),
         static_cast<unsigned long long>(lost_muted), static_cast<unsigned long long>(cycles_muted),
         static_cast<unsigned long long>(skipped_muted));
