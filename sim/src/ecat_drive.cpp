@@ -188,7 +188,7 @@ public:
     }
     [[nodiscard]] bool uses_drive_core() const { return core_ != nullptr; }
 
-    bool take_restart() {
+    bool take_restart() override {
         if (!restart_due_) {
             return false;
         }

@@ -129,7 +129,6 @@ private:
     std::uint64_t frames_seen_ = 0;
     std::int64_t local_base_ns_ = 0;
     TimePoint epoch_{};
-    bool epoch_set_ = false;
 };
 
 } // namespace codrive::sim::ecat
