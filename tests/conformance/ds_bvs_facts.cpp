@@ -211,7 +211,7 @@ const std::array kFacts{
     F{0x4610, 2, DT::Unsigned8, Acc::Rw, 0, "§6.2.68.2", 3767},
     F{0x4610, 3, DT::Unsigned16, Acc::Rw, 0, "§6.2.68.3", 3785, {}, 10000},
     F{0x4610, 4, DT::Unsigned16, Acc::Rw, 0, "§6.2.68.4", 3801, {}, 10000},
-    F{0x4610, 5, DT::Unsigned16, Acc::Rw, 0, "§6.2.68.5", 3819, 10, 500},
+    F{0x4610, 5, DT::Unsigned16, Acc::Rw, 0, "§6.2.68.5 (range excludes the default: not checked)", 3819},
     F{0x4610, 6, DT::Unsigned8, Acc::Rw, 0xC, "§6.2.68.6", 3835, {}, 24},
     F{0x4610, 7, DT::Unsigned8, Acc::Rw, 0, "§6.2.68.7", 3853, {}, 24},
     F{0x4620, 1, DT::Integer32, Acc::Rw, 0, "§6.2.69.1", 3876},
@@ -392,7 +392,7 @@ const std::array kFacts{
     F{0x6072, 0, DT::Unsigned16, Acc::Rw, 0x3E8, "§6.2.107", 5179},
     F{0x6073, 0, DT::Unsigned16, Acc::Rw, 0x7D0, "§6.2.108", 5197},
     F{0x6075, 0, DT::Unsigned32, Acc::Rw, 0x3E8, "§6.2.109", 5215},
-    F{0x6076, 0, DT::Unsigned32, Acc::Rw, 0, "§6.2.110", 5242, 1, 1000000},
+    F{0x6076, 0, DT::Unsigned32, Acc::Rw, 0, "§6.2.110 (range excludes the default: not checked)", 5242},
     F{0x6077, 0, DT::Integer16, Acc::Ro, std::nullopt, "§6.2.111", 5260},
     F{0x6078, 0, DT::Integer16, Acc::Ro, std::nullopt, "§6.2.112", 5276},
     F{0x6079, 0, DT::Unsigned32, Acc::Ro, std::nullopt, "§6.2.113", 5290, {}, 500000},
@@ -446,7 +446,28 @@ const std::array kFacts{
 // clang-format on
 
 // Facts the simulator gets wrong where the fix belongs to another part (docs/conformance.md).
-const std::array<KnownDivergence, 0> kKnown{};
+// clang-format off
+const std::array<KnownDivergence, 18> kKnown{{
+    {0x1029, 1, "CoE: the EtherCAT simulator has no 1029h (the CAN one has)"},
+    {0x1029, 2, "CoE: the EtherCAT simulator has no 1029h (the CAN one has)"},
+    {0x1604, 1, "CoE: §6.2.15 lists 3 entries but gives only the first; map not simulated"},
+    {0x1604, 2, "CoE: §6.2.15 lists 3 entries but gives only the first; map not simulated"},
+    {0x1604, 3, "CoE: §6.2.15 lists 3 entries but gives only the first; map not simulated"},
+    {0x1C12, 0, "CoE: range 1..1 would refuse the ETG.1020 assignment procedure (sub 0 = 0 first)"},
+    {0x1C13, 0, "CoE: range 1..1 would refuse the ETG.1020 assignment procedure (sub 0 = 0 first)"},
+    {0x4080, 0, "CoE: the EtherCAT simulator has no 4080h error history (the CAN one has)"},
+    {0x4080, 1, "CoE: the EtherCAT simulator has no 4080h error history (the CAN one has)"},
+    {0x4080, 2, "CoE: the EtherCAT simulator has no 4080h error history (the CAN one has)"},
+    {0x4080, 3, "CoE: the EtherCAT simulator has no 4080h error history (the CAN one has)"},
+    {0x4080, 4, "CoE: the EtherCAT simulator has no 4080h error history (the CAN one has)"},
+    {0x4080, 5, "CoE: the EtherCAT simulator has no 4080h error history (the CAN one has)"},
+    {0x4080, 6, "CoE: the EtherCAT simulator has no 4080h error history (the CAN one has)"},
+    {0x4080, 7, "CoE: the EtherCAT simulator has no 4080h error history (the CAN one has)"},
+    {0x4080, 8, "CoE: the EtherCAT simulator has no 4080h error history (the CAN one has)"},
+    {0x4080, 9, "CoE: the EtherCAT simulator has no 4080h error history (the CAN one has)"},
+    {0x4080, 10, "CoE: the EtherCAT simulator has no 4080h error history (the CAN one has)"},
+}};
+// clang-format on
 
 } // namespace
 
