@@ -81,8 +81,8 @@ constexpr std::array kObjects{
     spec(0x3250, 3, "Force Enable", DT::Unsigned32, A::Rw, true, 0, true), // §7.13.63, line 5784
     spec(0x3250, 4, "Force Value", DT::Unsigned32, A::Rw, true, 0, true), // §7.13.63, line 5791
     spec(0x3250, 5, "Raw Value", DT::Unsigned32, A::Rw, true, 0, true), // §7.13.63, line 5798
-    spec(0x3700, 0, "Deviation Error Option Code", DT::Integer16, A::Rw, false, -1), // §7.13.68, line 6055
-    spec(0x3701, 0, "Limit Switch Error Option Code", DT::Integer16, A::Rw, false, -1), // §7.13.69, line 6085
+    limited(spec(0x3700, 0, "Deviation Error Option Code", DT::Integer16, A::Rw, false, -1), -1, 2), // §7.13.68, line 6055
+    limited(spec(0x3701, 0, "Limit Switch Error Option Code", DT::Integer16, A::Rw, false, -1), -1, 6), // §7.13.69, line 6085
     spec(0x6042, 0, "VI Target Velocity", DT::Integer16, A::Rw, true, 200), // §7.13.81, line 6509
     spec(0x6043, 0, "VI Velocity Demand", DT::Integer16, A::Rw, true, 0), // §7.13.82, line 6524
     spec(0x6044, 0, "VI Velocity Actual Value", DT::Integer16, A::Ro, true, 0), // §7.13.83, line 6539
@@ -98,7 +98,7 @@ constexpr std::array kObjects{
     spec(0x604C, 2, "VI Dimension Factor enumerator", DT::Integer32, A::Rw, true, 60, true), // §7.13.88, line 6745
     spec(0x606F, 0, "Velocity threshold", DT::Unsigned16, A::Rw, true, 0), // §7.13.107, line 7113
     spec(0x6070, 0, "Velocity Window", DT::Unsigned16, A::Rw, true, 0), // §7.13.108, line 7131
-    spec(0x6073, 0, "Max Current", DT::Integer16, A::Ro, true, 0), // §7.13.111, line 7179
+    limited(spec(0x6073, 0, "Max Current", DT::Integer16, A::Ro, true, 0), 0, 1000), // §7.13.111, line 7179
     spec(0x6074, 0, "Torque Demand", DT::Integer16, A::Ro, true, 0), // §7.13.112, line 7193
     spec(0x6075, 0, "Motor Rated Current", DT::Unsigned32, A::Rw, false, 0), // §7.13.113, line 7208
     spec(0x607B, 1, "Min Position Range Limit", DT::Integer32, A::Rw, true, -2147483648, true), // §7.13.116, line 7271

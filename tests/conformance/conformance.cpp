@@ -334,6 +334,9 @@ void check_facts(std::string_view drive, const drives::Profile& profile, Probe* 
                 ADD_FAILURE() << what << ": listed as a known divergence (" << k->reason
                               << ") but conforms now: remove it from the list and the docs";
             }
+            for (const auto& m : failures) {
+                std::printf("known divergence: %s [%s]\n", m.c_str(), k->reason);
+            }
             continue;
         }
         for (const auto& m : failures) {
