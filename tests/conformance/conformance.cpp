@@ -110,11 +110,21 @@ bool is_pdo_map(std::uint16_t index) {
     return (index >= 0x1600 && index <= 0x17FF) || (index >= 0x1A00 && index <= 0x1BFF);
 }
 
-/// Writes a PDO mapping sub-index the way CiA 301 §7.5.2.35/§7.5.2.37 and the manuals (DS-BVS
-/// §6.2.14 a-c) describe: the PDO made invalid in its communication parameter (where the drive
-/// lets the master write it), sub 0 set to 0, the entry written, then both restored.
+/// Objects CiA 301 lets a master change only while the PDO is invalid: the mapping entries and
+/// count (§7.5.2.36/§7.5.2.38) and the inhibit time (§7.5.2.35: sub 03h "shall not be changed
+/// while the PDO exists").
+bool needs_invalid_pdo(const Fact& f) {
+    const bool comm =
+        (f.index >= 0x1400 && f.index <= 0x15FF) || (f.index >= 0x1800 && f.index <= 0x19FF);
+    return f.access == Acc::Rw && (is_pdo_map(f.index) || (comm && f.sub == 3));
+}
+
+/// Writes a PDO mapping sub-index (or the inhibit time) the way CiA 301 §7.5.2.35/§7.5.2.37 and the
+/// manuals (DS-BVS §6.2.14 a-c) describe: the PDO made invalid in its communication parameter
+/// (where the drive lets the master write it), sub 0 set to 0, the entry written, then both
+/// restored.
 Reply remap(Probe& probe, const Fact& f, const std::vector<std::uint8_t>& value) {
-    const auto comm = static_cast<std::uint16_t>(f.index - 0x200);
+    const auto comm = is_pdo_map(f.index) ? static_cast<std::uint16_t>(f.index - 0x200) : f.index;
     const Reply cob = probe.upload(comm, 1);
     bool invalidated = false;
     if (cob.ok && cob.data.size() == 4) {
@@ -123,8 +133,8 @@ Reply remap(Probe& probe, const Fact& f, const std::vector<std::uint8_t>& value)
     }
     const Reply count = probe.upload(f.index, 0);
     Reply w;
-    if (f.sub == 0) {
-        w = probe.download(f.index, 0, value);
+    if (f.sub == 0 || !is_pdo_map(f.index)) {
+        w = probe.download(f.index, f.sub, value);
     } else {
         probe.write<std::uint8_t>(f.index, 0, 0);
         w = probe.download(f.index, f.sub, value);
@@ -162,9 +172,8 @@ void check_sim(const std::string& what, Probe& probe, const Fact& f,
                                   decode(f.type, r.data), *f.value));
     }
     // Access: writing the value back must succeed on rw and abort 06010002h on ro.
-    const Reply w = is_pdo_map(f.index) && f.access == Acc::Rw
-                        ? remap(probe, f, r.data)
-                        : probe.download(f.index, f.sub, r.data);
+    const Reply w =
+        needs_invalid_pdo(f) ? remap(probe, f, r.data) : probe.download(f.index, f.sub, r.data);
     if (f.access == Acc::Rw && !w.ok) {
         out.push_back(
             fmt::format("{}: simulator refuses a write (0x{:08X}), manual: rw", what, w.abort));

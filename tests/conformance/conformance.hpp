@@ -116,6 +116,7 @@ struct KnownDivergence {
 std::span<const Fact> akd2g_facts();
 std::span<const Fact> ds_bvs_facts();
 std::span<const Fact> fio_facts();
+std::span<const KnownDivergence> akd2g_known();
 std::span<const KnownDivergence> ds_bvs_known();
 std::span<const KnownDivergence> fio_known();
 
