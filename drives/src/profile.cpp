@@ -327,6 +327,11 @@ void build_device_dictionary(ObjectDictionary& od, const Profile& p, unsigned ax
     }
 }
 
+namespace {
+/// The name add_object gives a sub 0 it maintains as "highest sub-index supported".
+constexpr const char* kHighestSubName = "Highest sub-index supported";
+} // namespace
+
 void add_object(ObjectDictionary& od, const ObjectSpec& s) {
     if (!s.record) {
         od.add_var(s.index, std::string(s.name), s.type, s.access, make_sub(s).value, s.pdo);
@@ -335,17 +340,24 @@ void add_object(ObjectDictionary& od, const ObjectSpec& s) {
         }
         return;
     }
+    if (s.subindex == 0) {
+        // An explicit sub 0 of a record (a count the manual gives, e.g. DS-BVS 4702h:00 =
+        // number of entries): kept as described, the other subs leave it alone.
+        od.add_sub(s.index, make_sub(s), std::string(s.name));
+        return;
+    }
     if (od.find(s.index, 0) == nullptr) {
         od.add_sub(s.index,
-                   SubObject::make(0, "Highest sub-index supported", DataType::Unsigned8,
-                                   Access::Ro, *Value::from_uint(DataType::Unsigned8, 0)),
+                   SubObject::make(0, kHighestSubName, DataType::Unsigned8, Access::Ro,
+                                   *Value::from_uint(DataType::Unsigned8, 0)),
                    std::string(s.name));
     }
     od.add_sub(s.index, make_sub(s));
-    if (auto* sub0 = od.find(s.index, 0)) {
+    // Sub 0 follows the highest sub-index unless the profile describes sub 0 itself.
+    if (auto* sub0 = od.find(s.index, 0); sub0 != nullptr && sub0->name == kHighestSubName) {
         const std::uint8_t highest =
             std::max(od.get<std::uint8_t>(s.index, 0).value_or(0), s.subindex);
-        *sub0 = SubObject::make(0, "Highest sub-index supported", DataType::Unsigned8, Access::Ro,
+        *sub0 = SubObject::make(0, kHighestSubName, DataType::Unsigned8, Access::Ro,
                                 *Value::from_uint(DataType::Unsigned8, highest));
     }
 }

@@ -3,10 +3,12 @@
 // complete EMCY ↔ fault/warning table (manual §4.3.1, 185 rows: 123 faults, 62 warnings).
 #include "layouts.hpp"
 #include "object_spec_builders.hpp"
+#include "table_objects.hpp"
 
 #include <codrive/drives/profile.hpp>
 
 #include <array>
+#include <vector>
 
 namespace codrive::drives {
 namespace {
@@ -274,7 +276,9 @@ Profile make_akd2g() {
     p.faults = kFaults;
     p.error_history_depth = 10; // §5.2.3: 1003h holds at most 10 entries
     p.layouts = kLayouts;
-    p.object_overrides = kOverrides;
+    // The profile's own objects, then those of the manual's tables (objects_akd2g.cpp).
+    static const std::vector<ObjectSpec> objects = joined(kOverrides, akd2g_table_objects());
+    p.object_overrides = objects;
     p.absent_objects = kAbsent;
     p.fault_code_in_1003 = true; // §5.2.3: no 603Fh; 1003h:01 = the last EMCY's first 4 bytes
     p.quirks.pdo_maps_volatile = true;

@@ -3,10 +3,12 @@
 // read-only PDO COB-IDs, fixed units and the complete 603Fh/EMCY table (manual §6.2.79, 14 rows).
 #include "layouts.hpp"
 #include "object_spec_builders.hpp"
+#include "table_objects.hpp"
 
 #include <codrive/drives/profile.hpp>
 
 #include <array>
+#include <vector>
 
 namespace codrive::drives {
 namespace {
@@ -104,7 +106,9 @@ constexpr std::array kOverrides{
             25000),
     limited(spec(0x6099, 2, "Speed for zero search", DT::Unsigned32, A::Rw, false, 10, true), 1,
             25000),
-    spec(0x609A, 0, "Homing acceleration", DT::Unsigned32, A::Rw, false, 10000),
+    // §6.2.133: range 1..4294967295.
+    limited(spec(0x609A, 0, "Homing acceleration", DT::Unsigned32, A::Rw, false, 10000), 1,
+            4294967295LL),
     spec(0x60F4, 0, "Following error actual value", DT::Integer32, A::Ro, false, 0),
     spec(0x6502, 0, "Supported drive modes", DT::Unsigned32, A::Const, false, 0x3AF),
 };
@@ -128,7 +132,9 @@ Profile make_ds_bvs() {
     p.faults = kFaults;
     p.error_history_depth = 10; // §6.2.44: 4080h error codes 01h..0Ah
     p.layouts = kLayouts;
-    p.object_overrides = kOverrides;
+    // The profile's own objects, then those of the manual's tables (objects_ds_bvs.cpp).
+    static const std::vector<ObjectSpec> objects = joined(kOverrides, ds_bvs_table_objects());
+    p.object_overrides = objects;
     p.documents_defaults = true; // chapter 6.2: every object lists "Default Value"
     p.absent_objects = kAbsent;
     // §6.2.14-§6.2.17: every PDO mapping object says "Backup NO": 1010h does not store them.

@@ -3,10 +3,12 @@
 // the error-number table (1003h bits 31..24, 30 rows) and the error-code table (18 rows).
 #include "layouts.hpp"
 #include "object_spec_builders.hpp"
+#include "table_objects.hpp"
 
 #include <codrive/drives/profile.hpp>
 
 #include <array>
+#include <vector>
 
 namespace codrive::drives {
 namespace {
@@ -201,7 +203,9 @@ Profile make_fio() {
     p.error_history_depth = 8; // §7.13.3: 1003h sub-indexes 01h..08h
     p.error_numbers = kErrorNumbers;
     p.layouts = kLayouts;
-    p.object_overrides = kOverrides;
+    // The profile's own objects, then those of the manual's tables (objects_fio.cpp).
+    static const std::vector<ObjectSpec> objects = joined(kOverrides, fio_table_objects());
+    p.object_overrides = objects;
     p.documents_defaults = true; // §7.13: every object lists "Default Value"
     p.absent_objects = kAbsent;
     p.quirks.canopen = false;

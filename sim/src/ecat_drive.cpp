@@ -43,6 +43,15 @@ struct DriveDef {
     std::vector<std::uint16_t> rx_assign;
     std::vector<std::uint16_t> tx_assign;
     std::uint8_t assign_max = 4;
+    /// Entries of a free mapping object (sub 0 takes 0..map_slots).
+    std::uint8_t map_slots = 8;
+    /// The mapping objects 1C12h:01../1C13h:01.. accept (0: any), where the manual gives them.
+    std::uint16_t rx_assign_low = 0;
+    std::uint16_t rx_assign_high = 0;
+    std::uint16_t tx_assign_low = 0;
+    std::uint16_t tx_assign_high = 0;
+    /// Sync managers 1C00h lists (the first four are mailbox out/in, outputs, inputs; the rest 0).
+    std::uint8_t sm_channels = 4;
     /// 1C32h/1C33h: highest sub-index reported, entries present (1..n) and the default cycle
     /// time. Drives whose manual is silent keep sub 1..2 and 1 ms.
     std::uint8_t sm_out_highest = 2;
@@ -113,7 +122,12 @@ DriveDef dsbvs_def() {
         {0x1605, {0x60400010, 0x607A0020, 0x60B20010, 0x60FE0120}, true},
         {0x1606, {0x60400010, 0x60FF0020, 0x60FE0120}, true},
         {0x1607, {0x60400010, 0x60710010, 0x60FE0120}, true},
-        {0x1608, {0x60400010, 0x607A0020, 0x60FF0020, 0x60710010, 0x60FE0120, 0x60600008}, true}};
+        {0x1608, {0x60400010, 0x607A0020, 0x60FF0020, 0x60710010, 0x60FE0120, 0x60600008}, true},
+        // §6.2.20: motion sequence map (4700h sub 1..8 after the controlword).
+        {0x1609,
+         {0x60400010, 0x47000108, 0x47000210, 0x47000308, 0x47000420, 0x47000520, 0x47000620,
+          0x47000720, 0x47000820},
+         true}};
     d.tx = {
         {0x1A00, {}},
         {0x1A01, {}},
@@ -122,10 +136,20 @@ DriveDef dsbvs_def() {
         {0x1A04, {0x60410010, 0x60640020, 0x60FD0020}, true},
         {0x1A05, {0x60410010, 0x60640020, 0x606C0020, 0x60FD0020}, true},
         {0x1A06, {0x60410010, 0x60640020, 0x606C0020, 0x60770010, 0x60FD0020}, true},
-        {0x1A08, {0x60410010, 0x60640020, 0x606C0020, 0x60770010, 0x60FD0020, 0x60610008}, true}};
+        // §6.2.26
+        {0x1A07, {0x60410010, 0x60640020, 0x606C0020, 0x60780010, 0x60FD0020}, true},
+        {0x1A08, {0x60410010, 0x60640020, 0x606C0020, 0x60770010, 0x60FD0020, 0x60610008}, true},
+        // §6.2.28
+        {0x1A09, {0x60410010, 0x47010010, 0x60640020, 0x606C0020, 0x60770010, 0x60FD0020}, true}};
     d.rx_assign = {0x1608};
     d.tx_assign = {0x1A08};
     d.assign_max = 1;
+    d.map_slots = 10;         // §6.2.14.2, §6.2.22: entries 01h..0Ah
+    d.rx_assign_low = 0x1600; // §6.2.30.2: 1C12h:01 takes 1600h..1609h
+    d.rx_assign_high = 0x1609;
+    d.tx_assign_low = 0x1A00; // §6.2.31.2: 1C13h:01 takes 1A00h..1A08h
+    d.tx_assign_high = 0x1A08;
+    d.sm_channels = 8; // §6.2.29: 1C00h sub 0 = 8, channels 4..7 = 0
     return d;
 }
 
@@ -399,11 +423,14 @@ private:
         const auto add_pdo = [&](const PdoDef& p, bool rx) {
             const std::string name = rx ? "RxPDO mapping" : "TxPDO mapping";
             const Access a = p.fixed ? Access::Ro : Access::Rw;
-            od_.add_sub(p.index,
-                        SubObject::make(0, "Number of entries", DataType::Unsigned8, a,
-                                        u8(static_cast<std::uint8_t>(p.entries.size()))),
-                        name);
-            const std::size_t slots = p.fixed ? p.entries.size() : 8;
+            auto count = SubObject::make(0, "Number of entries", DataType::Unsigned8, a,
+                                         u8(static_cast<std::uint8_t>(p.entries.size())));
+            const std::size_t slots = p.fixed ? p.entries.size() : def.map_slots;
+            if (!p.fixed) {
+                count.low_limit = u8(0);
+                count.high_limit = u8(def.map_slots);
+            }
+            od_.add_sub(p.index, std::move(count), name);
             for (std::size_t i = 0; i < slots; ++i) {
                 od_.add_sub(p.index, SubObject::make(static_cast<std::uint8_t>(i + 1),
                                                      "Mapping entry " + std::to_string(i + 1),
@@ -419,30 +446,36 @@ private:
             add_pdo(p, false);
         }
         const auto add_assign = [&](std::uint16_t index, const std::vector<std::uint16_t>& pdos,
-                                    const char* name) {
+                                    const char* name, std::uint16_t low, std::uint16_t high) {
             od_.add_sub(index,
                         SubObject::make(0, "Number of assigned PDOs", DataType::Unsigned8,
                                         Access::Rw, u8(static_cast<std::uint8_t>(pdos.size()))),
                         name);
             for (std::uint8_t i = 0; i < def.assign_max; ++i) {
-                od_.add_sub(index,
-                            SubObject::make(static_cast<std::uint8_t>(i + 1),
-                                            "PDO " + std::to_string(i + 1), DataType::Unsigned16,
-                                            Access::Rw, u16(i < pdos.size() ? pdos[i] : 0)));
+                auto entry = SubObject::make(static_cast<std::uint8_t>(i + 1),
+                                             "PDO " + std::to_string(i + 1), DataType::Unsigned16,
+                                             Access::Rw, u16(i < pdos.size() ? pdos[i] : 0));
+                if (high != 0) {
+                    entry.low_limit = u16(low);
+                    entry.high_limit = u16(high);
+                }
+                od_.add_sub(index, std::move(entry));
             }
             od_.find(index)->code = ObjectCode::Array;
         };
-        add_assign(0x1C12, def.rx_assign, "Sync manager 2 PDO assignment");
-        add_assign(0x1C13, def.tx_assign, "Sync manager 3 PDO assignment");
-        od_.add_sub(
-            0x1C00,
-            SubObject::make(0, "Number of sync managers", DataType::Unsigned8, Access::Ro, u8(4)),
-            "Sync manager communication type");
-        for (std::uint8_t i = 0; i < 4; ++i) {
+        add_assign(0x1C12, def.rx_assign, "Sync manager 2 PDO assignment", def.rx_assign_low,
+                   def.rx_assign_high);
+        add_assign(0x1C13, def.tx_assign, "Sync manager 3 PDO assignment", def.tx_assign_low,
+                   def.tx_assign_high);
+        od_.add_sub(0x1C00,
+                    SubObject::make(0, "Number of sync managers", DataType::Unsigned8, Access::Ro,
+                                    u8(def.sm_channels)),
+                    "Sync manager communication type");
+        for (std::uint8_t i = 0; i < def.sm_channels; ++i) {
             od_.add_sub(0x1C00, SubObject::make(static_cast<std::uint8_t>(i + 1),
                                                 "Communication type SM" + std::to_string(i),
                                                 DataType::Unsigned8, Access::Ro,
-                                                u8(static_cast<std::uint8_t>(i + 1))));
+                                                u8(static_cast<std::uint8_t>(i < 4 ? i + 1 : 0))));
         }
         od_.find(0x1C00)->code = ObjectCode::Array;
         for (std::uint16_t idx : {std::uint16_t{0x1C32}, std::uint16_t{0x1C33}}) {

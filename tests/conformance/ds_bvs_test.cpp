@@ -10,60 +10,10 @@
 namespace codrive::conformance {
 namespace {
 
-using DT = DataType;
-
-// clang-format off
-const std::array kFacts{
-    Fact{0x1017, 0, DT::Unsigned16, Acc::Rw, 0, "§6.2.10", false},
-    Fact{0x1018, 1, DT::Unsigned32, Acc::Ro, std::nullopt, "§6.2.11.1", false},
-    Fact{0x1018, 2, DT::Unsigned32, Acc::Ro, std::nullopt, "§6.2.11.2", false},
-    Fact{0x4080, 0, DT::Unsigned8, Acc::Rw, 0, "§6.2.44.1", false},
-    Fact{0x4080, 10, DT::Unsigned16, Acc::Ro, 0, "§6.2.44.2 (10 entries)", false},
-    Fact{0x5000, 0, DT::Unsigned8, Acc::Rw, 1, "§6.2.74 (node-ID as shipped)"},
-    Fact{0x5002, 0, DT::Unsigned8, Acc::Rw, 5, "§6.2.76 (250 kbps)"},
-    Fact{0x4080, 11, DT::Unsigned16, Acc::Absent, std::nullopt, "§6.2.44.2 (10 entries)", false},
-    Fact{0x6007, 0, DT::Integer16, Acc::Rw, 0, "§6.2.78"},
-    Fact{0x6040, 0, DT::Unsigned16, Acc::Rw, std::nullopt, "§6.2.80"},
-    Fact{0x6041, 0, DT::Unsigned16, Acc::Ro, std::nullopt, "§6.2.81"},
-    Fact{0x605A, 0, DT::Integer16, Acc::Rw, 6, "§6.2.89"},
-    Fact{0x605B, 0, DT::Integer16, Acc::Rw, 0, "§6.2.90"},
-    Fact{0x605D, 0, DT::Integer16, Acc::Rw, 1, "§6.2.92"},
-    Fact{0x6060, 0, DT::Integer8, Acc::Rw, 3, "§6.2.94"},
-    Fact{0x6061, 0, DT::Integer8, Acc::Ro, 3, "§6.2.95"},
-    Fact{0x6065, 0, DT::Unsigned32, Acc::Rw, 100000, "§6.2.99"},
-    Fact{0x6067, 0, DT::Unsigned32, Acc::Rw, 5, "§6.2.100"},
-    Fact{0x6068, 0, DT::Unsigned16, Acc::Rw, 10, "§6.2.101"},
-    Fact{0x606D, 0, DT::Unsigned32, Acc::Rw, 30, "§6.2.104"},
-    Fact{0x606E, 0, DT::Unsigned16, Acc::Rw, 30, "§6.2.105"},
-    Fact{0x6071, 0, DT::Integer16, Acc::Rw, 0, "§6.2.106"},
-    Fact{0x6072, 0, DT::Unsigned16, Acc::Rw, 1000, "§6.2.107"},
-    Fact{0x607F, 0, DT::Unsigned32, Acc::Rw, 1000, "§6.2.117"},
-    Fact{0x6080, 0, DT::Unsigned32, Acc::Rw, 3000, "§6.2.118"},
-    Fact{0x6081, 0, DT::Unsigned32, Acc::Rw, 1000, "§6.2.119"},
-    Fact{0x6083, 0, DT::Unsigned32, Acc::Rw, 1000, "§6.2.120"},
-    Fact{0x6084, 0, DT::Unsigned32, Acc::Rw, 1000, "§6.2.121"},
-    Fact{0x6085, 0, DT::Unsigned32, Acc::Rw, 1000, "§6.2.122"},
-    Fact{0x6086, 0, DT::Integer16, Acc::Rw, 1, "§6.2.123"},
-    Fact{0x608F, 1, DT::Unsigned32, Acc::Rw, 500, "§6.2.130"},
-    Fact{0x608F, 2, DT::Unsigned32, Acc::Rw, 1, "§6.2.130"},
-    Fact{0x6098, 0, DT::Integer8, Acc::Rw, 17, "§6.2.131"},
-    Fact{0x6099, 1, DT::Unsigned32, Acc::Rw, 100, "§6.2.132"},
-    Fact{0x6099, 2, DT::Unsigned32, Acc::Rw, 10, "§6.2.132"},
-    Fact{0x609A, 0, DT::Unsigned32, Acc::Rw, 10000, "§6.2.133"},
-    Fact{0x60E3, 1, DT::Integer16, Acc::Ro, 17, "§6.2.140", false},
-    Fact{0x60E3, 2, DT::Integer16, Acc::Ro, 18, "§6.2.140", false},
-    Fact{0x60E3, 3, DT::Integer16, Acc::Ro, 23, "§6.2.140", false},
-    Fact{0x60E3, 4, DT::Integer16, Acc::Ro, 27, "§6.2.140", false},
-    Fact{0x60E3, 5, DT::Integer16, Acc::Ro, 37, "§6.2.140", false},
-    Fact{0x60E3, 6, DT::Integer16, Acc::Ro, -3, "§6.2.140", false},
-    Fact{0x60E3, 7, DT::Integer16, Acc::Ro, -4, "§6.2.140", false},
-    Fact{0x60F4, 0, DT::Integer32, Acc::Ro, 0, "§6.2.141"},
-};
-// clang-format on
-
 TEST(DsBvsConformance, ObjectTableMatchesTheManual) {
-    CanProbe probe("ds-bvs");
-    check_facts("ds-bvs", drives::ds_bvs_profile(), probe, kFacts);
+    CanProbe can("ds-bvs");
+    EcatProbe ecat("ds-bvs");
+    check_facts("ds-bvs", drives::ds_bvs_profile(), &can, &ecat, ds_bvs_facts(), ds_bvs_known());
 }
 
 TEST(DsBvsConformance, SupportedHomingMethodsInTheManualsOrder60E3h) {

@@ -11,46 +11,9 @@
 namespace codrive::conformance {
 namespace {
 
-using DT = DataType;
-
-// clang-format off
-const std::array kFacts{
-    Fact{0x1003, 0, DT::Unsigned8, Acc::Rw, 0, "§7.13.3", false},
-    Fact{0x1003, 8, DT::Unsigned32, Acc::Ro, 0, "§7.13.3 (sub 01h..08h)", false},
-    Fact{0x1003, 9, DT::Unsigned32, Acc::Absent, std::nullopt, "§7.13.3 (sub 01h..08h)", false},
-    Fact{0x1018, 1, DT::Unsigned32, Acc::Ro, 0x0048554B, "§7.13 1018h", false},
-    Fact{0x1C32, 0, DT::Unsigned8, Acc::Ro, 5, "§7.13.22", false},
-    Fact{0x1C32, 2, DT::Unsigned32, Acc::Rw, 0, "§7.13.22", false},
-    Fact{0x1C33, 0, DT::Unsigned8, Acc::Ro, 3, "§7.13.23", false},
-    Fact{0x1C33, 3, DT::Unsigned32, Acc::Rw, 0, "§7.13.23", false},
-    Fact{0x1601, 1, DT::Unsigned32, Acc::Rw, 0x607A0020, "§7.13.12", false},
-    Fact{0x1601, 2, DT::Unsigned32, Acc::Rw, 0x60810020, "§7.13.12", false},
-    Fact{0x1601, 3, DT::Unsigned32, Acc::Rw, 0, "§7.13.12", false},
-    Fact{0x1602, 1, DT::Unsigned32, Acc::Rw, 0x60420010, "§7.13.13", false},
-    Fact{0x1603, 1, DT::Unsigned32, Acc::Rw, 0x60420010, "§7.13.14", false},
-    Fact{0x1A01, 1, DT::Unsigned32, Acc::Rw, 0x60640020, "§7.13.16", false},
-    Fact{0x1A02, 1, DT::Unsigned32, Acc::Rw, 0x60440010, "§7.13.17", false},
-    Fact{0x1A03, 1, DT::Unsigned32, Acc::Rw, 0x60FD0020, "§7.13.18", false},
-    Fact{0x1A03, 2, DT::Unsigned32, Acc::Rw, 0x64020120, "§7.13.18", false},
-    Fact{0x1A03, 3, DT::Unsigned32, Acc::Rw, 0x64020220, "§7.13.18", false},
-    Fact{0x1010, 0, DT::Unsigned8, Acc::Ro, 0x0D, "§7.13.7", false},
-    Fact{0x1011, 0, DT::Unsigned8, Acc::Ro, 0x0D, "§7.13.8", false},
-    Fact{0x1C33, 1, DT::Unsigned16, Acc::Rw, 0, "§7.13.23", false},
-    Fact{0x2110, 0, DT::Unsigned16, Acc::Ro, std::nullopt, "§7.13.51", false},
-    Fact{0x3202, 0, DT::Unsigned32, Acc::Rw, 0, "§7.13.52"},
-    Fact{0x607A, 0, DT::Integer32, Acc::Rw, 4000, "§7.13.115"},
-    Fact{0x608F, 1, DT::Unsigned32, Acc::Rw, 2000, "§7.13.13x 608Fh"},
-    Fact{0x608F, 2, DT::Unsigned32, Acc::Rw, 1, "§7.13.13x 608Fh"},
-    Fact{0x6099, 2, DT::Unsigned32, Acc::Rw, 1, "§7.13 6099h"},
-    Fact{0x60A8, 0, DT::Unsigned32, Acc::Rw, 0xFF410000LL, "§7.13.140"},
-    Fact{0x60A9, 0, DT::Unsigned32, Acc::Rw, 0x00B44700LL, "§7.13.141"},
-    Fact{0x60C2, 2, DT::Integer8, Acc::Rw, -3, "§7.13.146"},
-};
-// clang-format on
-
 TEST(FioConformance, ObjectTableMatchesTheManual) {
-    EcatProbe probe("fio");
-    check_facts("fio", drives::fio_profile(), probe, kFacts);
+    EcatProbe ecat("fio");
+    check_facts("fio", drives::fio_profile(), nullptr, &ecat, fio_facts(), fio_known());
 }
 
 TEST(FioConformance, DefaultPdoMaps1600hTo1A03hComeFromTheProfileTable) {

@@ -174,7 +174,9 @@ struct ObjectSpec {
     bool has_limits = false;
     std::int64_t low = 0;
     std::int64_t high = 0;
-    bool record = false; ///< part of a RECORD/ARRAY (sub 0 is added as "highest sub-index")
+    /// Part of a RECORD/ARRAY: sub 0 is added as "highest sub-index", unless the record lists
+    /// its own sub 0, which is then kept as described.
+    bool record = false;
 };
 
 /// Everything codrive knows about a drive family.
