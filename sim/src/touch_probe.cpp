@@ -32,8 +32,8 @@ unsigned bits_of(std::uint16_t word, unsigned probe) {
 TouchProbe::TouchProbe(ObjectDictionary& od, std::uint16_t index_offset)
     : od_(od), offset_(index_offset) {
     od_.on_write(at(kFunction),
-                 [](std::uint16_t, std::uint8_t,
-                    std::span<const std::uint8_t> d) -> tl::expected<void, SdoAbort> {
+                 [this](std::uint16_t, std::uint8_t,
+                        std::span<const std::uint8_t> d) -> tl::expected<void, SdoAbort> {
                      if (d.size() < 2) {
                          return tl::unexpected(SdoAbort::LengthTooLow);
                      }
@@ -45,6 +45,9 @@ TouchProbe::TouchProbe(ObjectDictionary& od, std::uint16_t index_offset)
                          ((v >> 8) & kSourceMask) == kSourceReserved) {
                          return tl::unexpected(SdoAbort::InvalidValue);
                      }
+                     // Each write acts at once, as on the drive: disable-then-enable written
+                     // back to back is an enable edge that re-arms the probe.
+                     on_function(v);
                      return {};
                  });
     // A status read right after a 60B8h write sees the new function (the write is stored after
