@@ -84,6 +84,10 @@ public:
     [[nodiscard]] const SimProfile& profile() const { return profile_; }
     /// Power stage on (torque can be produced).
     [[nodiscard]] bool enabled() const;
+    /// The actual position (6064h).
+    [[nodiscard]] std::int32_t position_actual() const {
+        return od_.get<std::int32_t>(index(drives::cia402::obj::kPositionActual), 0).value_or(0);
+    }
     /// The axis's touch probes (60B8h..60BDh), or nullptr if the drive has none (AKD2G §4.1.5).
     [[nodiscard]] TouchProbe* touch_probe() { return probe_.get(); }
     /// Homing attained since power-on (DS-BVS statusword bit 15).
