@@ -39,7 +39,16 @@ bool ProbeStatus::stored(ProbeEdge edge) const {
 }
 
 TouchProbes::TouchProbes(DriveTransport& transport, const Profile& profile, unsigned axis)
-    : transport_(transport), profile_(profile), axis_(axis == 0 ? 1 : axis) {}
+    : transport_(transport), profile_(profile), axis_(axis == 0 ? 1 : axis) {
+    bind();
+}
+
+void TouchProbes::bind() {
+    in_status_ = transport_.input(index(kStatus), 0);
+    for (std::size_t i = 0; i < in_positions_.size(); ++i) {
+        in_positions_[i] = transport_.input(index(static_cast<std::uint16_t>(kPositive1 + i)), 0);
+    }
+}
 
 std::uint16_t TouchProbes::function_bits(unsigned probe, ProbeEdge edge, ProbeTrigger trigger,
                                          ProbeSource source) {
@@ -165,7 +174,7 @@ std::optional<ProbeStatus> TouchProbes::status(unsigned probe) const {
     if (probe != 1 && probe != 2) {
         return std::nullopt;
     }
-    const auto v = transport_.get<std::uint16_t>(transport_.input(index(kStatus), 0));
+    const auto v = transport_.get<std::uint16_t>(in_status_);
     if (!v) {
         return std::nullopt;
     }
@@ -176,7 +185,7 @@ std::optional<std::int32_t> TouchProbes::position(unsigned probe, ProbeEdge edge
     if ((probe != 1 && probe != 2) || edge == ProbeEdge::Both) {
         return std::nullopt;
     }
-    return transport_.get<std::int32_t>(transport_.input(index(position_object(probe, edge)), 0));
+    return transport_.get<std::int32_t>(in_positions_[position_object(probe, edge) - kPositive1]);
 }
 
 } // namespace codrive::drives

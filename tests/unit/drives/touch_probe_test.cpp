@@ -87,6 +87,7 @@ TEST(TouchProbes, ReadsStatusAndPositionsOverSdoAndFromTheProcessImage) {
     EXPECT_FALSE(probes.status(1).has_value()) << "60B9h is not mapped";
     tr.map_input(0x60B9, 0);
     tr.map_input(0x60BA, 0);
+    probes.bind(); // the mapping changed
     tr.process();
     ASSERT_TRUE(probes.status(1).has_value());
     EXPECT_TRUE(probes.status(1)->rising_stored);

@@ -7,6 +7,7 @@
 #include <codrive/drives/profile.hpp>
 #include <codrive/drives/transport.hpp>
 
+#include <array>
 #include <cstdint>
 #include <functional>
 #include <optional>
@@ -46,8 +47,13 @@ class TouchProbes {
 public:
     using Done = std::function<void(DriveVoid)>;
 
-    /// `axis` is 1-based (AKD2G axis 2 uses 68B8h..68BDh).
+    /// `axis` is 1-based (AKD2G axis 2 uses 68B8h..68BDh). Resolves the process-image entries
+    /// of 60B9h..60BDh (bind()).
     TouchProbes(DriveTransport& transport, const Profile& profile, unsigned axis = 1);
+
+    /// Re-resolves the process-image entries (after the PDO mapping changed); keeps look-ups off
+    /// the cyclic path, as Axis::bind() does.
+    void bind();
 
     /// The 60B8h bits of one probe (already shifted for probe 2).
     [[nodiscard]] static std::uint16_t function_bits(unsigned probe, ProbeEdge edge,
@@ -72,7 +78,7 @@ public:
                        std::function<void(DriveResult<std::int32_t>)> done);
 
     /// Without SDO: the status from the process image, if 60B9h is mapped into a TPDO/TxPDO and
-    /// has been received; nullopt otherwise.
+    /// has been received; nullopt otherwise. Cyclic-safe (no look-up, no allocation).
     [[nodiscard]] std::optional<ProbeStatus> status(unsigned probe) const;
     /// Without SDO: the latched position from the process image, if its object is mapped.
     [[nodiscard]] std::optional<std::int32_t> position(unsigned probe, ProbeEdge edge) const;
@@ -90,6 +96,8 @@ private:
     DriveTransport& transport_;
     const Profile& profile_;
     unsigned axis_;
+    CyclicHandle in_status_;
+    std::array<CyclicHandle, 4> in_positions_{}; ///< 60BAh, 60BBh, 60BCh, 60BDh
 };
 
 } // namespace codrive::drives
