@@ -190,6 +190,8 @@ void Axis::update_status(std::uint16_t value) {
                                                   last_error_code_ = *r;
                                               }
                                           });
+    } else if (next == State::Fault && profile_->axis_fault_list != 0) {
+        attribute_fault(0, 0); // AKD2G: this axis's own fault list (5004h/5104h, §5.3.84)
     } else if (next == State::Fault && profile_->fault_code_in_1003) {
         // No 603Fh (AKD2G): the newest 1003h entry is the last EMCY, its code in bits 0..15.
         // 1003h is one object for the whole device, not per axis.

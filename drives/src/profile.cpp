@@ -70,6 +70,23 @@ const ErrorNumberRow* Profile::error_number(std::uint8_t number) const {
     return nullptr;
 }
 
+const FaultRow* Profile::axis_list_fault(std::uint16_t entry) const {
+    if (const FaultRow* r = fault(entry)) {
+        return r;
+    }
+    const std::string number = fmt::format("{}", entry);
+    const FaultRow* warning = nullptr;
+    for (const FaultRow& r : faults) {
+        if (r.number.size() == number.size() + 1 && r.number.substr(1) == number) {
+            if (!r.is_warning()) {
+                return &r; // a fault list names faults first
+            }
+            warning = warning != nullptr ? warning : &r;
+        }
+    }
+    return warning;
+}
+
 std::string Profile::fault_text(std::uint16_t code) const {
     const FaultRow* r = fault(code);
     if (r == nullptr) {

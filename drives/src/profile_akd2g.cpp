@@ -251,6 +251,25 @@ constexpr std::array kOverrides{
     spec(0x60E0, 0, "Positive torque limit", DT::Unsigned16, A::Rw, true, 0),
     spec(0x60E1, 0, "Negative torque limit", DT::Unsigned16, A::Rw, true, 0),
     spec(0x60FC, 0, "Position demand internal value", DT::Integer32, A::Ro, true, 0),
+    // §5.3.84 AXIS#.FAULT1..10 (axis 2 at 5104h): the faults of one axis.
+    spec(0x5004, 1, "AXIS#.FAULT1", DT::Unsigned16, A::Ro, false, 0, true),
+    spec(0x5004, 2, "AXIS#.FAULT2", DT::Unsigned16, A::Ro, false, 0, true),
+    spec(0x5004, 3, "AXIS#.FAULT3", DT::Unsigned16, A::Ro, false, 0, true),
+    spec(0x5004, 4, "AXIS#.FAULT4", DT::Unsigned16, A::Ro, false, 0, true),
+    spec(0x5004, 5, "AXIS#.FAULT5", DT::Unsigned16, A::Ro, false, 0, true),
+    spec(0x5004, 6, "AXIS#.FAULT6", DT::Unsigned16, A::Ro, false, 0, true),
+    spec(0x5004, 7, "AXIS#.FAULT7", DT::Unsigned16, A::Ro, false, 0, true),
+    spec(0x5004, 8, "AXIS#.FAULT8", DT::Unsigned16, A::Ro, false, 0, true),
+    spec(0x5004, 9, "AXIS#.FAULT9", DT::Unsigned16, A::Ro, false, 0, true),
+    spec(0x5004, 10, "AXIS#.FAULT10", DT::Unsigned16, A::Ro, false, 0, true),
+    // §4.1.5 touch probes, object pages §5.4.36-§5.4.41 (all PDO mappable; positions in the
+    // units of 6064h).
+    spec(0x60B8, 0, "Touch probe function", DT::Unsigned16, A::Rww, true, 0),
+    spec(0x60B9, 0, "Touch probe status", DT::Unsigned16, A::Ro, true, 0),
+    spec(0x60BA, 0, "Touch probe 1 position positive value", DT::Integer32, A::Ro, true, 0),
+    spec(0x60BB, 0, "Touch probe 1 position negative value", DT::Integer32, A::Ro, true, 0),
+    spec(0x60BC, 0, "Touch probe 2 position positive value", DT::Integer32, A::Ro, true, 0),
+    spec(0x60BD, 0, "Touch probe 2 position negative value", DT::Integer32, A::Ro, true, 0),
 };
 
 Profile make_akd2g() {
@@ -266,6 +285,8 @@ Profile make_akd2g() {
     p.identity.axes_shift = 20;
     p.axis_offset = 0x800;
     p.manufacturer_axis_offset = 0x100;
+    p.axis_fault_list = 0x5004; // §5.3.84 AXIS#.FAULT1..10 (5104h for axis 2)
+    p.axis_fault_slots = 10;
     p.max_axes = 2;
     p.supported_modes = 0xAD;
     p.extra_modes = kExtraModes;

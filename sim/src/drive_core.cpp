@@ -20,6 +20,10 @@ DriveCore::DriveCore(ObjectDictionary& od, const SimProfile& profile, unsigned a
           return m;
       }()) {
     install_objects();
+    if (const auto offset = static_cast<std::uint16_t>(index(0x6000) - 0x6000);
+        TouchProbe::present(od_, offset)) {
+        probe_ = std::make_unique<TouchProbe>(od_, offset); // AKD2G §4.1.5
+    }
     od_.on_write(index(obj::kControlword),
                  [this](std::uint16_t, std::uint8_t,
                         std::span<const std::uint8_t> d) -> tl::expected<void, SdoAbort> {
@@ -136,6 +140,9 @@ void DriveCore::power_on() {
     torque_demand_ = 0;
     ferr_time_ = 0;
     traj_.reset(motor_.position());
+    if (probe_) {
+        probe_->reset();
+    }
     od_.set<std::uint16_t>(index(obj::kControlword), 0, 0);
     od_.set<std::uint16_t>(index(obj::kErrorCode), 0, 0);
     mode_ = get<std::int8_t>(obj::kModesOfOperation, 0, profile_.default_mode());
@@ -519,6 +526,9 @@ void DriveCore::step(double dt) {
     new_setpoint_fall_ = false;
     monitor_following_error(dt);
     update_outputs();
+    if (probe_) {
+        probe_->step(get<std::int32_t>(obj::kPositionActual));
+    }
 }
 
 void DriveCore::monitor_following_error(double dt) {

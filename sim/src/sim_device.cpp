@@ -269,14 +269,35 @@ void SimDevice::install_hooks() {
                              // After the SDO response has gone out (next tick).
                              reset_pending_ = on;
                              break;
+                         case kControlProbe1Input:
+                         case kControlProbe2Input:
+                             if (auto* tp = axes_[a]->touch_probe()) {
+                                 const unsigned probe = sub == kControlProbe1Input ? 1 : 2;
+                                 tp->set_trigger_position(probe, std::nullopt);
+                                 tp->set_input(probe, on, axes_[a]->position_actual());
+                             }
+                             break;
+                         case kControlProbe1At:
+                         case kControlProbe2At:
+                             if (auto* tp = axes_[a]->touch_probe(); tp && d.size() >= 4) {
+                                 tp->set_trigger_position(sub == kControlProbe1At ? 1 : 2,
+                                                          get_le<std::int32_t>(d.data()));
+                             }
+                             break;
                          default:
                              break;
                          }
                          return {};
                      });
         od_.on_read(index, [this, a](std::uint16_t, std::uint8_t sub, SubObject& s) {
+            if (sub == kControlProbe1Input || sub == kControlProbe2Input) {
+                const auto* tp = axes_[a]->touch_probe();
+                const bool level = tp != nullptr && tp->input(sub == kControlProbe1Input ? 1 : 2);
+                s.value = *Value::from_uint(DataType::Unsigned8, level ? 1 : 0);
+                return;
+            }
             const std::uint8_t v = sub == kControlSto && axes_[a]->sto() ? 1 : 0;
-            if (sub != 0) {
+            if (sub != 0 && sub <= kControlNodeReset) {
                 s.value = *Value::from_uint(DataType::Unsigned8, v);
             }
         });

@@ -141,14 +141,24 @@ void SimDevice::build_objects() {
 
     // Simulation control (manufacturer range): one record per axis.
     for (unsigned a = 0; a < axes_.size(); ++a) {
-        od_.insert(record(
-            static_cast<std::uint16_t>(kControlObject + a), "Simulation control",
-            ObjectCode::Record,
-            {sub(kControlSto, "STO input active", DT::Unsigned8, Access::Rw, 0),
-             sub(kControlOverCurrent, "Inject over-current", DT::Unsigned8, Access::Rw, 0),
-             sub(kControlFollowingError, "Inject following error", DT::Unsigned8, Access::Rw, 0),
-             sub(kControlHeartbeatLoss, "Inject heartbeat loss", DT::Unsigned8, Access::Rw, 0),
-             sub(kControlNodeReset, "Reset node", DT::Unsigned8, Access::Rw, 0)}));
+        std::vector<SubObject> control{
+            sub(kControlSto, "STO input active", DT::Unsigned8, Access::Rw, 0),
+            sub(kControlOverCurrent, "Inject over-current", DT::Unsigned8, Access::Rw, 0),
+            sub(kControlFollowingError, "Inject following error", DT::Unsigned8, Access::Rw, 0),
+            sub(kControlHeartbeatLoss, "Inject heartbeat loss", DT::Unsigned8, Access::Rw, 0),
+            sub(kControlNodeReset, "Reset node", DT::Unsigned8, Access::Rw, 0)};
+        if (axes_[a]->touch_probe() != nullptr) {
+            control.push_back(
+                sub(kControlProbe1Input, "Touch probe 1 input", DT::Unsigned8, Access::Rw, 0));
+            control.push_back(
+                sub(kControlProbe2Input, "Touch probe 2 input", DT::Unsigned8, Access::Rw, 0));
+            control.push_back(sub(kControlProbe1At, "Touch probe 1 sensor position", DT::Integer32,
+                                  Access::Rw, 0));
+            control.push_back(sub(kControlProbe2At, "Touch probe 2 sensor position", DT::Integer32,
+                                  Access::Rw, 0));
+        }
+        od_.insert(record(static_cast<std::uint16_t>(kControlObject + a), "Simulation control",
+                          ObjectCode::Record, std::move(control)));
     }
 }
 

@@ -68,6 +68,9 @@ public:
         if (od_.find(idx(0x603F, axis), 0) != nullptr) {
             od_.set<std::uint16_t>(idx(0x603F, axis), 0, code);
         }
+        if (profile_.axis_fault_list != 0) { // AKD2G §5.3.84: the axis's own fault list
+            od_.set<std::uint16_t>(idx(profile_.axis_fault_list, axis), 1, code);
+        }
     }
     std::vector<std::uint16_t> controlword_log(unsigned axis) const { return cw_log_.at(axis - 1); }
 
@@ -152,6 +155,9 @@ private:
             case State::Fault:
                 if (reset_edge && !m.fault_cause) {
                     m.state = State::SwitchOnDisabled;
+                    if (profile_.axis_fault_list != 0) {
+                        od_.set<std::uint16_t>(idx(profile_.axis_fault_list, a), 1, 0);
+                    }
                 }
                 break;
             case State::Unknown:

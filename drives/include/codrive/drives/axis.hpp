@@ -16,6 +16,7 @@
 #include <functional>
 #include <optional>
 #include <string>
+#include <vector>
 
 namespace codrive::drives {
 
@@ -46,10 +47,17 @@ struct HomingParams {
     std::int32_t offset = 0;
 };
 
+/// A fault the drive attributes to one axis.
+struct AxisFault {
+    std::uint16_t code = 0; ///< EMCY error code (or the raw list entry if the profile lacks it)
+    std::string text;       ///< the drive's fault text, "F2002 Output over current"
+};
+
 class Axis final : public ITimed {
 public:
     using Done = std::function<void(DriveVoid)>;
     using StateHandler = std::function<void(cia402::State from, cia402::State to)>;
+    using FaultHandler = std::function<void(const AxisFault&)>;
 
     Axis(DriveTransport& transport, AxisConfig config);
     ~Axis() override;
@@ -82,9 +90,19 @@ public:
         return profile_->axis_index(base, axis_);
     }
     void on_state_change(StateHandler h) { state_handler_ = std::move(h); }
-    /// Tells the axis the device's last error code (EMCY or 603Fh), used in messages.
-    void note_error_code(std::uint16_t code) { last_error_code_ = code; }
+    /// Tells the axis the device's last error code (EMCY or 603Fh), used in messages. On a drive
+    /// with per-axis fault lists (AKD2G: the EMCY names no axis, 5004h/5104h do, §5.3.84) a
+    /// fault code is checked against this axis's list first: the axis keeps it only if the
+    /// drive lists a fault for this axis (0000h and warnings are taken as they come).
+    void note_error_code(std::uint16_t code);
     [[nodiscard]] std::uint16_t last_error_code() const { return last_error_code_; }
+    /// Called when the drive's fault list attributes a new fault to this axis (after an EMCY or
+    /// on entering FAULT), with the drive's fault text.
+    void on_fault(FaultHandler h) { fault_handler_ = std::move(h); }
+    /// Reads this axis's active faults from the drive's per-axis list (AKD2G 5004h / 5104h
+    /// AXIS#.FAULT1..10, up to the first empty entry). Errors: NotSupported (the drive has no
+    /// such list), Transport.
+    void read_faults(std::function<void(DriveResult<std::vector<AxisFault>>)> done);
 
     // ---- power state operations (each ends in success or a readable error) --------------------
     /// To OPERATION ENABLED from any state: fault reset if needed, then transitions 2, 3, 4
@@ -213,6 +231,9 @@ private:
     [[nodiscard]] bool cyclic_status() const;
     [[nodiscard]] std::string state_text() const;
     [[nodiscard]] std::string fault_description() const;
+    /// Reads the axis's fault list and takes its fault (the one equal to `hint`, else the
+    /// first) as this axis's error code; an empty list puts `before` back if `hint` is current.
+    void attribute_fault(std::uint16_t hint, std::uint16_t before);
 
     DriveTransport& transport_;
     const Profile* profile_;
@@ -239,6 +260,8 @@ private:
     std::uint32_t supported_modes_ = 0;
     bool modes_discovered_ = false;
     StateHandler state_handler_;
+    FaultHandler fault_handler_;
+    std::uint16_t reported_fault_ = 0; ///< the last fault given to fault_handler_
 
     // command
     cia402::Command command_ = cia402::Command::DisableVoltage;

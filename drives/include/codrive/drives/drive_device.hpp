@@ -25,8 +25,10 @@ public:
 
     /// Plugs the profile's EMCY text table into the consumer for this node.
     void attach_emcy_text(emcy::EmcyConsumer& consumer, NodeId node) const;
-    /// An EMCY of this device: the code goes to every axis for their messages (EMCY codes carry
-    /// no axis — AKD2G [AMB-8]); a reset (0000h) clears it.
+    /// An EMCY of this device: the code goes to every axis (EMCY codes carry no axis — AKD2G
+    /// [AMB-8]); on a drive with per-axis fault lists (AKD2G 5004h/5104h, §5.3.84) each axis
+    /// keeps it only if its list holds a fault (Axis::note_error_code); a reset (0000h) clears
+    /// it.
     void on_emcy(const emcy::EmcyEvent& event);
 
     /// Runs every axis's cycle / tick.

@@ -219,6 +219,11 @@ struct Profile {
     bool fault_code_in_1003 = false;
     /// Manufacturer-specific axis objects: offset per axis (AKD2G: 0x100 for 50xxh → 51xxh).
     std::uint16_t manufacturer_axis_offset = 0;
+    /// The per-axis list of active faults, sub-indexes 1..axis_fault_slots (AKD2G 5004h
+    /// AXIS#.FAULT1..10, axis 2 at 5104h, §5.3.84): where the drive says which axis a fault
+    /// belongs to, as its EMCY does not. 0 = the drive has none.
+    std::uint16_t axis_fault_list = 0;
+    std::uint8_t axis_fault_slots = 0;
     /// 1010h/1011h categories and rules.
     Persistence persistence;
     /// The PDO maps the drive ships with, where its manual gives them (FIO §7.13.11-§7.13.18).
@@ -236,6 +241,10 @@ struct Profile {
     [[nodiscard]] const FaultRow* fault(std::uint16_t code) const;
     /// The FIO-style error number row, or nullptr.
     [[nodiscard]] const ErrorNumberRow* error_number(std::uint8_t number) const;
+    /// The fault row an entry of the axis fault list names: the entry as an EMCY code, else as
+    /// the number of an "F"/"W" row (2006 → F2006; the AKD2G manual does not say which of the
+    /// two AXIS#.FAULT# holds), else nullptr.
+    [[nodiscard]] const FaultRow* axis_list_fault(std::uint16_t entry) const;
     /// "F2006 Bus over voltage", or "" if the code is unknown to the profile.
     [[nodiscard]] std::string fault_text(std::uint16_t code) const;
     [[nodiscard]] bool has_object(std::uint16_t index) const;

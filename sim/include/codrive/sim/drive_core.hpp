@@ -8,10 +8,12 @@
 #include <codrive/sim/homing.hpp>
 #include <codrive/sim/motor_model.hpp>
 #include <codrive/sim/profile.hpp>
+#include <codrive/sim/touch_probe.hpp>
 #include <codrive/sim/trajectory.hpp>
 
 #include <cstdint>
 #include <functional>
+#include <memory>
 #include <optional>
 #include <vector>
 
@@ -82,6 +84,12 @@ public:
     [[nodiscard]] const SimProfile& profile() const { return profile_; }
     /// Power stage on (torque can be produced).
     [[nodiscard]] bool enabled() const;
+    /// The actual position (6064h).
+    [[nodiscard]] std::int32_t position_actual() const {
+        return od_.get<std::int32_t>(index(drives::cia402::obj::kPositionActual), 0).value_or(0);
+    }
+    /// The axis's touch probes (60B8h..60BDh), or nullptr if the drive has none (AKD2G §4.1.5).
+    [[nodiscard]] TouchProbe* touch_probe() { return probe_.get(); }
     /// Homing attained since power-on (DS-BVS statusword bit 15).
     [[nodiscard]] bool homed() const { return homed_; }
 
@@ -145,6 +153,7 @@ private:
     std::vector<FaultCode> warnings_;
     std::vector<FaultKind> persistent_;
     bool fieldbus_synchronised_ = false;
+    std::unique_ptr<TouchProbe> probe_;
 
     // Profile position.
     bool pp_moving_ = false;

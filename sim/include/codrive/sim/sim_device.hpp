@@ -50,6 +50,13 @@ inline constexpr std::uint8_t kControlOverCurrent = 2;
 inline constexpr std::uint8_t kControlFollowingError = 3;
 inline constexpr std::uint8_t kControlHeartbeatLoss = 4;
 inline constexpr std::uint8_t kControlNodeReset = 5;
+/// Touch probe inputs (drives with 60B8h, AKD2G §4.1.5): sub 6/7 (UNSIGNED8) set the input of
+/// probe 1/2 now (an edge latches the actual position); sub 8/9 (INTEGER32) put a sensor at a
+/// position: the input is high at or beyond it, and an edge latches that position.
+inline constexpr std::uint8_t kControlProbe1Input = 6;
+inline constexpr std::uint8_t kControlProbe2Input = 7;
+inline constexpr std::uint8_t kControlProbe1At = 8;
+inline constexpr std::uint8_t kControlProbe2At = 9;
 
 struct SimDeviceConfig {
     NodeId node = 1;

@@ -1,0 +1,64 @@
+// SPDX-License-Identifier: Apache-2.0
+// A DriveTransport on a simulator's own dictionary, for master-side APIs in the sim unit tests.
+#pragma once
+
+#include <codrive/core/object_dictionary.hpp>
+#include <codrive/drives/transport.hpp>
+
+#include <deque>
+#include <functional>
+
+namespace codrive::sim::testing {
+
+/// Object access on the simulator's dictionary, as an SDO server answers it: queued, answered
+/// on process() (between simulation steps).
+class OdTransport final : public drives::DriveTransport {
+public:
+    explicit OdTransport(ObjectDictionary& od) : od_(od) {}
+    [[nodiscard]] std::string name() const override { return "node 7"; }
+    void read(std::uint16_t index, std::uint8_t sub, ReadDone done) override {
+        queue_.emplace_back([this, index, sub, done = std::move(done)] {
+            auto r = od_.read(index, sub);
+            if (!r) {
+                done(drives::drive_fail(drives::DriveErrc::Transport,
+                                        "upload " + hex_index(index, sub) + " aborted"));
+                return;
+            }
+            done(drives::Bytes(r->begin(), r->end()));
+        });
+    }
+    void write(std::uint16_t index, std::uint8_t sub, drives::Bytes data, WriteDone done) override {
+        queue_.emplace_back([this, index, sub, data = std::move(data), done = std::move(done)] {
+            auto r = od_.write(index, sub, data);
+            if (!r) {
+                done(drives::drive_fail(drives::DriveErrc::Transport,
+                                        "download " + hex_index(index, sub) + " aborted"));
+                return;
+            }
+            done({});
+        });
+    }
+    [[nodiscard]] drives::CyclicHandle output(std::uint16_t, std::uint8_t) const override {
+        return {};
+    }
+    [[nodiscard]] drives::CyclicHandle input(std::uint16_t, std::uint8_t) const override {
+        return {};
+    }
+    void set_raw(drives::CyclicHandle, std::uint64_t) override {}
+    [[nodiscard]] std::optional<std::uint64_t> get_raw(drives::CyclicHandle) const override {
+        return std::nullopt;
+    }
+    void process() {
+        while (!queue_.empty()) {
+            auto job = std::move(queue_.front());
+            queue_.pop_front();
+            job();
+        }
+    }
+
+private:
+    ObjectDictionary& od_;
+    std::deque<std::function<void()>> queue_;
+};
+
+} // namespace codrive::sim::testing
