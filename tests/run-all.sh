@@ -9,7 +9,7 @@
 # The summary gives per suite: passed, failed, skipped, and the stage's wall time. A suite that
 # exists but ran no test fails the run, and so does a skipped test that was not asked for.
 #   CODRIVE_SKIP_VCAN=1      skip the vcan and leak stages explicitly (reported as skipped)
-#   CODRIVE_SKIP_ETHERCAT=1  skip the EtherCAT stage explicitly, and let the TSan suite skip its
+#   CODRIVE_SKIP_ETHERCAT=1  skip the EtherCAT stage explicitly, and let the TSan and Python suites skip their
 #                            veth tests (reported as skipped)
 #   CODRIVE_SKIP_FUZZ=1      skip the fuzz stage explicitly (reported as skipped)
 #   CODRIVE_FUZZ_SECONDS     seconds per fuzz target (default 10)
@@ -265,7 +265,7 @@ stage tsan tsan_stage
 echo "== build: Release (allocation tests)"
 mkdir -p "$root/build-install"
 stage build-release configure_build "$release_build" Release "" \
-    'unit_pdo|unit_sync|unit_drives|codrive_python|codrive-sim|codrive-dump' || status=1
+    'unit_pdo|unit_sync|unit_drives|codrive_python|codrive-sim|codrive-ecat-sim|codrive-dump' || status=1
 echo "== allocation tests (Release)"
 stage release release_stage
 
@@ -335,11 +335,12 @@ echo "== install: find_package(codrive) and pkg-config consumers of an installed
 stage install install_stage
 
 # Skips that were asked for: the vcan guard honours CODRIVE_SKIP_VCAN, the veth guard
-# CODRIVE_SKIP_ETHERCAT (in the EtherCAT and TSan suites). Any other skip is an error.
+# CODRIVE_SKIP_ETHERCAT (in the EtherCAT, TSan and Python suites: the Python EtherCAT tests
+# need veth). Any other skip is an error.
 skip_allowed() { # suite
     case $1 in
     vcan) [[ ${CODRIVE_SKIP_VCAN:-0} == 1 ]] ;;
-    ethercat | tsan) [[ ${CODRIVE_SKIP_ETHERCAT:-0} == 1 ]] ;;
+    ethercat | tsan | python) [[ ${CODRIVE_SKIP_ETHERCAT:-0} == 1 ]] ;;
     *) false ;;
     esac
 }

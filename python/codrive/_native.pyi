@@ -1,7 +1,7 @@
 # SPDX-License-Identifier: Apache-2.0
 # Type stubs of the extension codrive._native (python/src/*.cpp), so editors and type checkers
 # complete the API. Use it through `codrive`, `codrive.sim`, `codrive.eds`, `codrive.dump`.
-from typing import Callable, Dict, List, Optional, Tuple, Union
+from typing import Any, Callable, Dict, List, Optional, Sequence, Tuple, Union
 
 __version__: str
 
@@ -75,6 +75,8 @@ class Bus:
     @property
     def nmt(self) -> Nmt: ...
     def sdo(self, node: int) -> SdoClient: ...
+    def read_many(self, requests: Sequence[Tuple[Any, ...]], *,
+                  timeout: Optional[float] = None) -> List[Any]: ...
     def run_for(self, seconds: float) -> None: ...
     def scan(self, first: int = 1, last: int = 127, timeout: float = 0.3
              ) -> List[Dict[str, object]]: ...

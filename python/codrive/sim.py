@@ -1,6 +1,7 @@
 # SPDX-License-Identifier: Apache-2.0
-"""Simulated drives: in-process on a VirtualNetwork (VirtualDrive), or codrive-sim processes on a
-real CAN interface (can())."""
+"""Simulated drives: in-process on a VirtualNetwork (VirtualDrive), codrive-sim processes on a
+real CAN interface (can()), or codrive-ecat-sim on an Ethernet interface (ethercat(), with veth()
+for a pair of virtual Ethernet ends)."""
 import os
 import shutil
 import signal
@@ -15,15 +16,64 @@ from ._native import sim as _sim
 VirtualDrive = _sim.VirtualDrive
 
 
-def _find_codrive_sim(executable: Optional[str]) -> str:
-    candidates = [executable, os.environ.get("CODRIVE_SIM"), shutil.which("codrive-sim"),
-                  # A build tree: build/python/codrive/ next to build/tools/codrive-sim.
+def _find_tool(name: str, env: str, executable: Optional[str]) -> str:
+    candidates = [executable, os.environ.get(env), shutil.which(name),
+                  # A build tree: build/python/codrive/ next to build/tools/<name>.
                   os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "tools",
-                               "codrive-sim")]
+                               name)]
     for c in candidates:
         if c and os.access(c, os.X_OK):
             return os.path.normpath(c)
-    raise Error("codrive-sim not found: give executable=, set CODRIVE_SIM or put it on PATH")
+    raise Error(f"{name} not found: give executable=, set {env} or put it on PATH")
+
+
+def _find_codrive_sim(executable: Optional[str]) -> str:
+    return _find_tool("codrive-sim", "CODRIVE_SIM", executable)
+
+
+class _Process:
+    """A child process whose output lines are collected by a thread."""
+
+    def __init__(self, argv: Sequence[str]):
+        self.argv = list(argv)
+        self.lines: List[str] = []
+        self.cond = threading.Condition()
+        self.proc = subprocess.Popen(self.argv, stdin=subprocess.DEVNULL, stdout=subprocess.PIPE,
+                                     stderr=subprocess.STDOUT, text=True, bufsize=1)
+        threading.Thread(target=self._drain, daemon=True).start()
+
+    def _drain(self) -> None:
+        assert self.proc.stdout is not None
+        for line in self.proc.stdout:
+            with self.cond:
+                self.lines.append(line.rstrip("\n"))
+                self.cond.notify_all()
+
+    def output(self) -> List[str]:
+        with self.cond:
+            return list(self.lines)
+
+    def wait_for(self, ready, timeout: float) -> bool:
+        """Waits until ready(lines) is true; False if the process ended or time ran out."""
+        deadline = time.monotonic() + timeout
+        with self.cond:
+            while not ready(self.lines):
+                left = deadline - time.monotonic()
+                if self.proc.poll() is not None or left <= 0:
+                    return False
+                self.cond.wait(min(left, 0.1))
+            return True
+
+    def stop(self) -> int:
+        """SIGTERM, then SIGKILL after 5 s; the exit status."""
+        if self.proc.poll() is None:
+            self.proc.send_signal(signal.SIGTERM)
+            try:
+                self.proc.wait(timeout=5)
+            except subprocess.TimeoutExpired:
+                self.proc.kill()
+                self.proc.wait()
+        return self.proc.returncode
 
 
 class CanSimulation:
@@ -46,47 +96,30 @@ class CanSimulation:
         argv += list(extra_args)
         self.argv = argv
         self._timeout = timeout
-        self._lines: List[str] = []
-        self._cond = threading.Condition()
         self._bus: Optional[Bus] = None
-        self._proc: Optional[subprocess.Popen] = None
+        self._proc: Optional[_Process] = None
         self.returncode: Optional[int] = None
 
     @property
     def output(self) -> List[str]:
         """What codrive-sim printed so far (stdout and stderr, one string per line)."""
-        with self._cond:
-            return list(self._lines)
+        return self._proc.output() if self._proc is not None else []
 
     def start(self) -> "CanSimulation":
         """Starts the process and waits until every node reported ``ready``."""
-        self._proc = subprocess.Popen(self.argv, stdin=subprocess.DEVNULL,
-                                      stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
-                                      text=True, bufsize=1)
-        threading.Thread(target=self._drain, daemon=True).start()
-        want = {f"node {n} " for n in self.nodes}
-        deadline = time.monotonic() + self._timeout
-        with self._cond:
-            while True:
-                ready = {w for w in want for line in self._lines
-                         if line.startswith("codrive-sim: " + w) and
-                         line.endswith(f"ready on {self.interface}")}
-                if ready == want:
-                    return self
-                left = deadline - time.monotonic()
-                if self._proc.poll() is not None or left <= 0:
-                    break
-                self._cond.wait(min(left, 0.1))
+        self._proc = _Process(self.argv)
+        want = {f"codrive-sim: node {n} " for n in self.nodes}
+        tail = f"ready on {self.interface}"
+
+        def ready(lines: List[str]) -> bool:
+            return want == {w for w in want for line in lines
+                            if line.startswith(w) and line.endswith(tail)}
+
+        if self._proc.wait_for(ready, self._timeout):
+            return self
         self.stop()
         raise Error(f"codrive-sim on {self.interface} did not get ready "
-                    f"(exit status {self.returncode}): " + " | ".join(self._lines[-5:]))
-
-    def _drain(self) -> None:
-        assert self._proc is not None and self._proc.stdout is not None
-        for line in self._proc.stdout:
-            with self._cond:
-                self._lines.append(line.rstrip("\n"))
-                self._cond.notify_all()
+                    f"(exit status {self.returncode}): " + " | ".join(self.output[-5:]))
 
     @property
     def bus(self) -> Bus:
@@ -104,15 +137,8 @@ class CanSimulation:
     def stop(self) -> int:
         """Stops the process (SIGTERM, then SIGKILL after 5 s); returns its exit status."""
         self._bus = None
-        if self._proc is not None and self._proc.poll() is None:
-            self._proc.send_signal(signal.SIGTERM)
-            try:
-                self._proc.wait(timeout=5)
-            except subprocess.TimeoutExpired:
-                self._proc.kill()
-                self._proc.wait()
         if self._proc is not None:
-            self.returncode = self._proc.returncode
+            self.returncode = self._proc.stop()
         return self.returncode if self.returncode is not None else 0
 
     def __enter__(self) -> "CanSimulation":
@@ -133,4 +159,121 @@ def can(interface: str, nodes: Mapping[int, str], heartbeat_ms: int = 0,
     return CanSimulation(interface, nodes, heartbeat_ms, faults, executable, timeout)
 
 
-__all__ = ["CanSimulation", "VirtualDrive", "can"]
+class EthercatSimulation:
+    """A running ``codrive-ecat-sim``; made by :func:`ethercat`, used as a context manager."""
+
+    def __init__(self, interface: str, slaves: Sequence[str], netns: Optional[str] = None,
+                 executable: Optional[str] = None, timeout: float = 10.0,
+                 extra_args: Sequence[str] = ()):
+        if isinstance(slaves, str):
+            slaves = [slaves]
+        self.interface = interface
+        self.slaves: List[str] = list(slaves)
+        if not self.slaves:
+            raise ValueError("codrive.sim.ethercat: give at least one slave, e.g. ['fio']")
+        argv = [_find_tool("codrive-ecat-sim", "CODRIVE_ECAT_SIM", executable),
+                "--ethercat", interface]
+        for profile in self.slaves:
+            argv += ["--slave", profile]
+        argv += list(extra_args)
+        # The slave end may live in a network namespace (veth()): run the simulator there.
+        self.argv = (["ip", "netns", "exec", netns] if netns else []) + argv
+        self._timeout = timeout
+        self._proc: Optional[_Process] = None
+        self.returncode: Optional[int] = None
+
+    @property
+    def output(self) -> List[str]:
+        """What codrive-ecat-sim printed so far (stdout and stderr, one string per line)."""
+        return self._proc.output() if self._proc is not None else []
+
+    def start(self) -> "EthercatSimulation":
+        """Starts the process and waits for its ``ready`` line."""
+        self._proc = _Process(self.argv)
+        want = f"on {self.interface} ready"
+        if self._proc.wait_for(lambda lines: any(l.endswith(want) for l in lines),
+                               self._timeout):
+            return self
+        self.stop()
+        raise Error(f"codrive-ecat-sim on {self.interface} did not get ready "
+                    f"(exit status {self.returncode}): " + " | ".join(self.output[-5:]))
+
+    def stop(self) -> int:
+        """Stops the process (SIGTERM, then SIGKILL after 5 s); returns its exit status."""
+        if self._proc is not None:
+            self.returncode = self._proc.stop()
+        return self.returncode if self.returncode is not None else 0
+
+    def __enter__(self) -> "EthercatSimulation":
+        return self.start() if self._proc is None else self
+
+    def __exit__(self, *exc) -> None:
+        self.stop()
+
+
+def ethercat(interface: str, slaves: Sequence[str], netns: Optional[str] = None,
+             executable: Optional[str] = None, timeout: float = 10.0,
+             extra_args: Sequence[str] = ()) -> EthercatSimulation:
+    """Simulated EtherCAT slaves on an Ethernet interface: ``with codrive.sim.ethercat("veth1",
+    ["fio", "akd2g"]) as sim:`` runs ``codrive-ecat-sim --ethercat veth1 --slave fio --slave
+    akd2g`` (slaves in chain order) until the block ends; `netns` runs it inside that network
+    namespace (the slave end of :func:`veth`). extra_args: further options
+    (docs/cli/codrive-ecat-sim.md), e.g. ``["--drop-frames", "10"]``. Needs root or
+    CAP_NET_RAW. Found as `executable`, $CODRIVE_ECAT_SIM, on PATH or in the build tree."""
+    return EthercatSimulation(interface, slaves, netns, executable, timeout, extra_args)
+
+
+class VethPair:
+    """A veth pair for an EtherCAT segment without hardware: `master` is the end the master
+    opens (in this namespace), `slave` the end the simulator answers on, inside network
+    namespace `netns` (so the host's own traffic never reaches the simulated slaves). Made by
+    :func:`veth`; removed when the ``with`` block ends. Needs root (``ip`` from iproute2)."""
+
+    def __init__(self, master: str = "ecpy0", slave: str = "ecpy0s",
+                 netns: Optional[str] = None):
+        self.master = master
+        self.slave = slave
+        self.netns = netns or f"codrive-{master}"
+        self._made = False
+
+    @staticmethod
+    def _ip(*args: str) -> None:
+        r = subprocess.run(["ip", *args], capture_output=True, text=True)
+        if r.returncode != 0:
+            raise Error(f"ip {' '.join(args)} failed: {r.stderr.strip() or r.returncode} "
+                        "(creating a veth pair needs root and a kernel with veth)")
+
+    def create(self) -> "VethPair":
+        """Creates the namespace and the pair and brings both ends up."""
+        self.remove()  # a pair left behind by an interrupted run
+        self._made = True
+        self._ip("netns", "add", self.netns)
+        self._ip("link", "add", self.master, "type", "veth", "peer", "name", self.slave,
+                 "netns", self.netns)
+        self._ip("link", "set", self.master, "up")
+        self._ip("-n", self.netns, "link", "set", self.slave, "up")
+        return self
+
+    def remove(self) -> None:
+        """Deletes the pair and the namespace (nothing if they do not exist)."""
+        subprocess.run(["ip", "link", "del", self.master], capture_output=True)
+        subprocess.run(["ip", "netns", "del", self.netns], capture_output=True)
+        self._made = False
+
+    def __enter__(self) -> "VethPair":
+        return self.create() if not self._made else self
+
+    def __exit__(self, *exc) -> None:
+        self.remove()
+
+
+def veth(master: str = "ecpy0", slave: str = "ecpy0s",
+         netns: Optional[str] = None) -> VethPair:
+    """``with codrive.sim.veth() as link:`` creates veth ends `master` ("ecpy0", for the master
+    and the bus file's ``ethercat.interface``) and `slave` (inside namespace `netns`, default
+    "codrive-<master>", for :func:`ethercat` with ``netns=link.netns``)."""
+    return VethPair(master, slave, netns)
+
+
+__all__ = ["CanSimulation", "EthercatSimulation", "VethPair", "VirtualDrive", "can", "ethercat",
+           "veth"]

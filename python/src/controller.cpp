@@ -159,12 +159,22 @@ public:
             std::optional<std::int32_t> position, velocity;
             bool busy;
             std::string diagnosis;
+            std::uint16_t error_code; ///< of the last EMCY (603Fh on CAN) the axis saw
+            std::string error_text;   ///< the drive's text for it (profile fault table)
         };
         const Snapshot s = c_->locked([&] {
-            return Snapshot{
-                axis_->state(),        axis_->statusword(),      axis_->controlword(),
-                axis_->mode_display(), axis_->position_actual(), axis_->velocity_actual(),
-                axis_->busy(),         axis_->diagnose()};
+            return Snapshot{axis_->state(),
+                            axis_->statusword(),
+                            axis_->controlword(),
+                            axis_->mode_display(),
+                            axis_->position_actual(),
+                            axis_->velocity_actual(),
+                            axis_->busy(),
+                            axis_->diagnose(),
+                            axis_->last_error_code(),
+                            axis_->last_error_code() != 0
+                                ? axis_->profile().fault_text(axis_->last_error_code())
+                                : std::string()};
         });
         py::dict d;
         d["state"] = std::string(drives::cia402::to_string(s.state));
@@ -175,6 +185,9 @@ public:
         d["velocity"] = optional_int(s.velocity);
         d["busy"] = s.busy;
         d["diagnosis"] = s.diagnosis;
+        // The last emergency: its error code and the drive's own text (None before any).
+        d["error_code"] = s.error_code != 0 ? py::object(py::int_(s.error_code)) : py::none();
+        d["error_text"] = s.error_code != 0 ? py::object(py::str(s.error_text)) : py::none();
         return d;
     }
     void set_target_position(long target) {
@@ -219,7 +232,8 @@ void bind_controller(py::module_& m) {
         .def_property_readonly("name", &PyAxis::name)
         .def_property_readonly("status", &PyAxis::status,
                                "Snapshot: state, statusword, controlword, mode, position, "
-                               "velocity, busy, diagnosis.")
+                               "velocity, busy, diagnosis, error_code and error_text (the last "
+                               "emergency and the drive's text for it, None before any).")
         .def(
             "enable",
             [](PyAxis& a, std::optional<double> t) {

@@ -9,11 +9,13 @@
 #include <pybind11/functional.h>
 #include <pybind11/stl.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cmath>
 #include <cstdio>
 #include <limits>
 #include <memory>
+#include <vector>
 
 namespace py = pybind11;
 
@@ -312,6 +314,87 @@ private:
     NodeId node_;
 };
 
+/// bus.read_many(): uploads from several nodes at once. Each node's transfer runs on its own
+/// SDO channel, so they proceed side by side on the bus (one per node at a time, as CiA 301
+/// allows per channel); the call returns when all have ended.
+py::list read_many(const std::shared_ptr<Bus>& bus, const py::sequence& requests,
+                   std::optional<double> timeout) {
+    struct Slot {
+        std::function<py::object()> value; ///< converts the result (with the GIL)
+        std::optional<sdo::SdoError> error;
+        bool done = false;
+    };
+    const std::size_t n = static_cast<std::size_t>(py::len(requests));
+    std::vector<std::function<void(Slot&)>> starts;
+    starts.reserve(n);
+    for (std::size_t k = 0; k < n; ++k) {
+        const py::tuple r = py::reinterpret_borrow<py::object>(requests[k]).cast<py::tuple>();
+        if (r.size() < 3 || r.size() > 4) {
+            throw py::value_error("read_many: request " + std::to_string(k) +
+                                  " is not (node, index, subindex[, type])");
+        }
+        const long node = r[0].cast<long>();
+        if (node < 1 || node > kMaxNodeId) {
+            throw py::value_error("read_many: SDO node id " + std::to_string(node) +
+                                  " is not 1..127");
+        }
+        const long index = r[1].cast<long>();
+        const long sub = r[2].cast<long>();
+        if (index < 0 || index > 0xFFFF || sub < 0 || sub > 0xFF) {
+            throw py::value_error("read_many: request " + std::to_string(k) +
+                                  ": index 0..0xFFFF and subindex 0..0xFF");
+        }
+        const std::string type = r.size() == 4 ? r[3].cast<std::string>() : "bytes";
+        sdo::TransferOptions options;
+        if (timeout) {
+            options.timeout = seconds_arg(*timeout, "timeout");
+        }
+        visit_type(type, [&]<typename T>() -> py::object {
+            starts.push_back([bus, node, index, sub, options](Slot& slot) {
+                bus->sdo_clients()
+                    .client(static_cast<NodeId>(node))
+                    .template read<T>(
+                        static_cast<std::uint16_t>(index), static_cast<std::uint8_t>(sub),
+                        [&slot](sdo::SdoResult<T> res) {
+                            slot.done = true;
+                            if (!res) {
+                                slot.error.emplace(res.error());
+                                return;
+                            }
+                            slot.value = [v = std::move(*res)] { return to_python(v); };
+                        },
+                        options);
+            });
+            return py::none();
+        });
+    }
+    std::vector<Slot> slots(n);
+    {
+        py::gil_scoped_release nogil;
+        std::lock_guard lock(bus->mutex());
+        for (std::size_t k = 0; k < n; ++k) {
+            starts[k](slots[k]);
+        }
+        bus->run_until(
+            [&slots] {
+                return std::all_of(slots.begin(), slots.end(),
+                                   [](const Slot& s) { return s.done; });
+            },
+            Duration::max()); // every transfer ends by its own timeout
+    }
+    py::list out;
+    for (auto& slot : slots) {
+        if (!slot.done) {
+            throw std::runtime_error("codrive: the bus stopped before the requests ended");
+        }
+        if (slot.error) {
+            raise_sdo_error(*slot.error); // the first failure, after every transfer ended
+        }
+        out.append(slot.value());
+    }
+    return out;
+}
+
 } // namespace
 
 void bind_sdo(py::module_& m, PyBusClass& bus) {
@@ -353,6 +436,13 @@ void bind_sdo(py::module_& m, PyBusClass& bus) {
             return SdoNode(self, static_cast<NodeId>(node));
         },
         py::arg("node"), "The SDO client of `node` (1..127).");
+    bus.def("read_many", &read_many, py::arg("requests"), py::kw_only(),
+            py::arg("timeout") = py::none(),
+            "Reads from several nodes at once: requests is a list of (node, index, subindex[, "
+            "type]) (type as for read(), default bytes); returns the values in that order. "
+            "Transfers to different nodes run side by side (one SDO channel per node); those "
+            "to the same node take turns. If any fails, the first failure is raised once all "
+            "have ended (SdoAbortError, SdoTimeoutError, SdoError).");
 }
 
 } // namespace codrive::python

@@ -189,3 +189,30 @@ def test_asyncio_reads_and_writes_keep_the_event_loop_running():
     assert names[1] == "DS-BVS" and names[2] == 1 and names[0]
     assert ticks > 0
     assert len(drives) == 2
+
+
+def test_read_many_reads_several_nodes_in_one_call(net):
+    drives = [codrive.sim.VirtualDrive(net, 3, "akd2g"), codrive.sim.VirtualDrive(net, 7, "ds-bvs")]
+    values = net.read_many([(3, 0x1008, 0, "str"), (7, 0x1008, 0, "str"),
+                            (3, 0x1000, 0, "u32"), (7, 0x1018, 1)])
+    assert values[0].startswith("AKD2G") and values[1] == "DS-BVS"
+    assert values[2] & 0xFFFF == 0x0192  # CiA 402 device type
+    assert isinstance(values[3], bytes) and len(values[3]) == 4
+    assert len(drives) == 2
+
+
+def test_read_many_runs_the_nodes_side_by_side(net):
+    # Two silent nodes with a 0.5 s timeout: side by side the call takes one timeout of
+    # simulated time, not two (one after the other would take 1.0 s).
+    start = net.time
+    with pytest.raises(codrive.SdoTimeoutError, match="node 20"):
+        net.read_many([(20, 0x1000, 0, "u32"), (21, 0x1000, 0, "u32")], timeout=0.5)
+    assert 0.45 <= net.time - start < 0.75
+
+
+def test_read_many_names_a_bad_request():
+    net = codrive.VirtualNetwork()
+    with pytest.raises(ValueError, match="request 0"):
+        net.read_many([(1, 0x1000)])
+    with pytest.raises(ValueError, match="node id 200"):
+        net.read_many([(200, 0x1000, 0)])

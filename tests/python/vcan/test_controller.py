@@ -34,7 +34,7 @@ def test_boot_enable_and_move_two_akd2g_axes_in_csp(root, build_dir):
         assert abs(second.status["position"] - (-5000)) < 100
         second.set_mode(8)
         c.shutdown()
-        assert first.status["state"] != "operation enabled"
+        assert first.status["state"] != "OPERATION ENABLED"
         assert not c.running
 
 
@@ -63,4 +63,27 @@ def test_profile_position_and_velocity_from_python(root, build_dir, tmp_path):
         assert pv.status["statusword"] & 0x0400  # target reached (bit 10)
         with pytest.raises(codrive.DriveError, match="axis"):
             pv.move_to(1000, timeout=0.5)  # PV axis: a profile position move is refused
+        c.shutdown()
+
+
+def test_the_last_emergency_and_its_text_are_in_the_axis_status(build_dir, tmp_path):
+    bus_file = tmp_path / "ds-bvs.yml"
+    bus_file.write_text("bus:\n  interface: vcan0\n  sync_period_us: 4000\n"
+                        "nodes:\n  - id: 2\n    profile: ds-bvs\n    heartbeat_ms: 100\n"
+                        "    axes:\n      - {axis: 1, mode: csp}\n")
+    with codrive.sim.can("vcan0", {2: "ds-bvs"},
+                         executable=str(build_dir / "tools/codrive-sim")) as sim:
+        c = codrive.Controller.from_file(str(bus_file))
+        c.start()
+        axis = c.axis(2)
+        axis.enable()
+        assert axis.status["error_code"] is None and axis.status["error_text"] is None
+        sim.inject_fault(2, "overcurrent")
+        c.run_for(0.3)
+        status = axis.status
+        assert status["state"] == "FAULT"
+        # DS-BVS manual §6.2.79: 2310h "Over current" (the EMCY's error code, the drive's text).
+        assert status["error_code"] == 0x2310
+        assert status["error_text"] == "Over current"
+        assert "Over current" in status["diagnosis"]
         c.shutdown()
