@@ -68,6 +68,7 @@ tl::expected<void, std::string> EcatSegment::bring_up(ethercat::IEcatLink* link,
         s->entry = e;
         s->index = e.position;
         s->profile = drives::find_profile(e.profile);
+        s->emcy_text = drives::emcy_text_provider(*s->profile);
         const auto& sii = master_->slaves()[e.position].sii;
         const auto& id = s->profile->identity;
         if (id.vendor_id != 0 &&
@@ -231,7 +232,15 @@ void EcatSegment::cycle(TimePoint now) {
 void EcatSegment::acyclic(TimePoint /*now*/) {
     EmcyEvent e;
     while (emcy_.pop(e)) {
-        emit_(master_->describe_emergency(e.slave, e.message));
+        // With the drive profile's text (AKD2G "F2002 Output over current"), as the CAN side
+        // describes the same EMCY (controller.cpp sets the node's text provider).
+        const emcy::IEmcyTextProvider* vendor = nullptr;
+        for (const auto& s : slaves_) {
+            if (s->index == e.slave) {
+                vendor = s->emcy_text.get();
+            }
+        }
+        emit_(master_->describe_emergency(e.slave, e.message, vendor));
     }
     const std::string where = fmt::format("EtherCAT segment on {}", config_.iface);
     if (probes_ready_.load(std::memory_order_acquire)) {
