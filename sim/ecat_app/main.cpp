@@ -237,6 +237,11 @@ int main(int argc, char** argv) {
                     slave.al_status_code());
                 std::fflush(stdout);
             }
+            // The drives run whether frames come or not, as real ones do: stepping them only
+            // before a frame made the first frame after a pause (between two `codrive`
+            // commands) pay for the whole pause in 1 ms motor steps of every axis, too late
+            // for the master's frame timeout.
+            slave.app().step(now);
         }
         auto n = (*link)->receive(buf, SteadyClock::now() + milliseconds(10));
         if (!n) {
