@@ -237,14 +237,16 @@ int main(int argc, char** argv) {
                     slave.al_status_code());
                 std::fflush(stdout);
             }
-            // The drives run whether frames come or not, as real ones do: stepping them only
-            // before a frame made the first frame after a pause (between two `codrive`
-            // commands) pay for the whole pause in 1 ms motor steps of every axis, too late
-            // for the master's frame timeout.
-            slave.app().step(now);
         }
         auto n = (*link)->receive(buf, SteadyClock::now() + milliseconds(10));
         if (!n) {
+            // No frame for 10 ms: the drives run on, as real ones do. Stepping them only before
+            // a frame made the first frame after a pause (between two `codrive` commands) pay
+            // for the whole pause in 1 ms motor steps of every axis, too late for the master's
+            // frame timeout. While frames come, they step before each frame as before.
+            for (std::size_t i = 0; i < segment.size(); ++i) {
+                segment.slave(i).app().step(SteadyClock::now());
+            }
             continue;
         }
         std::span<std::uint8_t> frame(buf.data(), *n);

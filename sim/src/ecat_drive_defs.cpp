@@ -35,7 +35,8 @@ DriveDef fio_def() {
 // (sub-indexes 0 to 32 on EtherCAT); by default 1600h/1A00h carry axis 1's CSP objects and, on a
 // dual-axis drive, 1601h/1A01h axis 2's (§3.11.2), assigned in 1C12h/1C13h (at most 10 PDOs
 // each, §5.2.48/§5.2.49). Fixed maps: 1620h (3601h:01) and 1A20h (3580h) for the drive; per axis
-// 1700h (CSP), 1701h (PV), 1702h (PT), 1704h (60B8h), 1B00h (CSP), 1B01h (PV), 1B02h (PT),
+// 1700h (CSP), 1701h (PV), 1702h (PT), 1704h (60B8h as §5.2.25 gives it; the §3.10 table's
+// "60BBh" there is the touch probe position, a TxPDO object), 1B00h (CSP), 1B01h (PV), 1B02h (PT),
 // 1B03h (60B9h), 1B04h (60BAh, 60BBh), 1B05h (60BCh, 60BDh), 1B06h (60FDh); axis 2 at +20h
 // with its objects at +800h (§5.2.26-§5.2.29, §5.2.40-§5.2.46). Sync managers (§3.3): mailbox
 // out at 1800h, mailbox in at 1C00h ("up to 512" bytes, the length given by the device
