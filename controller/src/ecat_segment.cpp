@@ -68,6 +68,7 @@ tl::expected<void, std::string> EcatSegment::bring_up(ethercat::IEcatLink* link,
         s->entry = e;
         s->index = e.position;
         s->profile = drives::find_profile(e.profile);
+        s->emcy_text = drives::emcy_text_provider(*s->profile);
         const auto& sii = master_->slaves()[e.position].sii;
         const auto& id = s->profile->identity;
         if (id.vendor_id != 0 &&
@@ -134,8 +135,21 @@ tl::expected<void, std::string> EcatSegment::configure_slave(Slave& s) {
         return {}; // keep the slave's own PDO assignment
     }
     const std::string who = master_->slave_label(s.index);
+    // The profile's layouts put axis n into RxPDO/TxPDO n (AKD2G manual §3.11.2: 1600h/1A00h
+    // axis 1, 1601h/1A01h axis 2), so the modes go in axis order and the axes must be 1..n.
+    std::vector<EcatAxisEntry> axes = s.entry.axes;
+    std::sort(axes.begin(), axes.end(),
+              [](const EcatAxisEntry& x, const EcatAxisEntry& y) { return x.axis < y.axis; });
+    for (std::size_t i = 0; i < axes.size(); ++i) {
+        if (axes[i].axis != i + 1) {
+            return tl::unexpected(fmt::format(
+                "{}:{}: {}: the axes of a slave must be numbered 1..n without gaps (axis {} is "
+                "configured, axis {} is not); the PDO layout puts axis n into RxPDO/TxPDO n",
+                config_.file, s.entry.line, who, axes[i].axis, i + 1));
+        }
+    }
     std::vector<drives::cia402::Mode> modes;
-    for (const auto& a : s.entry.axes) {
+    for (const auto& a : axes) {
         const std::int8_t mode = a.mode.value_or(8);
         modes.push_back(static_cast<drives::cia402::Mode>(mode));
         const std::uint16_t index = s.profile->axis_index(0x6060, a.axis);
@@ -231,7 +245,15 @@ void EcatSegment::cycle(TimePoint now) {
 void EcatSegment::acyclic(TimePoint /*now*/) {
     EmcyEvent e;
     while (emcy_.pop(e)) {
-        emit_(master_->describe_emergency(e.slave, e.message));
+        // With the drive profile's text (AKD2G "F2002 Output over current"), as the CAN side
+        // describes the same EMCY (controller.cpp sets the node's text provider).
+        const emcy::IEmcyTextProvider* vendor = nullptr;
+        for (const auto& s : slaves_) {
+            if (s->index == e.slave) {
+                vendor = s->emcy_text.get();
+            }
+        }
+        emit_(master_->describe_emergency(e.slave, e.message, vendor));
     }
     const std::string where = fmt::format("EtherCAT segment on {}", config_.iface);
     if (probes_ready_.load(std::memory_order_acquire)) {

@@ -78,6 +78,7 @@ private:
         EcatSlaveEntry entry;
         std::size_t index = 0; ///< position on the segment
         const drives::Profile* profile = nullptr;
+        std::shared_ptr<const emcy::IEmcyTextProvider> emcy_text; ///< the profile's EMCY texts
         std::unique_ptr<ethercat::CoeTransport> transport;
         std::vector<std::unique_ptr<drives::Axis>> axes;
         std::atomic<std::uint16_t> emcy_code{0}; ///< written by the acyclic side

@@ -6,6 +6,9 @@
 #include <codrive/master/bus_config.hpp>
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
+
+#include <algorithm>
 #include <set>
 #include <sstream>
 #include <yaml-cpp/yaml.h>
@@ -177,9 +180,28 @@ private:
                 for (const auto& a : n["axes"]) {
                     parse_axis(a, e, profile);
                 }
+                check_axis_numbers(e);
             }
         }
         return e;
+    }
+
+    /// The controller maps axis n into RxPDO/TxPDO n (1600h/1A00h + n - 1; AKD2G manual
+    /// §3.11.2), so a slave's axes are 1..n, each once.
+    void check_axis_numbers(const EcatSlaveEntry& e) {
+        std::vector<unsigned> numbers;
+        for (const auto& a : e.axes) {
+            numbers.push_back(a.axis);
+        }
+        std::sort(numbers.begin(), numbers.end());
+        for (std::size_t i = 0; i < numbers.size(); ++i) {
+            if (numbers[i] != i + 1) {
+                error(e.line, fmt::format("slave {}: the axes must be numbered 1..n, each once "
+                                          "(axis n goes into RxPDO/TxPDO n); {} has axes {}",
+                                          e.position, e.profile, fmt::join(numbers, ", ")));
+                return;
+            }
+        }
     }
 
     void parse_axis(const YAML::Node& a, EcatSlaveEntry& e, const drives::Profile* profile) {

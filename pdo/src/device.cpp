@@ -109,14 +109,13 @@ bool DevicePdo::pdo_valid(const Channel& ch) const {
     return true;
 }
 
-SdoAbort DevicePdo::check_entry(const Channel& ch, MappingEntry e) const {
-    const PdoQuirks& q = options_.quirks;
-    const PdoDir dir = ch.config.dir;
+SdoAbort check_mapping_entry(const ObjectDictionary& od, PdoDir dir, const PdoQuirks& q,
+                             MappingEntry e) {
     if (e.bits == 0 || (q.byte_aligned && e.bits % 8 != 0)) {
         return SdoAbort::NotMappable;
     }
     if (e.is_zero_padding()) {
-        return q.zero_index_padding ? SdoAbort{} : SdoAbort::NotMappable;
+        return q.zero_index_padding && e.subindex == 0 ? SdoAbort{} : SdoAbort::NotMappable;
     }
     if (e.is_dummy()) {
         const auto t = static_cast<DataType>(e.index);
@@ -125,11 +124,15 @@ SdoAbort DevicePdo::check_entry(const Channel& ch, MappingEntry e) const {
         }
         return SdoAbort{};
     }
-    const SubObject* sub = od_.find(e.index, e.subindex);
+    const SubObject* sub = od.find(e.index, e.subindex);
     if (sub == nullptr || !sub->mappable(dir) || !entry_length_ok(sub->type, e.bits)) {
         return SdoAbort::NotMappable;
     }
     return SdoAbort{};
+}
+
+SdoAbort DevicePdo::check_entry(const Channel& ch, MappingEntry e) const {
+    return check_mapping_entry(od_, ch.config.dir, options_.quirks, e);
 }
 
 tl::expected<void, SdoAbort> DevicePdo::check_comm_write(Channel& ch, std::uint8_t sub,

@@ -2,6 +2,7 @@
 // codrive-ecat-sim: a chain of simulated EtherCAT slaves answering on a raw Ethernet interface.
 #include <codrive/sim/ecat/drive_profiles.hpp>
 #include <codrive/sim/ecat/segment.hpp>
+#include <codrive/sim/sim_device.hpp>
 
 #include <codrive/ethercat/al_state.hpp>
 #include <codrive/ethercat/pcap_writer.hpp>
@@ -23,6 +24,7 @@ namespace {
 std::atomic<bool> g_stop{false};
 std::atomic<int> g_toggle{0};
 std::atomic<int> g_mailbox_toggle{0};
+std::atomic<int> g_fault{0};
 
 void on_stop(int) {
     g_stop = true;
@@ -32,6 +34,9 @@ void on_usr1(int) {
 }
 void on_usr2(int) {
     ++g_mailbox_toggle;
+}
+void on_fault_signal(int) {
+    ++g_fault;
 }
 
 } // namespace
@@ -54,6 +59,7 @@ int main(int argc, char** argv) {
     std::string pcap;
     std::vector<std::string> foe_dirs;
     std::string foe_busy;
+    std::string fault_on_signal;
     bool echo = false;
     app.add_option("--ethercat", iface, "interface to answer on")->required();
     app.add_option("--slave", profiles, "slave profile in chain order: fio, akd2g, ds-bvs");
@@ -78,6 +84,9 @@ int main(int argc, char** argv) {
                    "writes store them there)");
     app.add_option("--foe-busy", foe_busy,
                    "POS:N — slave POS answers the next N FoE DATA of a write with BUSY");
+    app.add_option("--fault-on-signal", fault_on_signal,
+                   "POS:AXIS — SIGRTMIN injects an over-current fault on this axis (from 1) of "
+                   "slave POS, as writing 1 to its control object 2FF0h+AXIS-1 sub 2 does");
     app.add_option("--pcap", pcap, "write every frame received and sent to this pcap file");
     app.add_flag("--echo", echo, "return frames untouched (raw-socket floor for benchmarks)");
     CLI11_PARSE(app, argc, argv);
@@ -171,6 +180,28 @@ int main(int argc, char** argv) {
         }
         loss.arm(static_cast<std::size_t>(*pos), *n);
     }
+    std::size_t fault_slave = 0;
+    unsigned fault_axis = 0;
+    if (!fault_on_signal.empty()) {
+        const auto colon = fault_on_signal.find(':');
+        const auto pos = parse_uint(fault_on_signal.substr(0, colon));
+        const auto axis = colon == std::string::npos
+                              ? std::nullopt
+                              : parse_uint(fault_on_signal.substr(colon + 1));
+        if (!pos || !axis || *pos >= segment.size() || *axis < 1 ||
+            segment.slave(static_cast<std::size_t>(*pos))
+                    .app()
+                    .od()
+                    .find(static_cast<std::uint16_t>(sim::kControlObject + *axis - 1)) == nullptr) {
+            std::fprintf(stderr,
+                         "codrive-ecat-sim: bad --fault-on-signal '%s' (POS:AXIS, e.g. 0:2; the "
+                         "slave must have that axis)\n",
+                         fault_on_signal.c_str());
+            return 2;
+        }
+        fault_slave = static_cast<std::size_t>(*pos);
+        fault_axis = static_cast<unsigned>(*axis);
+    }
     auto link = RawSocketLink::open(iface);
     if (!link) {
         std::fprintf(stderr, "codrive-ecat-sim: %s\n",
@@ -189,6 +220,7 @@ int main(int argc, char** argv) {
     std::signal(SIGINT, on_stop);
     std::signal(SIGUSR1, on_usr1);
     std::signal(SIGUSR2, on_usr2);
+    std::signal(SIGRTMIN, on_fault_signal);
     std::minstd_rand drop_rng(20);
     std::uint64_t dropped = 0;
     std::printf("codrive-ecat-sim: %zu slave(s) on %s ready\n", segment.size(), iface.c_str());
@@ -197,7 +229,20 @@ int main(int argc, char** argv) {
     std::vector<std::uint8_t> buf(kMaxFrameSize + 64);
     int toggles_seen = 0;
     int mailbox_toggles_seen = 0;
+    int faults_seen = 0;
     while (!g_stop) {
+        if (const int t = g_fault.load(); t != faults_seen && fault_axis != 0) {
+            faults_seen = t;
+            const std::array<std::uint8_t, 1> on{1};
+            (void)segment.slave(fault_slave)
+                .app()
+                .od()
+                .write(static_cast<std::uint16_t>(sim::kControlObject + fault_axis - 1),
+                       sim::kControlOverCurrent, on, true);
+            std::printf("codrive-ecat-sim: slave %zu axis %u: over-current injected\n", fault_slave,
+                        fault_axis);
+            std::fflush(stdout);
+        }
         if (const int t = g_toggle.load(); t != toggles_seen) {
             toggles_seen = t;
             if (mute_on_signal >= 0 && static_cast<std::size_t>(mute_on_signal) < segment.size()) {
@@ -236,6 +281,13 @@ int main(int argc, char** argv) {
         }
         auto n = (*link)->receive(buf, SteadyClock::now() + milliseconds(10));
         if (!n) {
+            // No frame for 10 ms: the drives run on, as real ones do. Stepping them only before
+            // a frame made the first frame after a pause (between two `codrive` commands) pay
+            // for the whole pause in 1 ms motor steps of every axis, too late for the master's
+            // frame timeout. While frames come, they step before each frame as before.
+            for (std::size_t i = 0; i < segment.size(); ++i) {
+                segment.slave(i).app().step(SteadyClock::now());
+            }
             continue;
         }
         std::span<std::uint8_t> frame(buf.data(), *n);

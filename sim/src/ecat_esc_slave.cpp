@@ -93,7 +93,12 @@ bool EscSlave::sync0_active() const {
            get_le<std::uint32_t>(mem_.data() + reg::kDcSync0CycleTime) != 0;
 }
 
-void EscSlave::set_al_status(AlState s, bool error, std::uint16_t code) {
+void EscSlave::set_al_status(AlState s, bool error, std::uint16_t code, bool injected) {
+    // The slave's firmware writes the AL status code: a drive reports only the codes its manual
+    // lists (AKD2G §3.1). A refusal a test injects keeps the code it asked for.
+    if (!injected && code != al_code::kNoError) {
+        code = app_->al_status_code(code);
+    }
     put_le<std::uint16_t>(
         mem_.data() + reg::kAlStatus,
         static_cast<std::uint16_t>(static_cast<unsigned>(s) | (error ? kAlErrorFlag : 0U)));
@@ -352,9 +357,6 @@ std::size_t EscSlave::pdo_bytes(std::uint16_t assign_index) {
 }
 
 std::uint16_t EscSlave::check_transition(AlState to) {
-    if (auto it = faults_.refuse.find(to); it != faults_.refuse.end()) {
-        return it->second;
-    }
     if (to == AlState::PreOp && state_ == AlState::Init && sii_.has_mailbox()) {
         const SyncManager s0 = sm(0);
         const SyncManager s1 = sm(1);
@@ -403,6 +405,10 @@ void EscSlave::on_al_control(std::uint16_t value) {
     }
     if (!transition_allowed(state_, *to)) {
         set_al_status(state_, true, al_code::kInvalidStateChange);
+        return;
+    }
+    if (auto it = faults_.refuse.find(*to); it != faults_.refuse.end()) {
+        set_al_status(state_, true, it->second, true);
         return;
     }
     if (const std::uint16_t code = check_transition(*to); code != al_code::kNoError) {

@@ -46,7 +46,7 @@ TEST_F(EcatCli, ScanListsTheSlavesByPositionFromOne) {
     EXPECT_TRUE(has(r.output, "pos  station vendor     product    revision   name")) << r.output;
     EXPECT_TRUE(has(r.output, "  1  0x1001  0x0048554B 0x0002BA67 0x00000000 FIO Drive Control"))
         << r.output;
-    EXPECT_TRUE(has(r.output, "  2  0x1002  0x0000006A 0x11110100 0x03010000 AKD2G")) << r.output;
+    EXPECT_TRUE(has(r.output, "  2  0x1002  0x0000006A 0x11210100 0x03010000 AKD2G")) << r.output;
     EXPECT_TRUE(has(r.output, "INIT")) << r.output;
     EXPECT_TRUE(has(r.output, "scanned 2 slave(s) on " + iface_)) << r.output;
     auto neither = codrive({"scan"});

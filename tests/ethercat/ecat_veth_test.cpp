@@ -102,8 +102,10 @@ TEST_F(EcatVethTest, CyclicLrwThousandCyclesWithCorrectWorkingCounter) {
     ASSERT_TRUE(master_->scan()) << master_->last_error();
     ASSERT_TRUE(master_->set_state_all(AlState::Op)) << master_->last_error();
     EXPECT_EQ(master_->expected_wkc(), 9);
-    auto out = master_->outputs(1); // AKD2G: 6040h + 607Ah
-    ASSERT_EQ(out.size(), 6U);
+    // AKD2G default assignment (manual §3.11.2): 1600h = 6040h + 607Ah (axis 1), then 1601h =
+    // 6840h + 687Ah (axis 2); this test drives axis 1.
+    auto out = master_->outputs(1);
+    ASSERT_EQ(out.size(), 12U);
     for (const std::uint16_t cw : {std::uint16_t{0x06}, std::uint16_t{0x07}, std::uint16_t{0x0F}}) {
         put_le<std::uint16_t>(out.data(), cw);
         for (int i = 0; i < 5; ++i) {

@@ -69,6 +69,33 @@ TEST(ControllerBusFile, EthercatSectionReportsEveryFindingWithItsLine) {
         << all;
 }
 
+TEST(ControllerBusFile, EthercatAxesMustBeNumberedFromOneWithoutGaps) {
+    const std::string ok = "ethercat:\n"
+                           "  interface: ecm0\n"
+                           "  slaves:\n"
+                           "    - position: 0\n"
+                           "      profile: akd2g\n"
+                           "      axes:\n"
+                           "        - {axis: 2, mode: csp}\n"
+                           "        - {axis: 1, mode: csv}\n";
+    auto s = controller::split_bus_file(ok, "d.yml");
+    ASSERT_TRUE(s.ethercat) << (s.errors.empty() ? "" : s.errors[0]);
+    ASSERT_EQ(s.ethercat->slaves[0].axes.size(), 2U);
+    EXPECT_EQ(s.ethercat->slaves[0].axes[0].axis, 2U);
+    const std::string gap = "ethercat:\n"
+                            "  interface: ecm0\n"
+                            "  slaves:\n"
+                            "    - position: 0\n"
+                            "      profile: akd2g\n"
+                            "      axes:\n"
+                            "        - {axis: 2, mode: csp}\n";
+    s = controller::split_bus_file(gap, "d.yml");
+    EXPECT_FALSE(s.ethercat);
+    ASSERT_EQ(s.errors.size(), 1U);
+    EXPECT_EQ(s.errors[0], "d.yml:4: slave 0: the axes must be numbered 1..n, each once (axis n "
+                           "goes into RxPDO/TxPDO n); akd2g has axes 2");
+}
+
 TEST(ControllerBusFile, FileWithoutAnySectionIsRejected) {
     const auto s = split_bus_file("foo: 1\n", "x.yml");
     ASSERT_EQ(s.errors.size(), 1U);

@@ -157,7 +157,10 @@ TEST_F(MailboxChannels, LostFramesAreCountedNeverWaitedForAndTheMailboxRecovers)
     ASSERT_TRUE(vendor);
     ASSERT_FALSE(vendor->error) << vendor->sentence;
     EXPECT_EQ(get_le<std::uint32_t>(vendor->data.data()), 0x6AU);
-    EXPECT_EQ(master_.mailbox_repeats(), 1U);
+    // The AKD2G's lost answer came back with one repeat; the lost frame may also have carried
+    // another slave's emergency poll, which the master repeats too.
+    EXPECT_EQ(segment_.slave(1).mailbox_repeats(), 1U);
+    EXPECT_GE(master_.mailbox_repeats(), 1U);
     EXPECT_GE(lost, 1);
     EXPECT_EQ(master_.stats().lost_frames, static_cast<std::uint64_t>(lost));
     EXPECT_GE(master_.stats().max_consecutive_lost, 1U);

@@ -59,7 +59,7 @@ TEST_F(EcatMasterSegment, ScanReportsTheStateThePreviousMasterLeftBeforeResettin
     to_op();
     ASSERT_TRUE(master_.exchange_process_data()) << master_.last_error();
     // The previous master stops: after 100 ms without outputs the SM watchdog of every slave
-    // expires (SAFE-OP + 0x001B).
+    // expires (SAFE-OP + error flag; 0x001B, the AKD2G writes no code).
     clock_.advance(milliseconds(50));
     for (std::size_t i = 0; i < segment_.size(); ++i) {
         segment_.slave(i).tick(clock_.now());
@@ -75,14 +75,16 @@ TEST_F(EcatMasterSegment, ScanReportsTheStateThePreviousMasterLeftBeforeResettin
     EXPECT_EQ(master_.diagnose_wkc(3),
               "cyclic LRW working counter 3, expected 9: slave 0 (FIO Drive Control) is in "
               "SAFE-OP with AL status code 0x001B (sync manager watchdog); slave 1 (AKD2G) is in "
-              "SAFE-OP with AL status code 0x001B (sync manager watchdog); slave 2 (DS-BVS) is in "
+              "SAFE-OP with AL status code 0x0000 (no error); slave 2 (DS-BVS) is in "
               "SAFE-OP with AL status code 0x001B (sync manager watchdog)");
     Master next{link_, clock_};
     ASSERT_TRUE(next.scan()) << next.last_error();
     for (const auto& s : next.slaves()) {
         EXPECT_EQ(s.found_state, AlState::SafeOp) << s.position;
         EXPECT_TRUE(s.found_error) << s.position;
-        EXPECT_EQ(s.found_code, 0x001B) << s.position;
+        // The AKD2G reports no code but 0x0011 and 0x0017 (manual §3.1, "No other codes are
+        // supported"): it leaves OP with the error flag and code 0x0000.
+        EXPECT_EQ(s.found_code, s.position == 1 ? 0x0000 : 0x001B) << s.position;
         EXPECT_EQ(s.state, AlState::Init) << "scan resets every slave to INIT";
     }
     // A clean segment is found in INIT without an error.

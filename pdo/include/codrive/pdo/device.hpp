@@ -47,6 +47,15 @@ struct DevicePdoEvent {
 /// "node 5: RPDO1 (0x205) has 2 bytes but its mapping needs 6 (frame ignored, EMCY 8210h)".
 [[nodiscard]] std::string to_string(const DevicePdoEvent& e, NodeId node);
 
+/// Whether `e` may be mapped into a PDO of direction `dir` of a device with quirks `q`: the
+/// object exists, is mappable in that direction and has that length (a BOOLEAN may be 1 bit,
+/// CiA 301 §7.4.7.1); dummies 0001h..0007h only in RPDOs; index 0000h sub 00h with a length is
+/// padding where `q.zero_index_padding` (AKD2G §3.11.1); whole bytes where `q.byte_aligned`.
+/// SdoAbort{} if it may, SdoAbort::NotMappable (0x06040041) if not. Used by DevicePdo and by the
+/// simulated EtherCAT slaves for their 16xxh/1Axxh mapping objects.
+[[nodiscard]] SdoAbort check_mapping_entry(const ObjectDictionary& od, PdoDir dir,
+                                           const PdoQuirks& q, MappingEntry e);
+
 /// The PDO engine of one node.
 ///
 /// It finds its PDOs in the OD (1400h–15FFh with 1600h–17FFh, 1800h–19FFh with 1A00h–1BFFh),

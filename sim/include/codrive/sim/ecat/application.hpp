@@ -28,6 +28,10 @@ public:
     /// True once when the device restarted on its own (FIO after 1011h, §7.12.4.16): the ESC
     /// falls back to INIT as after a power cycle (ETG.1000.6 §6.4.1).
     virtual bool take_restart() { return false; }
+    /// The AL status code the device's firmware writes for an ETG.1000.6 Table 11 `code` the
+    /// ESC model found (refused transition, SM watchdog). A drive whose manual lists only some
+    /// codes maps the others onto them (AKD2G §3.1: 0x0011, 0x0017, nothing else).
+    [[nodiscard]] virtual std::uint16_t al_status_code(std::uint16_t code) const { return code; }
     /// Test hook: raise a device fault with this EMCY error code (no-op if unsupported).
     virtual void inject_fault(std::uint16_t /*error_code*/) {}
 };

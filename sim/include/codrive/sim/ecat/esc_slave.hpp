@@ -90,7 +90,8 @@ private:
     void on_al_control(std::uint16_t value);
     /// INIT empties both mailboxes (ETG.1000.6 §5.6).
     void clear_mailboxes();
-    void set_al_status(ethercat::AlState s, bool error, std::uint16_t code);
+    /// `code` goes through the application's al_status_code() unless `injected` (EscFaults).
+    void set_al_status(ethercat::AlState s, bool error, std::uint16_t code, bool injected = false);
     [[nodiscard]] std::uint16_t check_transition(ethercat::AlState to);
     void on_sii_control();
     void latch_receive_times(const ChainContext& ctx);
