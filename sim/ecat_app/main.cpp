@@ -93,7 +93,7 @@ int main(int argc, char** argv) {
             if (!slave) {
                 std::fprintf(stderr,
                              "codrive-ecat-sim: unknown slave profile '%s' (use fio, "
-                             "akd2g or ds-bvs)\n",
+                             "akd2g, ds-bvs, generic or generic-nopdo)\n",
                              p.c_str());
                 return 2;
             }

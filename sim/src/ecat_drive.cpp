@@ -49,6 +49,15 @@ struct DriveDef {
     std::uint8_t sm_in_highest = 2;
     std::uint8_t sm_entries = 2;
     std::uint32_t sm_cycle_time = 1'000'000;
+    /// When set: 1C32h/1C33h sub-indices 1.. exactly as a manual lists them (the AKD2G's).
+    struct SyncSub {
+        std::uint8_t sub;
+        const char* name;
+        bool u16;
+        bool writable;
+        std::uint32_t value;
+    };
+    std::vector<SyncSub> sm_subs;
 };
 
 // FIO: kuhnke-fio.md §1.4 — Rx 1600h (6040, 607A, 3202, 6060 = 11 bytes), Tx 1A00h (6041, 6064,
@@ -96,6 +105,45 @@ DriveDef akd2g_def() {
     d.rx_assign = {0x1600};
     d.tx_assign = {0x1A00};
     d.assign_max = 10;
+    // Manual §5.2.50/§5.2.51: 1C32h/1C33h subs 1..0Ch, sync type and cycle time read-only (the
+    // drive derives them from SYNC0 or 60C1h), shift time and get cycle time read/write;
+    // minimum cycle time 250000 ns; sync modes supported: free run, synchronous, DC SYNC0,
+    // shift with local timer = 0027h. Values the manual does not give (sync type, cycle, shift,
+    // calc/copy and delay times, counters) start at 0 (docs/conformance.md).
+    d.sm_out_highest = 0x0C;
+    d.sm_in_highest = 0x0C;
+    d.sm_subs = {{1, "Synchronization type", true, false, 0},
+                 {2, "Cycle time", false, false, 0},
+                 {3, "Shift time", false, true, 0},
+                 {4, "Sync modes supported", true, false, 0x0027},
+                 {5, "Minimum cycle time", false, false, 250'000},
+                 {6, "Calc and copy time", false, false, 0},
+                 {7, "Minimum delay time", false, false, 0},
+                 {8, "Get cycle time", true, true, 0},
+                 {9, "Delay time", false, false, 0},
+                 {0x0A, "Sync0 Cycle Time", false, false, 0},
+                 {0x0B, "SM-Event Missed", true, false, 0},
+                 {0x0C, "Cycle time too small", true, false, 0}};
+    return d;
+}
+
+// A CiA 402 drive codrive has never seen (issue 20): an unknown identity, the generic CiA 402
+// objects, free maps 1600h/1A00h assigned by default with controlword/mode/target position and
+// statusword/mode display/position (ETG.6010 §4 objects, no vendor manual behind it).
+DriveDef generic_def(bool assigned) {
+    DriveDef d;
+    d.name = assigned ? "Generic 402 drive" : "Generic 402 drive (no PDOs)";
+    d.profile = "generic";
+    d.vendor = 0x00000F0E;
+    d.product = assigned ? 0x00402001 : 0x00402002;
+    d.revision = 1;
+    d.rx = {{0x1600, {0x60400010, 0x60600008, 0x607A0020}}, {0x1601, {}}};
+    d.tx = {{0x1A00, {0x60410010, 0x60610008, 0x60640020}}, {0x1A01, {}}};
+    if (assigned) {
+        d.rx_assign = {0x1600};
+        d.tx_assign = {0x1A00};
+    }
+    d.assign_max = 2;
     return d;
 }
 
@@ -373,6 +421,12 @@ private:
             target == od_.get<std::int32_t>(0x6064, 0).value_or(0)) {
             sw |= 0x0400; // target reached
         }
+        // Profile position (IEC 61800-7-201 §6.3.4): set-point acknowledge (bit 12) answers
+        // new set-point (controlword bit 4) while the master holds it.
+        if (state_ == State::OperationEnabled && od_.get<std::int8_t>(0x6060, 0).value_or(0) == 1 &&
+            (od_.get<std::uint16_t>(0x6040, 0).value_or(0) & 0x0010U) != 0) {
+            sw |= 0x1000;
+        }
         od_.set<std::uint16_t>(0x6041, 0, sw);
     }
 
@@ -452,6 +506,17 @@ private:
                                         Access::Ro,
                                         u8(out ? def.sm_out_highest : def.sm_in_highest)),
                         out ? "Output sync manager parameter" : "Input sync manager parameter");
+            if (!def.sm_subs.empty()) {
+                for (const auto& ss : def.sm_subs) {
+                    od_.add_sub(
+                        idx, SubObject::make(ss.sub, ss.name,
+                                             ss.u16 ? DataType::Unsigned16 : DataType::Unsigned32,
+                                             ss.writable ? Access::Rw : Access::Ro,
+                                             ss.u16 ? u16(static_cast<std::uint16_t>(ss.value))
+                                                    : u32(ss.value)));
+                }
+                continue;
+            }
             od_.add_sub(idx, SubObject::make(1, "Synchronization type", DataType::Unsigned16,
                                              Access::Rw, u16(0)));
             od_.add_sub(idx, SubObject::make(2, "Cycle time", DataType::Unsigned32, Access::Rw,
@@ -663,7 +728,7 @@ private:
 } // namespace
 
 std::vector<std::string_view> ecat_profile_names() {
-    return {"fio", "akd2g", "ds-bvs"};
+    return {"fio", "akd2g", "ds-bvs", "generic", "generic-nopdo"};
 }
 
 std::unique_ptr<EscSlave> make_drive_slave(std::string_view profile, std::uint32_t serial) {
@@ -674,14 +739,19 @@ std::unique_ptr<EscSlave> make_drive_slave(std::string_view profile, std::uint32
         def = akd2g_def();
     } else if (profile == "ds-bvs" || profile == "dsbvs") {
         def = dsbvs_def();
+    } else if (profile == "generic" || profile == "generic-nopdo") {
+        def = generic_def(profile == "generic");
     } else {
         return nullptr;
     }
     // One identity per drive (issue 15): the SimProfile's, as on the CAN simulator.
+    // The generic slave has no SimProfile: its own identity and the built-in state machine.
     const SimProfile* identity = find_profile(def.profile);
-    def.vendor = identity->identity_vendor_id();
-    def.product = identity->identity_product_code(1);
-    def.revision = identity->revision;
+    if (identity != nullptr) {
+        def.vendor = identity->identity_vendor_id();
+        def.product = identity->identity_product_code(1);
+        def.revision = identity->revision;
+    }
     SiiInfo sii;
     sii.vendor_id = def.vendor;
     sii.product_code = def.product;

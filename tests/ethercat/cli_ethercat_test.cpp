@@ -116,43 +116,5 @@ TEST_F(EcatCli, DriveEnablesMovesFaultsAndResetsAnAxisOverCoe) {
     EXPECT_TRUE(has(reset.output, "SWITCH ON DISABLED")) << reset.output;
 }
 
-TEST_F(EcatCli, DriveRunsTheAxisFromProcessDataInOpAndLeavesTheSlaveAsFound) {
-    if (IsSkipped() || HasFatalFailure()) {
-        return;
-    }
-    // The slave is left in PRE-OP by an SDO read: the state the drive command must restore.
-    ASSERT_EQ(codrive({"sdo", "read", "--ethercat", iface_, "-n", "2", "0x1000:0"}).status, 0);
-    auto enable = codrive({"drive", "--ethercat", iface_, "-n", "2", "enable", "--cycle", "2000"});
-    ASSERT_EQ(enable.status, 0) << enable.output;
-    EXPECT_TRUE(has(enable.output, "slave 2 (AKD2G): OP, PDO layout from the drive's profile"))
-        << enable.output;
-    EXPECT_TRUE(has(enable.output, "cycle 2000 µs, free run")) << enable.output;
-    EXPECT_TRUE(has(enable.output, "OPERATION ENABLED")) << enable.output;
-    // The master wrote the cycle time and free run into the slave's 1C32h (ETG.1020 §21.1.3).
-    auto cycle =
-        codrive({"sdo", "read", "--ethercat", iface_, "-n", "2", "0x1C32:2", "--type", "u32"});
-    ASSERT_EQ(cycle.status, 0) << cycle.output;
-    EXPECT_TRUE(has(cycle.output, "2000000")) << cycle.output;
-    auto move = codrive({"drive", "--ethercat", iface_, "-n", "2", "move", "--pp", "131072"});
-    ASSERT_EQ(move.status, 0) << move.output;
-    EXPECT_TRUE(has(move.output, "mode profile position (PP), position 131072")) << move.output;
-    auto status = codrive({"drive", "--ethercat", iface_, "-n", "2", "status"});
-    ASSERT_EQ(status.status, 0) << status.output;
-    EXPECT_TRUE(has(status.output, "PDO layout from the drive's profile")) << status.output;
-    auto disable = codrive({"drive", "--ethercat", iface_, "-n", "2", "disable"});
-    ASSERT_EQ(disable.status, 0) << disable.output;
-    EXPECT_FALSE(has(disable.output, "OPERATION ENABLED")) << disable.output;
-    // Back in PRE-OP with its own assignment: the scan finds it there, 1C12h:01 as before.
-    auto scan = codrive({"scan", "--ethercat", iface_});
-    EXPECT_TRUE(has(scan.output, "(found in PRE-OP)")) << scan.output;
-    auto assign =
-        codrive({"sdo", "read", "--ethercat", iface_, "-n", "2", "0x1C12:1", "--type", "u16"});
-    EXPECT_TRUE(has(assign.output, "0x1600") || has(assign.output, "5632")) << assign.output;
-    // A cycle the slave cannot follow is refused before SAFE-OP, the slave named.
-    auto fio = codrive({"drive", "--ethercat", iface_, "-n", "1", "status"});
-    ASSERT_EQ(fio.status, 0) << fio.output;
-    EXPECT_TRUE(has(fio.output, "slave 1 (FIO Drive Control): OP")) << fio.output;
-}
-
 } // namespace
 } // namespace codrive::testing

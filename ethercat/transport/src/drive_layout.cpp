@@ -135,16 +135,9 @@ tl::expected<void, std::string> write_sync_objects(Master& master, std::size_t s
             continue;
         }
         if (r.error() == SdoAbort::ReadOnly) {
-            // Fixed by the slave: fine when it already holds what the master asks for.
-            auto now = w.u16 ? master.sdo_read<std::uint16_t>(slave, w.index, w.sub)
-                                   .map([](std::uint16_t v) { return std::uint32_t{v}; })
-                             : master.sdo_read<std::uint32_t>(slave, w.index, w.sub);
-            if (!now || *now == w.value || (w.sub == 2 && *now == 0)) {
-                continue; // 1C32h:02 = 0: the slave does not state a fixed cycle
-            }
-            return tl::unexpected(
-                fmt::format("{}: {} 0x{:04X}:{:02X} is read-only at {}, the master needs {}", who,
-                            w.what, w.index, w.sub, *now, w.value));
+            // The slave sets it itself: the AKD2G's 1C32h:01/:02 are read-only, derived from
+            // SYNC0 or 60C1h (manual §5.2.50).
+            continue;
         }
         return tl::unexpected(fmt::format("{}: writing {} 0x{:04X}:{:02X} = {} failed: {}", who,
                                           w.what, w.index, w.sub, w.value, master.last_error()));

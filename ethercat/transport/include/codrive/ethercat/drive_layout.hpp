@@ -61,8 +61,8 @@ struct SyncSettings {
 /// Before SAFE-OP (the slave in PRE-OP): reads 1C32h:05 (minimum cycle time) where the slave
 /// has it and refuses a shorter cycle; writes 1C32h:01 and 1C33h:01 (sync mode: 0 free run,
 /// 2 DC SYNC0) and 1C32h:02 (cycle time, ns). An object or sub-index the slave lacks, or one it
-/// reports read-only, is left alone (ETG.1020 §21.1.3: the master writes them where writable);
-/// a read-only one holding another value than asked is an error. Blocking (mailbox frames).
+/// reports read-only (it sets them itself, as the AKD2G does), is left alone (ETG.1020 §21.1.3:
+/// the master writes them where writable). Blocking (mailbox frames).
 /// Error: one sentence naming the slave, the object and the cause.
 tl::expected<void, std::string> write_sync_objects(Master& master, std::size_t slave,
                                                    const SyncSettings& sync);
