@@ -57,6 +57,9 @@ TEST_F(EcatDrivePdo, KnownDrivesRunInOpWithTheirProfileLayoutAndAreLeftAsFound) 
     EXPECT_TRUE(has(enable.output, "slave 2 (AKD2G): OP, PDO layout from the drive's profile"))
         << enable.output;
     EXPECT_TRUE(has(enable.output, "cycle 1000 µs, free run")) << enable.output;
+    // The profile's PP layout (6040h/607Ah/6060h.. out, 6041h/6064h/6061h.. in) is mapped.
+    EXPECT_FALSE(has(enable.output, " 0 output")) << enable.output;
+    EXPECT_FALSE(has(enable.output, "/ 0 input")) << enable.output;
     EXPECT_TRUE(has(enable.output, "slave 2 axis 1 (Kollmorgen AKD2G): OPERATION ENABLED"))
         << enable.output;
     auto move = codrive({"drive", "--ethercat", iface_, "-n", "2", "move", "--pp", "131072"});
@@ -117,6 +120,7 @@ TEST_F(EcatDrivePdo, UnknownCia402SlavesRunFromTheirOwnOrTheGenericLayout) {
     EXPECT_TRUE(has(generic.output, "OP, PDO layout from the generic CiA 402 layout"))
         << generic.output;
     EXPECT_TRUE(has(generic.output, "OPERATION ENABLED")) << generic.output;
+    EXPECT_FALSE(has(generic.output, " 0 output")) << generic.output;
     EXPECT_EQ(value_of(sdo_read("2", "0x1C12:0", "u8")), "0") << "assignment not restored";
     auto disable = codrive({"drive", "--ethercat", iface_, "-n", "2", "disable"});
     ASSERT_EQ(disable.status, 0) << disable.output;

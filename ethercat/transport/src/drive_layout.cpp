@@ -28,12 +28,20 @@ tl::expected<DriveLayout, std::string> profile_layout(const drives::Profile& pro
     if (!configs) {
         return tl::unexpected(configs.error().message);
     }
+    // mode_pdo_configs gives one RPDO and one TPDO per axis, in axis order, then the unused
+    // PDO numbers disabled: this axis's pair is the last enabled one.
     std::vector<pdo::PdoConfig> mine;
     for (const auto& c : *configs) {
-        if (c.number == configs->back().number) {
-            mine.push_back(c); // only this axis's pair
+        if (c.enabled && !c.mapping.empty()) {
+            mine.push_back(c);
         }
     }
+    if (mine.size() < 2) {
+        return tl::unexpected(
+            fmt::format("{} has no PDO layout for mode {}", profile.title,
+                        drives::cia402::mode_name(static_cast<std::int8_t>(mode))));
+    }
+    mine.erase(mine.begin(), mine.end() - 2);
     DriveLayout l;
     l.source = source;
     to_ecat_pdos(mine, l.rx, l.tx);
