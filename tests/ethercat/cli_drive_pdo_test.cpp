@@ -4,11 +4,42 @@
 // known drives (FIO, AKD2G) and CiA 402 slaves codrive has never seen, on veth.
 #include "veth_segment.hpp"
 
+#include <filesystem>
+#include <fstream>
+
 namespace codrive::testing {
 namespace {
 
 bool has(const std::string& text, const std::string& part) {
     return text.find(part) != std::string::npos;
+}
+
+/// The transcript after the marker in docs/ethercat.md: `$ command` lines, each followed by the
+/// lines it prints.
+struct Step {
+    std::string command;
+    std::vector<std::string> output;
+};
+std::vector<Step> documented_transcript() {
+    std::ifstream in(std::string(CODRIVE_SOURCE_DIR) + "/docs/ethercat.md");
+    std::vector<Step> steps;
+    bool marked = false;
+    bool inside = false;
+    for (std::string line; std::getline(in, line);) {
+        if (has(line, "run by tests/ethercat/cli_drive_pdo_test.cpp")) {
+            marked = true;
+        } else if (marked && line.rfind("```", 0) == 0) {
+            if (inside) {
+                break;
+            }
+            inside = true;
+        } else if (inside && line.rfind("$ ", 0) == 0) {
+            steps.push_back({line.substr(2), {}});
+        } else if (inside && !line.empty() && !steps.empty()) {
+            steps.back().output.push_back(line);
+        }
+    }
+    return steps;
 }
 
 /// The value `codrive sdo read` printed (its first word).
@@ -89,6 +120,12 @@ TEST_F(EcatDrivePdo, SyncObjectsAreWrittenAndTheMinimumCycleIsEnforced) {
     EXPECT_EQ(value_of(sdo_read("1", "0x1C32:2", "u32")), "2000000");
     EXPECT_EQ(value_of(sdo_read("1", "0x1C32:1", "u16")), "0");
     EXPECT_EQ(value_of(sdo_read("1", "0x1C33:1", "u16")), "0");
+    // --dc: DC SYNC0 at the cycle, sync mode 2 (ETG.1020 §21.1.3.1).
+    auto dc = codrive({"drive", "--ethercat", iface_, "-n", "1", "status", "--dc"});
+    ASSERT_EQ(dc.status, 0) << dc.output;
+    EXPECT_TRUE(has(dc.output, "cycle 1000 µs, DC SYNC0")) << dc.output;
+    EXPECT_EQ(value_of(sdo_read("1", "0x1C32:1", "u16")), "2");
+    EXPECT_EQ(value_of(sdo_read("1", "0x1C33:1", "u16")), "2");
     // AKD2G manual §5.2.50: minimum cycle time 250 µs in 1C32h:05; a shorter one is refused
     // before SAFE-OP with a sentence naming the slave, and the slave is left where it was.
     auto fast = codrive({"drive", "--ethercat", iface_, "-n", "2", "enable", "--cycle", "125"});
@@ -125,6 +162,32 @@ TEST_F(EcatDrivePdo, UnknownCia402SlavesRunFromTheirOwnOrTheGenericLayout) {
     auto disable = codrive({"drive", "--ethercat", iface_, "-n", "2", "disable"});
     ASSERT_EQ(disable.status, 0) << disable.output;
     EXPECT_TRUE(has(disable.output, "SWITCH")) << disable.output;
+}
+
+TEST_F(EcatDrivePdo, TheDocumentedTranscriptRuns) {
+    // docs/ethercat.md, "Driving an axis from process data": the simulator started as written.
+    start_with({"fio", "akd2g", "generic"});
+    if (IsSkipped() || HasFatalFailure()) {
+        return;
+    }
+    const auto steps = documented_transcript();
+    ASSERT_GE(steps.size(), 4U) << "docs/ethercat.md lost its drive transcript";
+    const auto tools = std::filesystem::path(tool_path("codrive")).parent_path().string();
+    for (const Step& step : steps) {
+        std::string c = step.command;
+        for (auto at = c.find("ecm0"); at != std::string::npos; at = c.find("ecm0")) {
+            c.replace(at, 4, iface_);
+        }
+        auto r = run({"/bin/sh", "-c", "PATH='" + tools + "':$PATH; " + c + " 2>&1"});
+        for (const auto& line : step.output) {
+            std::string want = line;
+            for (auto at = want.find("ecm0"); at != std::string::npos; at = want.find("ecm0")) {
+                want.replace(at, 4, iface_);
+            }
+            EXPECT_TRUE(has(r.output, want)) << step.command << "\nwanted: " << line << "\ngot:\n"
+                                             << r.output;
+        }
+    }
 }
 
 } // namespace
