@@ -56,7 +56,8 @@ int main(int argc, char** argv) {
     std::string foe_busy;
     bool echo = false;
     app.add_option("--ethercat", iface, "interface to answer on")->required();
-    app.add_option("--slave", profiles, "slave profile in chain order: fio, akd2g, ds-bvs");
+    app.add_option("--slave", profiles,
+                   "slave profile in chain order: fio, akd2g, ds-bvs, generic, generic-nopdo");
     app.add_option("--mute-on-signal", mute_on_signal,
                    "SIGUSR1 toggles this slave silent (it stops answering)");
     app.add_option("--mailbox-silent", mailbox_silent,
