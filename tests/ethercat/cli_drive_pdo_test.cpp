@@ -55,7 +55,7 @@ protected:
             args.push_back("--slave");
             args.push_back(s);
         }
-        start(args, tool_path("codrive-sim"));
+        start(args); // codrive-ecat-sim, as docs/ethercat.md starts it
         if (IsSkipped() || HasFatalFailure()) {
             return;
         }
