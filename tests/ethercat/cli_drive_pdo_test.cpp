@@ -96,6 +96,10 @@ TEST_F(EcatDrivePdo, KnownDrivesRunInOpWithTheirProfileLayoutAndAreLeftAsFound) 
     auto move = codrive({"drive", "--ethercat", iface_, "-n", "2", "move", "--pp", "131072"});
     ASSERT_EQ(move.status, 0) << move.output;
     EXPECT_TRUE(has(move.output, "mode profile position (PP), position 131072")) << move.output;
+    auto home = codrive({"drive", "--ethercat", iface_, "-n", "2", "home", "--method", "35"});
+    ASSERT_EQ(home.status, 0) << home.output;
+    EXPECT_TRUE(has(home.output, "mode homing")) << home.output;
+    EXPECT_TRUE(has(home.output, "position 0")) << home.output; // method 35: here is zero
     auto status = codrive({"drive", "--ethercat", iface_, "-n", "2", "status"});
     ASSERT_EQ(status.status, 0) << status.output;
     EXPECT_TRUE(has(status.output, "slave 2 axis 1 (Kollmorgen AKD2G)")) << status.output;
