@@ -182,8 +182,9 @@ int operate(const DriveArgs& a, DriveWire& w, drives::Axis& axis, const drives::
         if (stop_requested()) {
             return stop_on_signal(a, w, axis);
         }
-        fmt::print(stderr, "codrive: {} axis {}: no statusword (0x{:04X}) over SDO\n", w.who,
-                   a.axis, axis.index(0x6041));
+        fmt::print(stderr, "codrive: {} axis {}: no statusword (0x{:04X}) {}\n", w.who, a.axis,
+                   axis.index(0x6041),
+                   a.ethercat.empty() ? "over SDO" : "in the process data or over CoE");
         return kExitFailure;
     }
     bool ok = true;
@@ -508,7 +509,8 @@ int run_drive(const DriveArgs& a) {
 
 void install_drive(CLI::App& app, int& exit_code) {
     auto a = std::make_shared<DriveArgs>();
-    auto* cmd = app.add_subcommand("drive", "Operate one CiA 402 axis over SDO (CAN or CoE)");
+    auto* cmd = app.add_subcommand(
+        "drive", "Operate one CiA 402 axis (CAN: SDO; EtherCAT: process data in OP)");
     auto* can = cmd->add_option("-i,--iface", a->iface, "CAN interface");
     cmd->add_option("--ethercat", a->ethercat, "EtherCAT: network interface of the segment")
         ->excludes(can);
