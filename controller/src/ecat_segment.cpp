@@ -6,6 +6,7 @@
 #include <codrive/drives/canopen_transport.hpp>
 #include <codrive/drives/profile.hpp>
 
+#include <codrive/ethercat/drive_layout.hpp>
 #include <codrive/ethercat/error.hpp>
 
 #include <fmt/format.h>
@@ -13,27 +14,6 @@
 #include <algorithm>
 
 namespace codrive::controller {
-namespace {
-
-/// The profile's CANopen PDO layouts as EtherCAT mapping objects: RPDO n → 1600h + n − 1,
-/// TPDO n → 1A00h + n − 1 (ETG.1000.6 §5.6.7.4 uses the same CiA 301 numbering).
-void to_ecat_pdos(const std::vector<pdo::PdoConfig>& configs, std::vector<ethercat::PdoMapping>& rx,
-                  std::vector<ethercat::PdoMapping>& tx) {
-    for (const auto& c : configs) {
-        if (!c.enabled || c.mapping.empty()) {
-            continue;
-        }
-        ethercat::PdoMapping m;
-        const bool is_rx = c.dir == PdoDir::Rpdo;
-        m.index = static_cast<std::uint16_t>((is_rx ? 0x1600U : 0x1A00U) + c.number - 1U);
-        for (const auto& e : c.mapping) {
-            m.entries.push_back(ethercat::PdoEntry{e.index, e.subindex, e.bits});
-        }
-        (is_rx ? rx : tx).push_back(std::move(m));
-    }
-}
-
-} // namespace
 
 EcatSegment::EcatSegment(EcatSegmentConfig config, std::size_t bus_index, Emit emit)
     : config_(std::move(config)), bus_index_(bus_index), emit_(std::move(emit)),
@@ -167,7 +147,7 @@ tl::expected<void, std::string> EcatSegment::configure_slave(Slave& s) {
     }
     std::vector<ethercat::PdoMapping> rx;
     std::vector<ethercat::PdoMapping> tx;
-    to_ecat_pdos(*configs, rx, tx);
+    ethercat::to_ecat_pdos(*configs, rx, tx);
     if (!master_->configure_pdos(s.index, rx, tx)) {
         return tl::unexpected(
             fmt::format("{}: PDO configuration failed: {}", who, master_->last_error()));

@@ -284,7 +284,8 @@ int main(int argc, char** argv) {
         exec_ethercat_simulator(argv);
     }
     CLI::App app{"codrive-sim: simulated CiA 402 drives on a CAN interface.\n"
-                 "With --ethercat IFACE --slave fio|akd2g|ds-bvs ...: simulated EtherCAT "
+                 "With --ethercat IFACE --slave fio|akd2g|ds-bvs|generic|generic-nopdo ...: "
+                 "simulated EtherCAT "
                  "slaves (runs codrive-ecat-sim).\n"
                  "Signals: SIGUSR1 toggles STO on every axis, SIGUSR2 resets every node, "
                  "SIGINT/SIGTERM stop."};

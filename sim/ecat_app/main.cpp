@@ -62,7 +62,8 @@ int main(int argc, char** argv) {
     std::string fault_on_signal;
     bool echo = false;
     app.add_option("--ethercat", iface, "interface to answer on")->required();
-    app.add_option("--slave", profiles, "slave profile in chain order: fio, akd2g, ds-bvs");
+    app.add_option("--slave", profiles,
+                   "slave profile in chain order: fio, akd2g, ds-bvs, generic, generic-nopdo");
     app.add_option("--mute-on-signal", mute_on_signal,
                    "SIGUSR1 toggles this slave silent (it stops answering)");
     app.add_option("--mailbox-silent", mailbox_silent,
@@ -102,7 +103,7 @@ int main(int argc, char** argv) {
             if (!slave) {
                 std::fprintf(stderr,
                              "codrive-ecat-sim: unknown slave profile '%s' (use fio, "
-                             "akd2g or ds-bvs)\n",
+                             "akd2g, ds-bvs, generic or generic-nopdo)\n",
                              p.c_str());
                 return 2;
             }

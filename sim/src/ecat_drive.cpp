@@ -347,6 +347,17 @@ private:
                                         Access::Ro,
                                         u8(out ? def_.sm_out_highest : def_.sm_in_highest)),
                         out ? "Output sync manager parameter" : "Input sync manager parameter");
+            if (!def_.sm_subs.empty()) {
+                for (const auto& ss : def_.sm_subs) {
+                    od_.add_sub(
+                        idx, SubObject::make(ss.sub, ss.name,
+                                             ss.u16 ? DataType::Unsigned16 : DataType::Unsigned32,
+                                             ss.writable ? Access::Rw : Access::Ro,
+                                             ss.u16 ? u16(static_cast<std::uint16_t>(ss.value))
+                                                    : u32(ss.value)));
+                }
+                continue;
+            }
             od_.add_sub(idx, SubObject::make(1, "Synchronization type", DataType::Unsigned16,
                                              Access::Rw, u16(0)));
             od_.add_sub(idx, SubObject::make(2, "Cycle time", DataType::Unsigned32, Access::Rw,
@@ -514,7 +525,7 @@ private:
 } // namespace
 
 std::vector<std::string_view> ecat_profile_names() {
-    return {"fio", "akd2g", "ds-bvs"};
+    return {"fio", "akd2g", "ds-bvs", "generic", "generic-nopdo"};
 }
 
 std::unique_ptr<EscSlave> make_drive_slave(std::string_view profile, std::uint32_t serial) {
@@ -525,17 +536,25 @@ std::unique_ptr<EscSlave> make_drive_slave(std::string_view profile, std::uint32
         name = "akd2g";
     } else if (profile == "ds-bvs" || profile == "dsbvs") {
         name = "ds-bvs";
+    } else if (profile == "generic" || profile == "generic-nopdo") {
+        name = "generic";
     } else {
         return nullptr;
     }
     // One identity per drive (issue 15): the SimProfile's, as on the CAN simulator, with as
-    // many axes as it simulates there (AKD2G: two, 1018h:02 says so).
+    // many axes as it simulates there (AKD2G: two, 1018h:02 says so). The generic slave keeps
+    // an identity no profile of codrive's knows (that is its point).
     const SimProfile* sp = find_profile(name);
     const unsigned axes = std::clamp(sp->default_axes, 1U, sp->max_axes());
-    DriveDef def = name == "fio" ? fio_def() : name == "akd2g" ? akd2g_def(axes) : dsbvs_def();
-    def.vendor = sp->identity_vendor_id();
-    def.product = sp->identity_product_code(axes);
-    def.revision = sp->revision;
+    DriveDef def = name == "fio"       ? fio_def()
+                   : name == "akd2g"   ? akd2g_def(axes)
+                   : name == "generic" ? generic_def(profile == "generic")
+                                       : dsbvs_def();
+    if (name != "generic") {
+        def.vendor = sp->identity_vendor_id();
+        def.product = sp->identity_product_code(axes);
+        def.revision = sp->revision;
+    }
     SiiInfo sii;
     sii.vendor_id = def.vendor;
     sii.product_code = def.product;

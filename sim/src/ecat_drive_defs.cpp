@@ -116,6 +116,45 @@ DriveDef akd2g_def(unsigned axes) {
             return al_code::kNoError;
         }
     };
+    // Manual §5.2.50/§5.2.51: 1C32h/1C33h subs 1..0Ch, sync type and cycle time read-only (the
+    // drive derives them from SYNC0 or 60C1h), shift time and get cycle time read/write;
+    // minimum cycle time 250000 ns; sync modes supported: free run, synchronous, DC SYNC0,
+    // shift with local timer = 0027h. Values the manual does not give (sync type, cycle, shift,
+    // calc/copy and delay times, counters) start at 0 (docs/conformance.md).
+    d.sm_out_highest = 0x0C;
+    d.sm_in_highest = 0x0C;
+    d.sm_subs = {{1, "Synchronization type", true, false, 0},
+                 {2, "Cycle time", false, false, 0},
+                 {3, "Shift time", false, true, 0},
+                 {4, "Sync modes supported", true, false, 0x0027},
+                 {5, "Minimum cycle time", false, false, 250'000},
+                 {6, "Calc and copy time", false, false, 0},
+                 {7, "Minimum delay time", false, false, 0},
+                 {8, "Get cycle time", true, true, 0},
+                 {9, "Delay time", false, false, 0},
+                 {0x0A, "Sync0 Cycle Time", false, false, 0},
+                 {0x0B, "SM-Event Missed", true, false, 0},
+                 {0x0C, "Cycle time too small", true, false, 0}};
+    return d;
+}
+
+// A CiA 402 drive codrive has never seen (issue 20): an unknown identity, the generic CiA 402
+// objects, free maps 1600h/1A00h assigned by default with controlword/mode/target position and
+// statusword/mode display/position (ETG.6010 §4 objects, no vendor manual behind it).
+DriveDef generic_def(bool assigned) {
+    DriveDef d;
+    d.name = assigned ? "Generic 402 drive" : "Generic 402 drive (no PDOs)";
+    d.profile = "generic";
+    d.vendor = 0x00000F0E;
+    d.product = assigned ? 0x00402001 : 0x00402002;
+    d.revision = 1;
+    d.rx = {{0x1600, {0x60400010, 0x60600008, 0x607A0020}}, {0x1601, {}}};
+    d.tx = {{0x1A00, {0x60410010, 0x60610008, 0x60640020}}, {0x1A01, {}}};
+    if (assigned) {
+        d.rx_assign = {0x1600};
+        d.tx_assign = {0x1A00};
+    }
+    d.assign_max = 2;
     return d;
 }
 

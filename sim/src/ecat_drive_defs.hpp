@@ -56,6 +56,15 @@ struct DriveDef {
     std::uint8_t sm_in_highest = 2;
     std::uint8_t sm_entries = 2;
     std::uint32_t sm_cycle_time = 1'000'000;
+    /// When set: 1C32h/1C33h sub-indices 1.. exactly as a manual lists them (the AKD2G's).
+    struct SyncSub {
+        std::uint8_t sub;
+        const char* name;
+        bool u16;
+        bool writable;
+        std::uint32_t value;
+    };
+    std::vector<SyncSub> sm_subs;
     /// The AL status codes the drive reports (ETG code → the drive's); unset: all of ETG.1000.6.
     std::uint16_t (*al_code)(std::uint16_t) = nullptr;
 };
@@ -66,5 +75,7 @@ struct DriveDef {
 [[nodiscard]] DriveDef akd2g_def(unsigned axes);
 /// DS-BVS/BVM (one axis).
 [[nodiscard]] DriveDef dsbvs_def();
+/// A CiA 402 slave no profile of codrive's knows; `assigned`: its 1C12h/1C13h hold a layout.
+[[nodiscard]] DriveDef generic_def(bool assigned);
 
 } // namespace codrive::sim::ecat

@@ -411,12 +411,44 @@ SimProfile make_fio() {
     return p;
 }
 
+// A CiA 402 drive with no vendor behind it (the EtherCAT simulator's "generic" slave, issue 20):
+// the master's generic profile, homing on the current position, counts and counts/s.
+SimProfile make_generic() {
+    SimProfile p;
+    p.drive = &drives::generic_profile();
+    p.vendor_name = "codrive simulator";
+    p.product_name = "Generic 402 drive";
+    p.device_name = "Generic 402 drive";
+    p.hw_version = "1";
+    p.sw_version = "codrive-sim";
+    p.homing_behaviour = {hm(35, HomingRef::CurrentPosition, 1, false, 0, "current position"),
+                          hm(37, HomingRef::CurrentPosition, 1, false, 0, "current position")};
+    p.default_homing_method = 35;
+    p.has_error_history_1003 = true;
+    // Simulator choices (no manual): 4096 counts per revolution, velocities in counts/s, a
+    // profile of 100 rev/s² that a PP move of a few revolutions ends within a second.
+    p.counts_per_rev = 4096;
+    p.profile_velocity = 40960;
+    p.profile_acceleration = 409600;
+    p.quick_stop_deceleration = 819200;
+    p.max_profile_velocity = 409600;
+    p.ds_bvs_objects = true; // the CiA 402 position window, encoder and limit objects too
+    p.position_window = 10;
+    p.position_window_time = 10;
+    p.following_error_window = 100000;
+    return p;
+}
+
 } // namespace
 
 const SimProfile* find_profile(std::string_view name) {
     static const SimProfile akd2g = make_akd2g();
     static const SimProfile ds_bvs = make_ds_bvs();
     static const SimProfile fio = make_fio();
+    static const SimProfile generic = make_generic();
+    if (name == "generic") {
+        return &generic;
+    }
     if (name == "akd2g" || name == "AKD2G") {
         return &akd2g;
     }

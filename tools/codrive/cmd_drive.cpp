@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
-// `codrive drive`: one CiA 402 axis over SDO (no bus file needed): status, enable, disable,
-// fault reset, homing, profile position / velocity moves and jog — over CAN (`-i IFACE`) or
-// EtherCAT CoE (`--ethercat IFACE`, `-n` = slave position from 1).
+// `codrive drive`: one CiA 402 axis (no bus file needed): status, enable, disable, fault reset,
+// homing, profile position / velocity moves and jog — over CAN SDO (`-i IFACE`) or EtherCAT
+// process data in OP (`--ethercat IFACE`, `-n` = slave position from 1).
 #include "cli_common.hpp"
 #include "command_registry.hpp"
 #include "ecat_session.hpp"
@@ -12,6 +12,7 @@
 #include <codrive/drives/profile.hpp>
 #include <codrive/drives/safe_stop.hpp>
 #include <codrive/ethercat/coe_transport.hpp>
+#include <codrive/ethercat/drive_layout.hpp>
 #include <codrive/master/master.hpp>
 
 #include <fmt/format.h>
@@ -63,6 +64,8 @@ struct DriveArgs {
     std::int32_t jog_velocity = 10000;
     double jog_s = 1.0;
     int timeout_ms = 10000;
+    unsigned cycle_us = 1000; ///< EtherCAT cycle
+    bool dc = false;          ///< EtherCAT: DC SYNC0 instead of free run
 };
 
 /// What the operations need from a wire: the device's DriveTransport, how messages name the
@@ -179,8 +182,9 @@ int operate(const DriveArgs& a, DriveWire& w, drives::Axis& axis, const drives::
         if (stop_requested()) {
             return stop_on_signal(a, w, axis);
         }
-        fmt::print(stderr, "codrive: {} axis {}: no statusword (0x{:04X}) over SDO\n", w.who,
-                   a.axis, axis.index(0x6041));
+        fmt::print(stderr, "codrive: {} axis {}: no statusword (0x{:04X}) {}\n", w.who, a.axis,
+                   axis.index(0x6041),
+                   a.ethercat.empty() ? "over SDO" : "in the process data or over CoE");
         return kExitFailure;
     }
     bool ok = true;
@@ -314,8 +318,57 @@ int run_drive_can(const DriveArgs& a) {
     return rc;
 }
 
-/// EtherCAT: the slave at position -n (from 1) in PRE-OP, the axis over CoE SDO (statusword
-/// polled, controlword written), emergencies from the mailbox.
+/// The operating mode whose PDO layout the action needs (its set-points and actuals).
+drives::cia402::Mode layout_mode(const DriveArgs& a) {
+    using drives::cia402::Mode;
+    if (a.action == "home") {
+        return Mode::Homing;
+    }
+    if (a.action == "jog" || (a.action == "move" && a.pv)) {
+        return Mode::ProfileVelocity;
+    }
+    return Mode::ProfilePosition;
+}
+
+/// The slave as the command found it, put back on exit: its AL state and, if the command wrote
+/// another PDO assignment, the one it had.
+struct EcatRestore {
+    ethercat::Master& m;
+    std::size_t slave;
+    std::optional<std::pair<std::vector<ethercat::PdoMapping>, std::vector<ethercat::PdoMapping>>>
+        assignment; ///< set when the command changed it
+    ~EcatRestore() {
+        if (!m.set_state_all(ethercat::AlState::PreOp)) {
+            fmt::print(stderr, "codrive: leaving OP: {}\n", m.last_error());
+            return;
+        }
+        if (assignment && !m.configure_pdos(slave, assignment->first, assignment->second)) {
+            fmt::print(stderr, "codrive: restoring the PDO assignment: {}\n", m.last_error());
+        }
+        for (std::size_t i = 0; i < m.slaves().size(); ++i) {
+            ethercat::AlState found = m.slaves()[i].found_state;
+            if (found == ethercat::AlState::Op) {
+                // Without a master cycling, OP would fall to SAFE-OP on the SM watchdog.
+                fmt::print(stderr,
+                           "codrive: {} was found in OP; left in SAFE-OP (no master "
+                           "cycles it now)\n",
+                           m.slave_label(i));
+                found = ethercat::AlState::SafeOp;
+            }
+            if (found == ethercat::AlState::None || found == ethercat::AlState::Boot) {
+                found = ethercat::AlState::Init;
+            }
+            if (found != ethercat::AlState::PreOp && !m.request_state(i, found)) {
+                fmt::print(stderr, "codrive: {}\n", m.last_error());
+            }
+        }
+    }
+};
+
+/// EtherCAT: the slave at position -n (from 1) identified over CoE in PRE-OP, then brought to
+/// OP with a PDO layout holding controlword and statusword (the profile's, the slave's own, or
+/// the generic CiA 402 one), the sync objects written; the axis runs from the process data,
+/// one LRW per cycle; on exit the slave goes back to the state (and assignment) it was found in.
 int run_drive_ecat(const DriveArgs& a) {
     auto s = open_segment(a.ethercat, 1);
     if (!s) {
@@ -326,25 +379,26 @@ int run_drive_ecat(const DriveArgs& a) {
     if (!slave) {
         return kExitFailure;
     }
-    ethercat::CoeTransport transport(m, *slave);
+    if (!m.set_state_all(ethercat::AlState::PreOp)) {
+        fmt::print(stderr, "codrive: PRE-OP: {}\n", m.last_error());
+        return kExitFailure;
+    }
+    EcatRestore restore{m, *slave, std::nullopt};
+    // Identification and setup: blocking CoE in PRE-OP.
+    ethercat::CoeTransport setup(m, *slave);
     drives::Axis* attached = nullptr;
     DriveWire w;
-    w.transport = &transport;
+    w.transport = &setup;
     w.who = fmt::format("slave {}", a.node);
     w.attach = [&attached](drives::Axis* axis) { attached = axis; };
     w.run_until = [&](const std::function<bool()>& pred, Duration timeout) {
         const TimePoint deadline = RealClock::instance().now() + timeout;
         while (!pred()) {
-            const TimePoint now = RealClock::instance().now();
-            if (now >= deadline) {
+            if (RealClock::instance().now() >= deadline) {
                 return false;
             }
-            transport.poll();
-            m.poll_mailboxes();
-            if (attached != nullptr && attached->next_deadline() <= now) {
-                attached->on_tick(now);
-            }
-            if (transport.pending() == 0) {
+            setup.poll();
+            if (setup.pending() == 0) {
                 std::this_thread::sleep_for(milliseconds(1));
             }
         }
@@ -354,6 +408,80 @@ int run_drive_ecat(const DriveArgs& a) {
     if (profile == nullptr) {
         return stop_requested() ? 128 + g_signal.load() : kExitFailure;
     }
+    auto current = m.read_pdo_assignment(*slave);
+    if (!current) {
+        fmt::print(stderr, "codrive: reading the PDO assignment (0x1C12/0x1C13): {}\n",
+                   m.last_error());
+        return kExitFailure;
+    }
+    auto layout =
+        ethercat::choose_layout(*profile, a.axis, layout_mode(a), current->first, current->second);
+    if (!layout) {
+        fmt::print(stderr, "codrive: {}: {}\n", m.slave_label(*slave), layout.error());
+        return kExitFailure;
+    }
+    if (layout->source != ethercat::LayoutSource::SlaveAssignment) {
+        if (!m.configure_pdos(*slave, layout->rx, layout->tx)) {
+            fmt::print(stderr, "codrive: PDO configuration failed: {}\n", m.last_error());
+            return kExitFailure;
+        }
+        restore.assignment = std::move(*current);
+    }
+    const Duration cycle = microseconds(a.cycle_us);
+    if (auto r = ethercat::write_sync_objects(m, *slave, {cycle, a.dc}); !r) {
+        fmt::print(stderr, "codrive: {}\n", r.error());
+        return kExitFailure;
+    }
+    if (a.dc) {
+        if (auto r = m.configure_dc(); !r) {
+            fmt::print(stderr, "codrive: distributed clocks: {}\n", m.last_error());
+            return kExitFailure;
+        }
+        if (auto r = m.configure_sync0(*slave, cycle); !r) {
+            fmt::print(stderr, "codrive: SYNC0: {}\n", m.last_error());
+            return kExitFailure;
+        }
+    }
+    if (!m.set_state_all(ethercat::AlState::Op)) {
+        fmt::print(stderr, "codrive: OP: {}\n", m.last_error());
+        return kExitFailure;
+    }
+    fmt::print("{}: OP, PDO layout from {}, {} output / {} input bytes, cycle {} µs{}\n",
+               m.slave_label(*slave), ethercat::to_string(layout->source),
+               m.slaves()[*slave].output_bytes, m.slaves()[*slave].input_bytes, a.cycle_us,
+               a.dc ? ", DC SYNC0" : ", free run");
+    // From here on the cyclic frame carries the process data and the mailbox transfers.
+    ethercat::CoeTransport transport(m, *slave, ethercat::CoeTransport::Drive::Cyclic);
+    w.transport = &transport;
+    TimePoint next = RealClock::instance().now();
+    w.run_until = [&](const std::function<bool()>& pred, Duration timeout) {
+        const TimePoint deadline = RealClock::instance().now() + timeout;
+        while (!pred()) {
+            TimePoint now = RealClock::instance().now();
+            if (now >= deadline) {
+                return false;
+            }
+            if (now < next) {
+                std::this_thread::sleep_until(next);
+                now = RealClock::instance().now();
+            }
+            next += cycle;
+            if (next <= now) {
+                next = now + cycle; // late: skip the missed slots
+            }
+            if (m.send_process_data()) {
+                (void)m.receive_process_data(next);
+            }
+            transport.poll();
+            if (attached != nullptr) {
+                attached->on_cycle(now);
+                if (attached->next_deadline() <= now) {
+                    attached->on_tick(now);
+                }
+            }
+        }
+        return true;
+    };
     const auto texts = drives::emcy_text_provider(*profile);
     m.on_emergency([&](std::size_t from, const emcy::EmcyMessage& e) {
         fmt::print("{}\n", m.describe_emergency(from, e, texts.get()));
@@ -362,9 +490,11 @@ int run_drive_ecat(const DriveArgs& a) {
         }
     });
     drives::Axis axis(transport, axis_config(a, *profile));
+    axis.bind();
     w.attach(&axis);
     const int rc = operate(a, w, axis, *profile);
     w.attach(nullptr);
+    m.on_emergency(nullptr);
     return rc;
 }
 
@@ -379,7 +509,8 @@ int run_drive(const DriveArgs& a) {
 
 void install_drive(CLI::App& app, int& exit_code) {
     auto a = std::make_shared<DriveArgs>();
-    auto* cmd = app.add_subcommand("drive", "Operate one CiA 402 axis over SDO (CAN or CoE)");
+    auto* cmd = app.add_subcommand(
+        "drive", "Operate one CiA 402 axis (CAN: SDO; EtherCAT: process data in OP)");
     auto* can = cmd->add_option("-i,--iface", a->iface, "CAN interface");
     cmd->add_option("--ethercat", a->ethercat, "EtherCAT: network interface of the segment")
         ->excludes(can);
@@ -397,6 +528,9 @@ void install_drive(CLI::App& app, int& exit_code) {
     cmd->add_option("--pv", a->pv, "move: profile velocity");
     cmd->add_option("--velocity", a->jog_velocity, "jog: velocity")->capture_default_str();
     cmd->add_option("--seconds", a->jog_s, "jog: duration")->capture_default_str();
+    cmd->add_option("--cycle", a->cycle_us, "EtherCAT: process data cycle in µs")
+        ->capture_default_str();
+    cmd->add_flag("--dc", a->dc, "EtherCAT: synchronise the slave to DC SYNC0 (else free run)");
     cmd->add_option("--timeout", a->timeout_ms, "Operation timeout in ms")->capture_default_str();
     cmd->callback([a, &exit_code] { exit_code = run_drive(*a); });
 }

@@ -1,0 +1,70 @@
+// SPDX-License-Identifier: Apache-2.0
+// One CiA 402 axis on an EtherCAT slave driven through process data: which PDO layout to use
+// (profile, the slave's own 1C12h/1C13h assignment, generic) and the sync objects 1C32h/1C33h.
+#pragma once
+
+#include <codrive/drives/cia402.hpp>
+#include <codrive/drives/profile.hpp>
+#include <codrive/ethercat/master.hpp>
+#include <codrive/pdo/types.hpp>
+
+#include <string>
+#include <vector>
+
+#include <tl/expected.hpp>
+
+namespace codrive::ethercat {
+
+/// The profile's CANopen PDO layouts as EtherCAT mapping objects: RPDO n → 1600h + n − 1,
+/// TPDO n → 1A00h + n − 1 (ETG.1000.6 §5.6.7.4 uses the same CiA 301 numbering).
+void to_ecat_pdos(const std::vector<pdo::PdoConfig>& configs, std::vector<PdoMapping>& rx,
+                  std::vector<PdoMapping>& tx);
+
+/// Where the PDO layout of a driven axis comes from.
+enum class LayoutSource {
+    Profile,         ///< the known drive's profile layout for the mode
+    SlaveAssignment, ///< the slave's own 1C12h/1C13h assignment (kept, nothing written)
+    Generic,         ///< the generic CiA 402 layout for the mode (configured)
+};
+
+/// "the drive's profile", "the slave's own assignment", "the generic CiA 402 layout".
+[[nodiscard]] const char* to_string(LayoutSource s);
+
+/// The layout chosen for one axis: the mappings to write (empty for SlaveAssignment).
+struct DriveLayout {
+    LayoutSource source = LayoutSource::Generic;
+    std::vector<PdoMapping> rx;
+    std::vector<PdoMapping> tx;
+};
+
+/// True when `rx` maps the axis's controlword (6040h) and `tx` its statusword (6041h), the
+/// least a CiA 402 state machine run from process data needs (CiA 402-2 / ETG.6010 §4).
+[[nodiscard]] bool holds_controlword_statusword(const std::vector<PdoMapping>& rx,
+                                                const std::vector<PdoMapping>& tx,
+                                                std::uint16_t controlword,
+                                                std::uint16_t statusword);
+
+/// Picks the layout: a known drive (profile with a vendor id) uses its profile's layout for
+/// `mode`; a slave codrive does not know keeps its own assignment (`current`, read from
+/// 1C12h/1C13h) when that holds 6040h/6041h, else gets the generic profile's layout for `mode`.
+/// Error: a sentence when neither the profile nor the generic profile has a layout for `mode`.
+[[nodiscard]] tl::expected<DriveLayout, std::string>
+choose_layout(const drives::Profile& profile, unsigned axis, drives::cia402::Mode mode,
+              const std::vector<PdoMapping>& current_rx, const std::vector<PdoMapping>& current_tx);
+
+/// How the slave synchronises to the cycle (ETG.1020 §21.1.3, 1C32h:01/1C33h:01).
+struct SyncSettings {
+    Duration cycle = milliseconds(1);
+    bool dc = false; ///< DC SYNC0 (sync mode 2) instead of free run (0)
+};
+
+/// Before SAFE-OP (the slave in PRE-OP): reads 1C32h:05 (minimum cycle time) where the slave
+/// has it and refuses a shorter cycle; writes 1C32h:01 and 1C33h:01 (sync mode: 0 free run,
+/// 2 DC SYNC0) and 1C32h:02 (cycle time, ns). An object or sub-index the slave lacks, or one it
+/// reports read-only (it sets them itself, as the AKD2G does), is left alone (ETG.1020 §21.1.3:
+/// the master writes them where writable). Blocking (mailbox frames).
+/// Error: one sentence naming the slave, the object and the cause.
+tl::expected<void, std::string> write_sync_objects(Master& master, std::size_t slave,
+                                                   const SyncSettings& sync);
+
+} // namespace codrive::ethercat

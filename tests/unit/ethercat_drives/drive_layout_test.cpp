@@ -1,0 +1,114 @@
+// SPDX-License-Identifier: Apache-2.0
+// PDO layout choice for an axis driven from process data, and the 1C32h/1C33h writes before
+// SAFE-OP, against simulated slaves in-process (fake clock).
+#include <codrive/drives/profile.hpp>
+#include <codrive/ethercat/drive_layout.hpp>
+#include <codrive/sim/ecat/drive_profiles.hpp>
+#include <codrive/sim/ecat/segment.hpp>
+
+#include <gtest/gtest.h>
+
+namespace codrive::ethercat {
+namespace {
+
+using drives::cia402::Mode;
+
+bool maps(const std::vector<PdoMapping>& pdos, std::uint16_t index) {
+    for (const auto& m : pdos) {
+        for (const auto& e : m.entries) {
+            if (e.index == index) {
+                return true;
+            }
+        }
+    }
+    return false;
+}
+
+class DriveLayoutTest : public ::testing::Test {
+protected:
+    DriveLayoutTest() {
+        segment_.add(sim::ecat::make_drive_slave("fio", 1));
+        segment_.add(sim::ecat::make_drive_slave("akd2g", 2));
+        segment_.add(sim::ecat::make_drive_slave("generic", 3));
+        segment_.add(sim::ecat::make_drive_slave("generic-nopdo", 4));
+    }
+    void SetUp() override {
+        ASSERT_TRUE(master_.scan()) << master_.last_error();
+        ASSERT_TRUE(master_.set_state_all(AlState::PreOp)) << master_.last_error();
+    }
+    std::pair<std::vector<PdoMapping>, std::vector<PdoMapping>> assignment(std::size_t slave) {
+        auto a = master_.read_pdo_assignment(slave);
+        EXPECT_TRUE(a) << master_.last_error();
+        return a ? *a : std::pair<std::vector<PdoMapping>, std::vector<PdoMapping>>{};
+    }
+
+    FakeClock clock_;
+    sim::ecat::EcatSegment segment_;
+    sim::ecat::SegmentLink link_{segment_, clock_};
+    Master master_{link_, clock_};
+};
+
+TEST_F(DriveLayoutTest, AKnownDriveUsesItsProfileLayoutForTheMode) {
+    const auto a = assignment(1);
+    auto pv = choose_layout(drives::akd2g_profile(), 1, Mode::ProfileVelocity, a.first, a.second);
+    ASSERT_TRUE(pv) << pv.error();
+    EXPECT_EQ(pv->source, LayoutSource::Profile);
+    EXPECT_TRUE(maps(pv->rx, 0x6040));
+    EXPECT_TRUE(maps(pv->rx, 0x60FF)); // the velocity set-point of PV
+    EXPECT_TRUE(maps(pv->tx, 0x6041));
+    // Axis 2 of the AKD2G: its objects at +0x800 (manual §2.4.2).
+    auto axis2 =
+        choose_layout(drives::akd2g_profile(), 2, Mode::ProfilePosition, a.first, a.second);
+    ASSERT_TRUE(axis2) << axis2.error();
+    EXPECT_TRUE(maps(axis2->rx, 0x6840));
+    EXPECT_TRUE(maps(axis2->tx, 0x6841));
+    EXPECT_FALSE(maps(axis2->rx, 0x6040));
+}
+
+TEST_F(DriveLayoutTest, AnUnknownSlaveKeepsItsOwnAssignmentWhenItHoldsControlAndStatusword) {
+    const auto own = assignment(2); // generic: 1600h 6040/6060/607A, 1A00h 6041/6061/6064
+    ASSERT_TRUE(holds_controlword_statusword(own.first, own.second, 0x6040, 0x6041));
+    auto l =
+        choose_layout(drives::generic_profile(), 1, Mode::ProfilePosition, own.first, own.second);
+    ASSERT_TRUE(l) << l.error();
+    EXPECT_EQ(l->source, LayoutSource::SlaveAssignment);
+    EXPECT_TRUE(l->rx.empty()); // nothing to write
+}
+
+TEST_F(DriveLayoutTest, AnUnknownSlaveWithoutControlwordGetsTheGenericLayoutThatRunsInOp) {
+    const auto none = assignment(3); // generic-nopdo: nothing assigned
+    EXPECT_TRUE(none.first.empty());
+    auto l =
+        choose_layout(drives::generic_profile(), 1, Mode::ProfilePosition, none.first, none.second);
+    ASSERT_TRUE(l) << l.error();
+    EXPECT_EQ(l->source, LayoutSource::Generic);
+    EXPECT_TRUE(maps(l->rx, 0x6040));
+    EXPECT_TRUE(maps(l->rx, 0x607A));
+    EXPECT_TRUE(maps(l->tx, 0x6041));
+    EXPECT_TRUE(maps(l->tx, 0x6064));
+    ASSERT_TRUE(master_.configure_pdos(3, l->rx, l->tx)) << master_.last_error();
+    ASSERT_TRUE(master_.set_state_all(AlState::Op)) << master_.last_error();
+    EXPECT_GE(master_.slaves()[3].output_bytes, 6U);
+    EXPECT_GE(master_.slaves()[3].input_bytes, 6U);
+}
+
+TEST_F(DriveLayoutTest, SyncObjectsAreWrittenWhereWritableAndTheMinimumCycleRefused) {
+    // FIO §7.13.22/§7.13.23: sync type and cycle time writable; the master sets them.
+    ASSERT_TRUE(write_sync_objects(master_, 0, {microseconds(2000), false}));
+    EXPECT_EQ(master_.sdo_read<std::uint32_t>(0, 0x1C32, 2).value_or(0), 2'000'000U);
+    EXPECT_EQ(master_.sdo_read<std::uint16_t>(0, 0x1C32, 1).value_or(9), 0U);
+    EXPECT_EQ(master_.sdo_read<std::uint16_t>(0, 0x1C33, 1).value_or(9), 0U);
+    ASSERT_TRUE(write_sync_objects(master_, 0, {microseconds(1000), true}));
+    EXPECT_EQ(master_.sdo_read<std::uint16_t>(0, 0x1C32, 1).value_or(9), 2U); // DC SYNC0
+    EXPECT_EQ(master_.sdo_read<std::uint16_t>(0, 0x1C33, 1).value_or(9), 2U);
+    // AKD2G §5.2.50: 250 µs minimum in 1C32h:05; sync type and cycle read-only (left alone).
+    auto fast = write_sync_objects(master_, 1, {microseconds(200), false});
+    ASSERT_FALSE(fast);
+    EXPECT_EQ(fast.error(), "slave 1 (AKD2G): cycle time 200 µs is shorter than the slave's "
+                            "minimum cycle time 250 µs (0x1C32:05)");
+    EXPECT_TRUE(write_sync_objects(master_, 1, {microseconds(250), false}));
+    EXPECT_EQ(master_.sdo_read<std::uint32_t>(1, 0x1C32, 2).value_or(9), 0U); // untouched
+}
+
+} // namespace
+} // namespace codrive::ethercat
