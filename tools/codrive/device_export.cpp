@@ -27,8 +27,8 @@ int run_export(const ExportArgs& a, bool esi) {
     const devices::DeviceFile* f = devices::device_file(p->name);
     unsigned axes = a.axes != 0 ? a.axes : (f != nullptr ? f->axes : 1U);
     if (axes > p->max_axes) {
-        fmt::print(stderr, "codrive {} export: profile `{}` has at most {} axes, not {}\n", what,
-                   p->name, p->max_axes, axes);
+        fmt::print(stderr, "codrive {} export: profile `{}` has at most {} {}, not {}\n", what,
+                   p->name, p->max_axes, p->max_axes == 1 ? "axis" : "axes", axes);
         return kExitUsage;
     }
     const std::string_view vendor = f != nullptr ? f->vendor_name : std::string_view{};

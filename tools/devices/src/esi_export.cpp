@@ -98,6 +98,20 @@ bool is_complex(const Object& o) {
            o.code == ObjectCode::Defstruct;
 }
 
+// One structured type per ARRAY/RECORD: sub-index 0 at bit 0, the entries from bit 16 on (the
+// layout ETG.2000 examples use: sub 0 padded to a word).
+std::size_t sub_offset(std::uint8_t si, std::size_t offset) {
+    return si != 0 && offset < 16 ? 16 : offset;
+}
+
+std::size_t record_bits(const Object& obj) {
+    std::size_t offset = 0;
+    for (const auto& [si, sub] : obj.subs) {
+        offset = sub_offset(si, offset) + bit_size(sub);
+    }
+    return offset;
+}
+
 void add_data_types(pugi::xml_node types, const ObjectDictionary& od) {
     std::vector<std::pair<std::string, std::size_t>> base;
     const auto note = [&base](const SubObject& s) {
@@ -119,20 +133,16 @@ void add_data_types(pugi::xml_node types, const ObjectDictionary& od) {
         t.append_child("Name").text().set(name.c_str());
         t.append_child("BitSize").text().set(static_cast<unsigned>(bits));
     }
-    // One structured type per ARRAY/RECORD: sub-index 0 at bit 0, the entries from bit 16 on
-    // (the layout ETG.2000 examples use: sub 0 padded to a word).
     for (const auto& [index, obj] : od.objects()) {
         if (!is_complex(obj)) {
             continue;
         }
         pugi::xml_node t = types.append_child("DataType");
         t.append_child("Name").text().set(fmt::format("DT{:04X}", index).c_str());
-        pugi::xml_node size = t.append_child("BitSize");
+        t.append_child("BitSize").text().set(static_cast<unsigned>(record_bits(obj)));
         std::size_t offset = 0;
         for (const auto& [si, sub] : obj.subs) {
-            if (si != 0 && offset < 16) {
-                offset = 16;
-            }
+            offset = sub_offset(si, offset);
             pugi::xml_node item = t.append_child("SubItem");
             item.append_child("SubIdx").text().set(static_cast<unsigned>(si));
             item.append_child("Name").text().set(sub.name.c_str());
@@ -142,7 +152,6 @@ void add_data_types(pugi::xml_node types, const ObjectDictionary& od) {
             add_flags(item, sub);
             offset += bit_size(sub);
         }
-        size.text().set(static_cast<unsigned>(offset));
     }
 }
 
@@ -160,11 +169,7 @@ void add_objects(pugi::xml_node objects, const ObjectDictionary& od) {
             continue;
         }
         o.append_child("Type").text().set(fmt::format("DT{:04X}", index).c_str());
-        std::size_t bits = 16;
-        for (const auto& [si, sub] : obj.subs) {
-            bits += si == 0 ? 0 : bit_size(sub);
-        }
-        o.append_child("BitSize").text().set(static_cast<unsigned>(bits));
+        o.append_child("BitSize").text().set(static_cast<unsigned>(record_bits(obj)));
         pugi::xml_node info = o.append_child("Info");
         for (const auto& [si, sub] : obj.subs) {
             pugi::xml_node item = info.append_child("SubItem");
