@@ -38,6 +38,25 @@ ObjectDictionary master_dictionary(const devices::DeviceFile& f) {
     return od;
 }
 
+// "line N: committed `...`, profile gives `...`" for the first line that differs.
+std::string first_difference(const std::string& committed, const std::string& generated) {
+    std::istringstream a(committed);
+    std::istringstream b(generated);
+    std::string la;
+    std::string lb;
+    for (std::size_t line = 1;; ++line) {
+        const bool more_a = static_cast<bool>(std::getline(a, la));
+        const bool more_b = static_cast<bool>(std::getline(b, lb));
+        if (!more_a && !more_b) {
+            return "no difference";
+        }
+        if (!more_a || !more_b || la != lb) {
+            return "line " + std::to_string(line) + ": committed `" + (more_a ? la : "<end>") +
+                   "`, the profile gives `" + (more_b ? lb : "<end>") + "`";
+        }
+    }
+}
+
 constexpr const char* kRegenerate =
     "devices/ is out of date with the profiles: run `devices/regenerate.sh` (after building "
     "`codrive`) and commit the result";
@@ -58,8 +77,9 @@ TEST(DeviceFiles, CommittedEdsFilesAreWhatTheProfilesExport) {
         const std::string path = device_path(f.stem, ".eds");
         const std::string committed = read_text(path);
         ASSERT_FALSE(committed.empty()) << path << " is missing; " << kRegenerate;
-        EXPECT_EQ(committed, devices::export_eds(profile_of(f), f.axes, f.vendor_name))
-            << path << ": " << kRegenerate;
+        const std::string generated = devices::export_eds(profile_of(f), f.axes, f.vendor_name);
+        EXPECT_TRUE(committed == generated)
+            << path << ": " << first_difference(committed, generated) << "; " << kRegenerate;
     }
 }
 
@@ -68,8 +88,9 @@ TEST(DeviceFiles, CommittedEsiFilesAreWhatTheProfilesExport) {
         const std::string path = device_path(f.stem, ".xml");
         const std::string committed = read_text(path);
         ASSERT_FALSE(committed.empty()) << path << " is missing; " << kRegenerate;
-        EXPECT_EQ(committed, devices::export_esi(profile_of(f), f.axes, f.vendor_name))
-            << path << ": " << kRegenerate;
+        const std::string generated = devices::export_esi(profile_of(f), f.axes, f.vendor_name);
+        EXPECT_TRUE(committed == generated)
+            << path << ": " << first_difference(committed, generated) << "; " << kRegenerate;
     }
 }
 
