@@ -8,6 +8,7 @@
 #include <pugixml.hpp>
 
 #include <fstream>
+#include <map>
 #include <sstream>
 #include <string>
 
@@ -169,6 +170,20 @@ TEST(DeviceFiles, EsiLoadsWithPugixmlWithTheProfileIdentityAndEveryObject) {
             ++count;
         }
         EXPECT_EQ(count, od.size()) << path;
+        // Every object's Type is declared in DataTypes with the object's BitSize (ETG.2000
+        // §5.4.3: the dictionary is self-contained).
+        std::map<std::string, std::string> type_bits;
+        const pugi::xml_node types = device.child("Profile").child("Dictionary").child("DataTypes");
+        for (const pugi::xml_node t : types.children("DataType")) {
+            type_bits[t.child_value("Name")] = t.child_value("BitSize");
+        }
+        for (const pugi::xml_node o : objects.children("Object")) {
+            const auto it = type_bits.find(o.child_value("Type"));
+            ASSERT_NE(it, type_bits.end()) << path << " " << o.child_value("Index") << " type "
+                                           << o.child_value("Type") << " is not declared";
+            EXPECT_EQ(it->second, o.child_value("BitSize"))
+                << path << " " << o.child_value("Index");
+        }
         // Every mapped PDO entry is an object of the dictionary that may be mapped.
         for (const char* kind : {"RxPdo", "TxPdo"}) {
             for (const pugi::xml_node pdo : device.children(kind)) {
