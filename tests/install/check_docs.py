@@ -36,6 +36,7 @@ PAGES = {
     "codrive-commission": ["codrive", "commission"],
     "codrive-run": ["codrive", "run"],
     "codrive-eds": ["codrive", "eds"],
+    "codrive-esi": ["codrive", "esi"],
     "codrive-ecat": ["codrive", "ecat"],
     "codrive-bus": ["codrive", "bus"],
     "codrive-dump": ["codrive-dump"],

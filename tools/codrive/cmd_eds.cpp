@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: Apache-2.0
-// `codrive eds lint|show`: check an EDS/DCF file and print its object dictionary.
+// `codrive eds lint|show|export`: check an EDS/DCF file, print its object dictionary, or write a
+// built-in profile as one.
 #include "command_registry.hpp"
+#include "device_export.hpp"
 
 #include <codrive/core/eds.hpp>
 
@@ -171,7 +173,8 @@ int run_show(const EdsArgs& a) {
 
 void install_eds(CLI::App& app, int& exit_code) {
     auto args = std::make_shared<EdsArgs>();
-    CLI::App* eds = app.add_subcommand("eds", "Check and print EDS/DCF device descriptions");
+    CLI::App* eds =
+        app.add_subcommand("eds", "Check, print and export EDS/DCF device descriptions");
     eds->require_subcommand(1);
 
     CLI::App* lint = eds->add_subcommand(
@@ -189,6 +192,8 @@ void install_eds(CLI::App& app, int& exit_code) {
     show->add_option("--node-id", args->node_id, "node-ID for $NODEID (default: DCF NodeID)")
         ->check(CLI::Range(1, 127));
     show->callback([args, &exit_code] { exit_code = run_show(*args); });
+
+    install_export(*eds, false, exit_code);
 }
 
 CODRIVE_REGISTER_COMMAND(install_eds);

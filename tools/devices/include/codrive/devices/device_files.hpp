@@ -1,0 +1,48 @@
+// SPDX-License-Identifier: Apache-2.0
+// A drive profile's object dictionary written as vendor-format device descriptions (EDS, ESI).
+#pragma once
+
+#include <codrive/core/eds.hpp>
+#include <codrive/drives/profile.hpp>
+
+#include <span>
+#include <string>
+#include <string_view>
+
+namespace codrive::devices {
+
+/// One file of the repository's `devices/` folder: `<stem>.eds` and `<stem>.xml`, generated
+/// from the built-in profile `profile` with `axes` axes.
+struct DeviceFile {
+    std::string_view stem;    ///< "akd2g", "ds-bvs", "fio"
+    std::string_view profile; ///< the profile name (drives::find_profile)
+    unsigned axes = 1;
+    std::string_view vendor_name; ///< [DeviceInfo] VendorName / ESI Vendor/Name ("" if unknown)
+};
+
+/// The files `devices/regenerate.sh` writes and the tests compare (every vendor profile, with
+/// the axis count the master assumes for it: drives::Profile::max_axes).
+[[nodiscard]] std::span<const DeviceFile> device_files();
+
+/// The dictionary the master builds for a profile (drives::build_device_dictionary with `axes`
+/// axes) as a CiA 306 description: [FileInfo], [DeviceInfo] with the profile's identity, bit
+/// rates and PDO granularity, and every object. Deterministic (no dates, no host names), so a
+/// regenerated file can be compared byte for byte.
+[[nodiscard]] DeviceDescription profile_description(const drives::Profile& p, unsigned axes,
+                                                    std::string_view vendor_name = {});
+
+/// write_eds(profile_description(p, axes, vendor_name)).
+[[nodiscard]] std::string export_eds(const drives::Profile& p, unsigned axes,
+                                     std::string_view vendor_name = {});
+
+/// The same dictionary as an EtherCAT slave information file (ETG.2000): one
+/// EtherCATInfo/Descriptions/Devices/Device with the identity, the sync managers and FMMUs of
+/// codrive's simulated slave, a CoE mailbox, the profile's default RxPDO/TxPDO and
+/// Profile/Dictionary with DataTypes and one Object per index.
+[[nodiscard]] std::string export_esi(const drives::Profile& p, unsigned axes,
+                                     std::string_view vendor_name = {});
+
+/// The devices/ entry for a profile name, or nullptr (e.g. "generic").
+[[nodiscard]] const DeviceFile* device_file(std::string_view profile);
+
+} // namespace codrive::devices

@@ -1,0 +1,333 @@
+// SPDX-License-Identifier: Apache-2.0
+// A drive profile's object dictionary as an EtherCAT slave information file (ETG.2000 ESI XML).
+#include <codrive/devices/device_files.hpp>
+
+#include <fmt/format.h>
+#include <pugixml.hpp>
+
+#include <sstream>
+#include <vector>
+
+namespace codrive::devices {
+
+namespace {
+
+std::string hex_text(std::uint32_t v, int digits) {
+    return fmt::format("#x{:0{}X}", v, digits);
+}
+
+std::size_t bit_size(const SubObject& s) {
+    const std::size_t bytes = data_type_size(s.type);
+    if (s.type == DataType::Boolean) {
+        return 1;
+    }
+    return 8 * (bytes != 0 ? bytes : s.value.size());
+}
+
+// ETG.2000 §5.4.3 (Table 42) base data type names for the CiA 301 types.
+std::string esi_type(const SubObject& s) {
+    switch (s.type) {
+    case DataType::Boolean:
+        return "BOOL";
+    case DataType::Integer8:
+        return "SINT";
+    case DataType::Integer16:
+        return "INT";
+    case DataType::Integer24:
+        return "INT24";
+    case DataType::Integer32:
+        return "DINT";
+    case DataType::Integer64:
+        return "LINT";
+    case DataType::Unsigned8:
+        return "USINT";
+    case DataType::Unsigned16:
+        return "UINT";
+    case DataType::Unsigned24:
+        return "UINT24";
+    case DataType::Unsigned32:
+        return "UDINT";
+    case DataType::Unsigned64:
+        return "ULINT";
+    case DataType::Real32:
+        return "REAL";
+    case DataType::Real64:
+        return "LREAL";
+    case DataType::VisibleString:
+        return fmt::format("STRING({})", s.value.size());
+    case DataType::OctetString:
+        return fmt::format("ARRAY [0..{}] OF BYTE", s.value.size() == 0 ? 0 : s.value.size() - 1);
+    default:
+        return std::string(to_string(s.type));
+    }
+}
+
+// ETG.2000 Flags/Access is ro, rw or wo; the PDO direction goes to Flags/PdoMapping.
+void add_flags(pugi::xml_node parent, const SubObject& s) {
+    pugi::xml_node flags = parent.append_child("Flags");
+    const char* access = "rw";
+    if (s.access == Access::Ro || s.access == Access::Const) {
+        access = "ro";
+    } else if (s.access == Access::Wo) {
+        access = "wo";
+    }
+    flags.append_child("Access").text().set(access);
+    const bool t = s.mappable(PdoDir::Tpdo);
+    const bool r = s.mappable(PdoDir::Rpdo);
+    if (t || r) {
+        flags.append_child("PdoMapping").text().set(t && r ? "RT" : (t ? "T" : "R"));
+    }
+}
+
+// DefaultData is the value's little-endian byte image in hex (ETG.2000 §5.4.3.4 hexBinary).
+void add_info(pugi::xml_node parent, const SubObject& s) {
+    pugi::xml_node info = parent.append_child("Info");
+    if (s.low_limit && s.high_limit) {
+        info.append_child("MinValue").text().set(eds_value_text(*s.low_limit).c_str());
+        info.append_child("MaxValue").text().set(eds_value_text(*s.high_limit).c_str());
+    }
+    std::string data;
+    for (const std::uint8_t b : s.value.bytes()) {
+        data += fmt::format("{:02X}", b);
+    }
+    info.append_child("DefaultData").text().set(data.c_str());
+}
+
+bool is_complex(const Object& o) {
+    return o.code == ObjectCode::Array || o.code == ObjectCode::Record ||
+           o.code == ObjectCode::Defstruct;
+}
+
+// One structured type per ARRAY/RECORD: sub-index 0 at bit 0, the entries from bit 16 on (the
+// layout ETG.2000 examples use: sub 0 padded to a word).
+std::size_t sub_offset(std::uint8_t si, std::size_t offset) {
+    return si != 0 && offset < 16 ? 16 : offset;
+}
+
+std::size_t record_bits(const Object& obj) {
+    std::size_t offset = 0;
+    for (const auto& [si, sub] : obj.subs) {
+        offset = sub_offset(si, offset) + bit_size(sub);
+    }
+    return offset;
+}
+
+void add_data_types(pugi::xml_node types, const ObjectDictionary& od) {
+    std::vector<std::pair<std::string, std::size_t>> base;
+    const auto note = [&base](const SubObject& s) {
+        const std::string name = esi_type(s);
+        for (const auto& b : base) {
+            if (b.first == name) {
+                return;
+            }
+        }
+        base.emplace_back(name, bit_size(s));
+    };
+    for (const auto& [index, obj] : od.objects()) {
+        for (const auto& [si, sub] : obj.subs) {
+            note(sub);
+        }
+    }
+    for (const auto& [name, bits] : base) {
+        pugi::xml_node t = types.append_child("DataType");
+        t.append_child("Name").text().set(name.c_str());
+        t.append_child("BitSize").text().set(static_cast<unsigned>(bits));
+    }
+    for (const auto& [index, obj] : od.objects()) {
+        if (!is_complex(obj)) {
+            continue;
+        }
+        pugi::xml_node t = types.append_child("DataType");
+        t.append_child("Name").text().set(fmt::format("DT{:04X}", index).c_str());
+        t.append_child("BitSize").text().set(static_cast<unsigned>(record_bits(obj)));
+        std::size_t offset = 0;
+        for (const auto& [si, sub] : obj.subs) {
+            offset = sub_offset(si, offset);
+            pugi::xml_node item = t.append_child("SubItem");
+            item.append_child("SubIdx").text().set(static_cast<unsigned>(si));
+            item.append_child("Name").text().set(sub.name.c_str());
+            item.append_child("Type").text().set(esi_type(sub).c_str());
+            item.append_child("BitSize").text().set(static_cast<unsigned>(bit_size(sub)));
+            item.append_child("BitOffs").text().set(static_cast<unsigned>(offset));
+            add_flags(item, sub);
+            offset += bit_size(sub);
+        }
+    }
+}
+
+void add_objects(pugi::xml_node objects, const ObjectDictionary& od) {
+    for (const auto& [index, obj] : od.objects()) {
+        pugi::xml_node o = objects.append_child("Object");
+        o.append_child("Index").text().set(hex_text(index, 4).c_str());
+        o.append_child("Name").text().set(obj.name.c_str());
+        if (!is_complex(obj)) {
+            const SubObject& s = obj.subs.begin()->second;
+            o.append_child("Type").text().set(esi_type(s).c_str());
+            o.append_child("BitSize").text().set(static_cast<unsigned>(bit_size(s)));
+            add_info(o, s);
+            add_flags(o, s);
+            continue;
+        }
+        o.append_child("Type").text().set(fmt::format("DT{:04X}", index).c_str());
+        o.append_child("BitSize").text().set(static_cast<unsigned>(record_bits(obj)));
+        pugi::xml_node info = o.append_child("Info");
+        for (const auto& [si, sub] : obj.subs) {
+            pugi::xml_node item = info.append_child("SubItem");
+            item.append_child("Name").text().set(sub.name.c_str());
+            add_info(item, sub);
+        }
+    }
+}
+
+struct PdoSpec {
+    std::uint16_t index = 0;
+    std::vector<std::uint32_t> entries; ///< index << 16 | sub << 8 | bits
+    bool assigned = false;
+};
+
+// The profile's default PDOs: the maps its manual gives (FIO §7.13.11-§7.13.18), else the
+// cyclic synchronous position layout of every axis (the mode an EtherCAT master runs).
+void default_pdos(const drives::Profile& p, unsigned axes, std::vector<PdoSpec>& rx,
+                  std::vector<PdoSpec>& tx) {
+    if (!p.default_pdo_maps.empty()) {
+        for (const drives::DefaultPdoMap& m : p.default_pdo_maps) {
+            const bool is_rx = m.index < 0x1A00;
+            auto& list = is_rx ? rx : tx;
+            list.push_back({m.index, {m.entries.begin(), m.entries.end()}, list.empty()});
+        }
+        return;
+    }
+    const drives::ModeLayout* l = p.layout(drives::cia402::Mode::CyclicSyncPosition);
+    if (l == nullptr) {
+        return;
+    }
+    for (unsigned axis = 1; axis <= axes; ++axis) {
+        const auto n = static_cast<std::uint16_t>(l->first_pdo + axis - 1);
+        PdoSpec r{static_cast<std::uint16_t>(0x1600 + n), {}, true};
+        PdoSpec t{static_cast<std::uint16_t>(0x1A00 + n), {}, true};
+        for (const drives::PdoEntry& e : l->rx) {
+            r.entries.push_back(drives::mapping_value(p, e, axis));
+        }
+        for (const drives::PdoEntry& e : l->tx) {
+            t.entries.push_back(drives::mapping_value(p, e, axis));
+        }
+        rx.push_back(std::move(r));
+        tx.push_back(std::move(t));
+    }
+}
+
+void add_pdo(pugi::xml_node device, const char* element, const PdoSpec& pdo, unsigned sm,
+             const ObjectDictionary& od) {
+    pugi::xml_node x = device.append_child(element);
+    x.append_attribute("Fixed").set_value("0");
+    if (pdo.assigned) {
+        x.append_attribute("Sm").set_value(sm);
+    }
+    x.append_child("Index").text().set(hex_text(pdo.index, 4).c_str());
+    x.append_child("Name").text().set(
+        fmt::format("{} {:04X}h", sm == 2 ? "RxPDO" : "TxPDO", pdo.index).c_str());
+    for (const std::uint32_t e : pdo.entries) {
+        const auto index = static_cast<std::uint16_t>(e >> 16);
+        const auto sub = static_cast<std::uint8_t>(e >> 8);
+        pugi::xml_node entry = x.append_child("Entry");
+        entry.append_child("Index").text().set(hex_text(index, 4).c_str());
+        entry.append_child("SubIndex").text().set(static_cast<unsigned>(sub));
+        entry.append_child("BitLen").text().set(static_cast<unsigned>(e & 0xFF));
+        if (const SubObject* s = od.find(index, sub); s != nullptr) {
+            entry.append_child("Name").text().set(s->name.c_str());
+            entry.append_child("DataType").text().set(esi_type(*s).c_str());
+        }
+    }
+}
+
+void add_sm(pugi::xml_node device, const char* kind, unsigned address, unsigned size,
+            unsigned control) {
+    pugi::xml_node sm = device.append_child("Sm");
+    if (size != 0) {
+        sm.append_attribute("DefaultSize").set_value(size);
+    }
+    sm.append_attribute("StartAddress").set_value(hex_text(address, 4).c_str());
+    sm.append_attribute("ControlByte").set_value(hex_text(control, 2).c_str());
+    sm.append_attribute("Enable").set_value("1");
+    sm.text().set(kind);
+}
+
+} // namespace
+
+std::string export_esi(const drives::Profile& p, unsigned axes, std::string_view vendor_name) {
+    const DeviceDescription d = profile_description(p, axes, vendor_name);
+    pugi::xml_document doc;
+    pugi::xml_node decl = doc.append_child(pugi::node_declaration);
+    decl.append_attribute("version").set_value("1.0");
+    decl.append_attribute("encoding").set_value("UTF-8");
+    doc.append_child(pugi::node_comment)
+        .set_value(fmt::format(" {} generated by `codrive esi export` from codrive's profile "
+                               "(devices/regenerate.sh); do not edit ",
+                               p.title)
+                       .c_str());
+    pugi::xml_node info = doc.append_child("EtherCATInfo");
+    info.append_attribute("Version").set_value("1.6");
+    pugi::xml_node vendor = info.append_child("Vendor");
+    vendor.append_child("Id").text().set(hex_text(d.device_info.vendor_number, 8).c_str());
+    vendor.append_child("Name").text().set(std::string(vendor_name).c_str());
+
+    pugi::xml_node desc = info.append_child("Descriptions");
+    pugi::xml_node group = desc.append_child("Groups").append_child("Group");
+    group.append_child("Type").text().set(std::string(p.name).c_str());
+    group.append_child("Name").text().set(std::string(p.title).c_str());
+
+    pugi::xml_node device = desc.append_child("Devices").append_child("Device");
+    device.append_attribute("Physics").set_value("YY");
+    pugi::xml_node type = device.append_child("Type");
+    type.append_attribute("ProductCode")
+        .set_value(hex_text(d.device_info.product_number, 8).c_str());
+    type.append_attribute("RevisionNo")
+        .set_value(hex_text(d.device_info.revision_number, 8).c_str());
+    type.text().set(std::string(p.name).c_str());
+    device.append_child("Name").text().set(std::string(p.title).c_str());
+    device.append_child("GroupType").text().set(std::string(p.name).c_str());
+
+    pugi::xml_node profile = device.append_child("Profile");
+    profile.append_child("ProfileNo").text().set(402); // CiA 402 / ETG.6010 drive profile
+    profile.append_child("AddInfo").text().set(axes);
+    pugi::xml_node dict = profile.append_child("Dictionary");
+    add_data_types(dict.append_child("DataTypes"), d.od);
+    add_objects(dict.append_child("Objects"), d.od);
+
+    for (const char* f : {"Outputs", "Inputs", "MBoxState"}) {
+        device.append_child("Fmmu").text().set(f);
+    }
+    // The sync managers of codrive's simulated slave (sim/src/ecat_drive.cpp): 128-byte
+    // mailboxes at 1000h/1080h, process data from 1100h/1180h (ETG.1000.4 Table 59 control bytes).
+    add_sm(device, "MBoxOut", 0x1000, 128, 0x26);
+    add_sm(device, "MBoxIn", 0x1080, 128, 0x22);
+    add_sm(device, "Outputs", 0x1100, 0, 0x64);
+    add_sm(device, "Inputs", 0x1180, 0, 0x20);
+
+    std::vector<PdoSpec> rx;
+    std::vector<PdoSpec> tx;
+    default_pdos(p, axes, rx, tx);
+    for (const PdoSpec& pdo : rx) {
+        add_pdo(device, "RxPdo", pdo, 2, d.od);
+    }
+    for (const PdoSpec& pdo : tx) {
+        add_pdo(device, "TxPdo", pdo, 3, d.od);
+    }
+
+    pugi::xml_node mailbox = device.append_child("Mailbox");
+    mailbox.append_attribute("DataLinkLayer").set_value("true");
+    pugi::xml_node coe = mailbox.append_child("CoE");
+    coe.append_attribute("SdoInfo").set_value("true");
+    coe.append_attribute("PdoAssign").set_value("true");
+    coe.append_attribute("PdoConfig").set_value("true");
+    if (p.name == "akd2g") {
+        // The AKD2G takes its parameter file and firmware over FoE (manual §2.3.3.4).
+        mailbox.append_child("FoE");
+    }
+
+    std::ostringstream out;
+    doc.save(out, "  ", pugi::format_default, pugi::encoding_utf8);
+    return out.str();
+}
+
+} // namespace codrive::devices
