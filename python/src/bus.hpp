@@ -8,6 +8,7 @@
 #include <codrive/sdo/blocking.hpp>
 #include <codrive/sdo/client_manager.hpp>
 
+#include <atomic>
 #include <functional>
 #include <memory>
 #include <mutex>
@@ -28,6 +29,8 @@ public:
     /// Runs the bus (dispatching frames and timers) until `done()` holds or `limit` has passed
     /// (on the bus's clock). True if done() held. Call without the GIL, holding mutex().
     virtual bool run_until(const std::function<bool()>& done, Duration limit) = 0;
+    /// True on a VirtualNetwork (simulated time), false on a real interface.
+    [[nodiscard]] virtual bool simulated() const { return false; }
     /// The bus's time (simulated on a VirtualNetwork).
     [[nodiscard]] virtual TimePoint now() const = 0;
     /// "vcan0", "virtual".
@@ -36,6 +39,8 @@ public:
     [[nodiscard]] sdo::SdoClientManager& sdo_clients() { return *clients_; }
     [[nodiscard]] nmt::NmtMaster& nmt() { return *nmt_; }
     [[nodiscard]] std::mutex& mutex() { return mutex_; }
+    /// Threads waiting to start a request (wait_for_result() lets them in between slices).
+    [[nodiscard]] std::atomic<int>& submitters() { return submitters_; }
     /// The SDO timeout used when a call gives none.
     [[nodiscard]] Duration default_timeout() const { return default_timeout_; }
 
@@ -48,6 +53,7 @@ private:
     sdo::SdoClientManager* clients_ = nullptr;
     std::unique_ptr<nmt::NmtMaster> nmt_;
     std::mutex mutex_;
+    std::atomic<int> submitters_{0};
     Duration default_timeout_;
 };
 
@@ -77,6 +83,7 @@ public:
     ~VirtualNet() override;
     bool run_until(const std::function<bool()>& done, Duration limit) override;
     [[nodiscard]] TimePoint now() const override { return clock_.now(); }
+    [[nodiscard]] bool simulated() const override { return true; }
     [[nodiscard]] std::string name() const override { return "virtual"; }
 
     /// A new endpoint for a device; it lives as long as the network.

@@ -86,3 +86,21 @@ def test_expedited_round_trips_from_python_next_to_the_cpp_client(sim, bus):
           f"C++ blocking client {sorted(cpp_rates)[2]:.0f}/s, ratio {ratio:.2f} "
           f"(slices {min(ratios):.2f}..{max(ratios):.2f})")
     assert ratio > 0.4, "the binding costs more than the round trip itself"
+
+
+def test_asyncio_transfers_to_several_nodes_overlap(sim, bus):
+    import asyncio
+
+    async def both(nodes, timeout):
+        return await asyncio.gather(*(bus.sdo(n).aread(0x1000, 0, "u32", timeout=timeout)
+                                      for n in nodes), return_exceptions=True)
+
+    # Two simulated drives answer, in one gather.
+    assert asyncio.run(both((1, 2), 1.0)) == [0x00020192, 0x00020192]
+    # Two silent nodes, 0.5 s timeout each: side by side the gather takes one timeout, not two.
+    t0 = time.monotonic()
+    results = asyncio.run(both((20, 21), 0.5))
+    took = time.monotonic() - t0
+    assert all(isinstance(r, codrive.SdoTimeoutError) for r in results), results
+    assert "node 20" in str(results[0]) and "node 21" in str(results[1])
+    assert took < 0.9, f"{took:.2f} s: the transfers took turns"
