@@ -130,6 +130,25 @@ std::string where(NodeId node, std::uint16_t index, std::uint8_t sub) {
     return buf;
 }
 
+/// An object address from Python, checked: ValueError names the value out of range.
+std::pair<std::uint16_t, std::uint8_t> object_arg(long index, long sub) {
+    if (index < 0 || index > 0xFFFF) {
+        throw py::value_error("SDO index " + std::to_string(index) + " is not 0..0xFFFF");
+    }
+    if (sub < 0 || sub > 0xFF) {
+        throw py::value_error("SDO subindex " + std::to_string(sub) + " is not 0..0xFF");
+    }
+    return {static_cast<std::uint16_t>(index), static_cast<std::uint8_t>(sub)};
+}
+
+/// A node id from Python, checked (1..127).
+NodeId node_arg(long node) {
+    if (node < 1 || node > kMaxNodeId) {
+        throw py::value_error("SDO node id " + std::to_string(node) + " is not 1..127");
+    }
+    return static_cast<NodeId>(node);
+}
+
 /// A pending Python exception raised by a progress callback, re-raised after the transfer.
 struct CallbackError {
     std::optional<py::error_already_set> error;
@@ -258,16 +277,6 @@ public:
     }
 
 private:
-    static std::pair<std::uint16_t, std::uint8_t> object_arg(long index, long sub) {
-        if (index < 0 || index > 0xFFFF) {
-            throw py::value_error("SDO index " + std::to_string(index) + " is not 0..0xFFFF");
-        }
-        if (sub < 0 || sub > 0xFF) {
-            throw py::value_error("SDO subindex " + std::to_string(sub) + " is not 0..0xFF");
-        }
-        return {static_cast<std::uint16_t>(index), static_cast<std::uint8_t>(sub)};
-    }
-
     sdo::TransferOptions make_options(std::optional<double> timeout, const std::string& mode,
                                       const py::object& progress, CallbackError& cb_error) const {
         sdo::TransferOptions o;
@@ -322,71 +331,60 @@ py::list read_many(const std::shared_ptr<Bus>& bus, const py::sequence& requests
     struct Slot {
         std::function<py::object()> value; ///< converts the result (with the GIL)
         std::optional<sdo::SdoError> error;
-        bool done = false;
     };
+    using Ended = std::function<void()>;
     const std::size_t n = static_cast<std::size_t>(py::len(requests));
-    std::vector<std::function<void(Slot&)>> starts;
+    std::vector<std::function<void(Slot&, Ended&)>> starts;
     starts.reserve(n);
+    sdo::TransferOptions options;
+    if (timeout) {
+        options.timeout = seconds_arg(*timeout, "timeout");
+    }
     for (std::size_t k = 0; k < n; ++k) {
         const py::tuple r = py::reinterpret_borrow<py::object>(requests[k]).cast<py::tuple>();
         if (r.size() < 3 || r.size() > 4) {
             throw py::value_error("read_many: request " + std::to_string(k) +
                                   " is not (node, index, subindex[, type])");
         }
-        const long node = r[0].cast<long>();
-        if (node < 1 || node > kMaxNodeId) {
-            throw py::value_error("read_many: SDO node id " + std::to_string(node) +
-                                  " is not 1..127");
-        }
-        const long index = r[1].cast<long>();
-        const long sub = r[2].cast<long>();
-        if (index < 0 || index > 0xFFFF || sub < 0 || sub > 0xFF) {
-            throw py::value_error("read_many: request " + std::to_string(k) +
-                                  ": index 0..0xFFFF and subindex 0..0xFF");
-        }
+        const NodeId node = node_arg(r[0].cast<long>());
+        const auto [index, sub] = object_arg(r[1].cast<long>(), r[2].cast<long>());
         const std::string type = r.size() == 4 ? r[3].cast<std::string>() : "bytes";
-        sdo::TransferOptions options;
-        if (timeout) {
-            options.timeout = seconds_arg(*timeout, "timeout");
-        }
         visit_type(type, [&]<typename T>() -> py::object {
-            starts.push_back([bus, node, index, sub, options](Slot& slot) {
-                bus->sdo_clients()
-                    .client(static_cast<NodeId>(node))
-                    .template read<T>(
-                        static_cast<std::uint16_t>(index), static_cast<std::uint8_t>(sub),
-                        [&slot](sdo::SdoResult<T> res) {
-                            slot.done = true;
-                            if (!res) {
-                                slot.error.emplace(res.error());
-                                return;
-                            }
+            starts.push_back([bus, node, index, sub, options](Slot& slot, Ended& ended) {
+                bus->sdo_clients().client(node).template read<T>(
+                    index, sub,
+                    [&slot, &ended](sdo::SdoResult<T> res) {
+                        if (res) {
                             slot.value = [v = std::move(*res)] { return to_python(v); };
-                        },
-                        options);
+                        } else {
+                            slot.error.emplace(res.error());
+                        }
+                        ended();
+                    },
+                    options);
             });
             return py::none();
         });
     }
+    // All started at once, then the bus runs (as for one transfer) until the last has ended.
     std::vector<Slot> slots(n);
-    {
-        py::gil_scoped_release nogil;
-        std::lock_guard lock(bus->mutex());
-        for (std::size_t k = 0; k < n; ++k) {
-            starts[k](slots[k]);
+    std::size_t left = n;
+    Ended ended;
+    wait_for_result<bool>(*bus, [&](auto done) {
+        ended = [&left, done] {
+            if (--left == 0) {
+                done(true);
+            }
+        };
+        if (n == 0) {
+            done(true);
         }
-        bus->run_until(
-            [&slots] {
-                return std::all_of(slots.begin(), slots.end(),
-                                   [](const Slot& s) { return s.done; });
-            },
-            Duration::max()); // every transfer ends by its own timeout
-    }
+        for (std::size_t k = 0; k < n; ++k) {
+            starts[k](slots[k], ended);
+        }
+    });
     py::list out;
     for (auto& slot : slots) {
-        if (!slot.done) {
-            throw std::runtime_error("codrive: the bus stopped before the requests ended");
-        }
         if (slot.error) {
             raise_sdo_error(*slot.error); // the first failure, after every transfer ended
         }
@@ -429,12 +427,7 @@ void bind_sdo(py::module_& m, PyBusClass& bus) {
              "Downloads the file `path` to index:subindex (streamed).");
     bus.def(
         "sdo",
-        [](const std::shared_ptr<Bus>& self, long node) {
-            if (node < 1 || node > kMaxNodeId) {
-                throw py::value_error("SDO node id " + std::to_string(node) + " is not 1..127");
-            }
-            return SdoNode(self, static_cast<NodeId>(node));
-        },
+        [](const std::shared_ptr<Bus>& self, long node) { return SdoNode(self, node_arg(node)); },
         py::arg("node"), "The SDO client of `node` (1..127).");
     bus.def("read_many", &read_many, py::arg("requests"), py::kw_only(),
             py::arg("timeout") = py::none(),
