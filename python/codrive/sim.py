@@ -76,13 +76,55 @@ class _Process:
         return self.proc.returncode
 
 
-class CanSimulation:
+class _Simulation:
+    """A simulator process for a ``with`` block: started by start(), which waits for its ready
+    line(s), stopped by stop(); what it printed is in `output`."""
+
+    _program = ""
+
+    def __init__(self, interface: str, argv: List[str], timeout: float):
+        self.interface = interface
+        self.argv = argv
+        self._timeout = timeout
+        self._proc: Optional[_Process] = None
+        self.returncode: Optional[int] = None
+
+    @property
+    def output(self) -> List[str]:
+        """What the simulator printed so far (stdout and stderr, one string per line)."""
+        return self._proc.output() if self._proc is not None else []
+
+    def _ready(self, lines: List[str]) -> bool:
+        raise NotImplementedError
+
+    def start(self):
+        """Starts the process and waits until it reported ``ready``."""
+        self._proc = _Process(self.argv)
+        if self._proc.wait_for(self._ready, self._timeout):
+            return self
+        self.stop()
+        raise Error(f"{self._program} on {self.interface} did not get ready "
+                    f"(exit status {self.returncode}): " + " | ".join(self.output[-5:]))
+
+    def stop(self) -> int:
+        """Stops the process (SIGTERM, then SIGKILL after 5 s); returns its exit status."""
+        if self._proc is not None:
+            self.returncode = self._proc.stop()
+        return self.returncode if self.returncode is not None else 0
+
+    def __enter__(self):
+        return self.start() if self._proc is None else self
+
+    def __exit__(self, *exc) -> None:
+        self.stop()
+
+
+class CanSimulation(_Simulation):
     """A running ``codrive-sim`` process; made by :func:`can`, used as a context manager."""
 
     def __init__(self, interface: str, nodes: Mapping[int, str], heartbeat_ms: int = 0,
                  faults: Sequence[str] = (), executable: Optional[str] = None,
                  timeout: float = 10.0, extra_args: Sequence[str] = ()):
-        self.interface = interface
         self.nodes: Dict[int, str] = dict(nodes)
         if not self.nodes:
             raise ValueError("codrive.sim.can: give at least one node, e.g. {1: 'akd2g'}")
@@ -94,32 +136,16 @@ class CanSimulation:
         for f in faults:
             argv += ["--fault", f]
         argv += list(extra_args)
-        self.argv = argv
-        self._timeout = timeout
+        super().__init__(interface, argv, timeout)
         self._bus: Optional[Bus] = None
-        self._proc: Optional[_Process] = None
-        self.returncode: Optional[int] = None
 
-    @property
-    def output(self) -> List[str]:
-        """What codrive-sim printed so far (stdout and stderr, one string per line)."""
-        return self._proc.output() if self._proc is not None else []
+    _program = "codrive-sim"
 
-    def start(self) -> "CanSimulation":
-        """Starts the process and waits until every node reported ``ready``."""
-        self._proc = _Process(self.argv)
+    def _ready(self, lines: List[str]) -> bool:
         want = {f"codrive-sim: node {n} " for n in self.nodes}
         tail = f"ready on {self.interface}"
-
-        def ready(lines: List[str]) -> bool:
-            return want == {w for w in want for line in lines
-                            if line.startswith(w) and line.endswith(tail)}
-
-        if self._proc.wait_for(ready, self._timeout):
-            return self
-        self.stop()
-        raise Error(f"codrive-sim on {self.interface} did not get ready "
-                    f"(exit status {self.returncode}): " + " | ".join(self.output[-5:]))
+        return want == {w for w in want for line in lines
+                        if line.startswith(w) and line.endswith(tail)}
 
     @property
     def bus(self) -> Bus:
@@ -137,15 +163,7 @@ class CanSimulation:
     def stop(self) -> int:
         """Stops the process (SIGTERM, then SIGKILL after 5 s); returns its exit status."""
         self._bus = None
-        if self._proc is not None:
-            self.returncode = self._proc.stop()
-        return self.returncode if self.returncode is not None else 0
-
-    def __enter__(self) -> "CanSimulation":
-        return self.start() if self._proc is None else self
-
-    def __exit__(self, *exc) -> None:
-        self.stop()
+        return super().stop()
 
 
 def can(interface: str, nodes: Mapping[int, str], heartbeat_ms: int = 0,
@@ -159,7 +177,7 @@ def can(interface: str, nodes: Mapping[int, str], heartbeat_ms: int = 0,
     return CanSimulation(interface, nodes, heartbeat_ms, faults, executable, timeout)
 
 
-class EthercatSimulation:
+class EthercatSimulation(_Simulation):
     """A running ``codrive-ecat-sim``; made by :func:`ethercat`, used as a context manager."""
 
     def __init__(self, interface: str, slaves: Sequence[str], netns: Optional[str] = None,
@@ -167,7 +185,6 @@ class EthercatSimulation:
                  extra_args: Sequence[str] = ()):
         if isinstance(slaves, str):
             slaves = [slaves]
-        self.interface = interface
         self.slaves: List[str] = list(slaves)
         if not self.slaves:
             raise ValueError("codrive.sim.ethercat: give at least one slave, e.g. ['fio']")
@@ -177,38 +194,13 @@ class EthercatSimulation:
             argv += ["--slave", profile]
         argv += list(extra_args)
         # The slave end may live in a network namespace (veth()): run the simulator there.
-        self.argv = (["ip", "netns", "exec", netns] if netns else []) + argv
-        self._timeout = timeout
-        self._proc: Optional[_Process] = None
-        self.returncode: Optional[int] = None
+        super().__init__(interface, (["ip", "netns", "exec", netns] if netns else []) + argv,
+                         timeout)
 
-    @property
-    def output(self) -> List[str]:
-        """What codrive-ecat-sim printed so far (stdout and stderr, one string per line)."""
-        return self._proc.output() if self._proc is not None else []
+    _program = "codrive-ecat-sim"
 
-    def start(self) -> "EthercatSimulation":
-        """Starts the process and waits for its ``ready`` line."""
-        self._proc = _Process(self.argv)
-        want = f"on {self.interface} ready"
-        if self._proc.wait_for(lambda lines: any(l.endswith(want) for l in lines),
-                               self._timeout):
-            return self
-        self.stop()
-        raise Error(f"codrive-ecat-sim on {self.interface} did not get ready "
-                    f"(exit status {self.returncode}): " + " | ".join(self.output[-5:]))
-
-    def stop(self) -> int:
-        """Stops the process (SIGTERM, then SIGKILL after 5 s); returns its exit status."""
-        if self._proc is not None:
-            self.returncode = self._proc.stop()
-        return self.returncode if self.returncode is not None else 0
-
-    def __enter__(self) -> "EthercatSimulation":
-        return self.start() if self._proc is None else self
-
-    def __exit__(self, *exc) -> None:
-        self.stop()
+    def _ready(self, lines: List[str]) -> bool:
+        return any(line.endswith(f"on {self.interface} ready") for line in lines)
 
 
 def ethercat(interface: str, slaves: Sequence[str], netns: Optional[str] = None,
