@@ -23,6 +23,7 @@
 #include <fmt/format.h>
 
 #include "floor_check.hpp"
+#include "sdo_servers.hpp"
 
 #include <linux/can.h>
 #include <linux/can/raw.h>
@@ -43,7 +44,7 @@
 #include <vector>
 
 using namespace codrive;
-using Clock = std::chrono::steady_clock;
+using namespace codrive::bench;
 
 namespace {
 
@@ -55,105 +56,8 @@ constexpr NodeId kEpollNode = 103;      ///< codrive server, EventLoop direct-re
 constexpr NodeId kBlockFloorNode = 104; ///< raw block-floor server (acks each 127-frame burst)
 constexpr int kBlockSize = sdo::kMaxBlockSize; ///< segments per block, as codrive asks for
 constexpr double kSlice = 0.25;                ///< seconds per interleaved slice
-constexpr int kClockEvery = 64; ///< round trips between clock reads in every client loop
 
-double seconds_since(Clock::time_point t0) {
-    return std::chrono::duration<double>(Clock::now() - t0).count();
-}
-
-// ---- server processes ------------------------------------------------------------------------
-
-/// A forked server process: `serve` runs in the child until it is killed; the constructor returns
-/// once the child reported ready (serve calls the ready callback) or died.
-class ServerProcess {
-public:
-    explicit ServerProcess(const std::function<void(const std::function<void()>& ready)>& serve) {
-        int fds[2] = {-1, -1};
-        if (::pipe(fds) != 0) {
-            return;
-        }
-        pid_ = ::fork();
-        if (pid_ == 0) {
-            ::close(fds[0]);
-            const int w = fds[1];
-            serve([w] {
-                const char one = 1;
-                [[maybe_unused]] auto n = ::write(w, &one, 1);
-            });
-            ::_exit(1); // serve only returns on failure
-        }
-        ::close(fds[1]);
-        char c = 0;
-        ready_ = pid_ > 0 && ::read(fds[0], &c, 1) == 1;
-        ::close(fds[0]);
-    }
-    ~ServerProcess() {
-        if (pid_ > 0) {
-            ::kill(pid_, SIGKILL);
-            ::waitpid(pid_, nullptr, 0);
-        }
-    }
-    ServerProcess(const ServerProcess&) = delete;
-    ServerProcess& operator=(const ServerProcess&) = delete;
-    [[nodiscard]] bool ready() const { return ready_; }
-
-private:
-    pid_t pid_ = -1;
-    bool ready_ = false;
-};
-
-// ---- raw floor -----------------------------------------------------------------------------
-
-int raw_socket(const std::string& ifname, std::uint32_t rx_id) {
-    const int fd = ::socket(PF_CAN, SOCK_RAW, CAN_RAW);
-    if (fd < 0) {
-        return -1;
-    }
-    can_filter f{rx_id, CAN_SFF_MASK | CAN_EFF_FLAG | CAN_RTR_FLAG};
-    ::setsockopt(fd, SOL_CAN_RAW, CAN_RAW_FILTER, &f, sizeof f);
-    sockaddr_can addr{};
-    addr.can_family = AF_CAN;
-    addr.can_ifindex = static_cast<int>(::if_nametoindex(ifname.c_str()));
-    if (addr.can_ifindex == 0 ||
-        ::bind(fd, reinterpret_cast<sockaddr*>(&addr), sizeof addr) != 0) { // NOLINT
-        ::close(fd);
-        return -1;
-    }
-    return fd;
-}
-
-bool raw_write(int fd, std::uint32_t id, std::uint8_t b0) {
-    can_frame f{};
-    f.can_id = id;
-    f.len = 8;
-    f.data[0] = b0;
-    while (true) {
-        if (::write(fd, &f, sizeof f) == static_cast<ssize_t>(sizeof f)) {
-            return true;
-        }
-        if (errno != ENOBUFS && errno != EAGAIN && errno != EINTR) {
-            return false;
-        }
-        std::this_thread::yield();
-    }
-}
-
-bool raw_read(int fd) {
-    can_frame f{};
-    return ::read(fd, &f, sizeof f) == static_cast<ssize_t>(sizeof f);
-}
-
-/// Answers every request on `node`'s SDO identifiers (the expedited floor).
-void raw_server(const std::string& ifname, NodeId node, const std::function<void()>& ready) {
-    const int server = raw_socket(ifname, cob::sdo_rx(node));
-    if (server < 0) {
-        return;
-    }
-    ready();
-    while (raw_read(server)) {
-        raw_write(server, cob::sdo_tx(node), 0x60);
-    }
-}
+// ---- raw block floor (the expedited floor and the servers are in sdo_servers.hpp) ----------
 
 /// The block floor's receiver: takes frames in recvmmsg() batches (as SocketCanBus does) and
 /// acknowledges a burst when its last frame (sequence number kBlockSize) arrives, like a block
@@ -183,20 +87,6 @@ void raw_block_server(const std::string& ifname, const std::function<void()>& re
             }
         }
     }
-}
-
-/// Round trips per second of write() + blocking read() against raw_server().
-double raw_round_trips(int client, double seconds) {
-    const auto t0 = Clock::now();
-    std::uint64_t rt = 0;
-    while (seconds_since(t0) < seconds) {
-        for (int i = 0; i < kClockEvery; ++i) {
-            raw_write(client, cob::sdo_rx(kFloorNode), 0x40);
-            raw_read(client);
-        }
-        rt += kClockEvery;
-    }
-    return static_cast<double>(rt) / seconds_since(t0);
 }
 
 /// One-way frames per second in bursts of kBlockSize, each sent with one sendmmsg() and
@@ -292,14 +182,6 @@ private:
     std::string name_ = "raw";
 };
 
-ObjectDictionary bench_dictionary() {
-    ObjectDictionary od;
-    od.add_var(0x1018, "Vendor-ID", DataType::Unsigned32, Access::Ro,
-               Value(DataType::Unsigned32, {1, 2, 3, 4}));
-    od.add_var(0x2001, "Domain", DataType::Domain, Access::Rw, Value(DataType::Domain, {}));
-    return od;
-}
-
 void raw_sm_server(const std::string& ifname, const std::function<void()>& ready) {
     const int sfd = raw_socket(ifname, cob::sdo_rx(kSmNode));
     if (sfd < 0) {
@@ -355,37 +237,6 @@ double raw_sm_round_trips(RawSmClient& c, double seconds) {
 }
 
 // ---- codrive ---------------------------------------------------------------------------------
-
-/// SocketCanBus options for one side of `node`'s SDO channel. `direct` false turns the loop's
-/// direct-read fast path off, as a second watched fd (a signalfd, another bus) would.
-SocketCanOptions bus_options(std::uint32_t rx_id, bool direct) {
-    SocketCanOptions so;
-    so.filters = {CanFilter{rx_id, 0x7FF, false, false}};
-    so.error_frames = false;
-    if (!direct) {
-        so.direct_read_limit = Duration::zero();
-    }
-    return so;
-}
-
-/// The codrive SDO server on EventLoop + SocketCanBus (an application's own loop).
-void codrive_server(const std::string& ifname, NodeId node, bool direct,
-                    const std::function<void()>& ready) {
-    ObjectDictionary od = bench_dictionary();
-    auto loop = EventLoop::create();
-    auto bus = SocketCanBus::open(ifname, bus_options(cob::sdo_rx(node), direct));
-    if (!loop || !bus || !(*bus)->attach(**loop)) {
-        return;
-    }
-    sdo::ServerConfig config;
-    config.node = node;
-    sdo::SdoServer server(od, **bus, config);
-    (*bus)->set_frame_handler(
-        [&server](const Frame& f, TimePoint t) { (void)server.on_frame(f, t); });
-    (*loop)->add_timed(&server);
-    ready();
-    (void)(*loop)->run();
-}
 
 struct ClientSide {
     std::unique_ptr<EventLoop> loop;
@@ -541,7 +392,7 @@ int main(int argc, char** argv) {
     std::vector<double> epoll_rates;
     const int slices = std::max(1, static_cast<int>(seconds / kSlice + 0.5));
     for (int i = 0; i < slices && only != "block"; ++i) {
-        floor_rates.push_back(raw_round_trips(floor_fd, kSlice));
+        floor_rates.push_back(raw_round_trips(floor_fd, kFloorNode, kSlice));
         if (want("raw-sm")) {
             sm_rates.push_back(raw_sm_round_trips(sm, kSlice));
         }

@@ -9,6 +9,7 @@
 #include <codrive/sdo/client_manager.hpp>
 
 #include <atomic>
+#include <cstdint>
 #include <functional>
 #include <memory>
 #include <mutex>
@@ -19,7 +20,8 @@ namespace codrive::python {
 
 /// A bus with the master's SDO clients and NMT master on it. Calls from Python release the GIL,
 /// take mutex() and run the bus with run_until() until their transfer ends: one Python thread
-/// drives a bus at a time, and the C++ services never see two threads.
+/// drives a bus at a time, and the C++ services never see two threads (wait.hpp says how the
+/// bus passes between threads).
 class Bus {
 public:
     virtual ~Bus() = default;
@@ -39,8 +41,19 @@ public:
     [[nodiscard]] sdo::SdoClientManager& sdo_clients() { return *clients_; }
     [[nodiscard]] nmt::NmtMaster& nmt() { return *nmt_; }
     [[nodiscard]] std::mutex& mutex() { return mutex_; }
-    /// Threads waiting to start a request (wait_for_result() lets them in between slices).
+    /// Threads waiting to take the bus (to start a request or make a short call); the thread
+    /// running the bus lets go of it as soon as this is non-zero (see BusTurn in wait.hpp).
     [[nodiscard]] std::atomic<int>& submitters() { return submitters_; }
+    /// Results delivered so far (every request's callback counts one): the thread running the
+    /// bus lets go of it when another thread's result came, so that thread returns at once.
+    [[nodiscard]] std::atomic<std::uint64_t>& delivered() { return delivered_; }
+    /// True while a thread runs the bus (inside run_until() for a request).
+    [[nodiscard]] std::atomic<bool>& running() { return running_; }
+    /// Set by a thread that let go of the bus for another one, cleared by the next to take it.
+    [[nodiscard]] std::atomic<bool>& handoff() { return handoff_; }
+    /// Ends the current wait of the thread running the bus at once (thread-safe); without it a
+    /// running bus notices submitters() at its next wake-up.
+    virtual void interrupt() {}
     /// The SDO timeout used when a call gives none.
     [[nodiscard]] Duration default_timeout() const { return default_timeout_; }
 
@@ -54,6 +67,9 @@ private:
     std::unique_ptr<nmt::NmtMaster> nmt_;
     std::mutex mutex_;
     std::atomic<int> submitters_{0};
+    std::atomic<std::uint64_t> delivered_{0};
+    std::atomic<bool> handoff_{false};
+    std::atomic<bool> running_{false};
     Duration default_timeout_;
 };
 
@@ -64,6 +80,7 @@ public:
     static tl::expected<std::shared_ptr<SocketBus>, std::string> open(const std::string& ifname,
                                                                       Duration default_timeout);
     bool run_until(const std::function<bool()>& done, Duration limit) override;
+    void interrupt() override { blocking_->loop().stop(); }
     [[nodiscard]] TimePoint now() const override { return SteadyClock::now(); }
     [[nodiscard]] std::string name() const override { return ifname_; }
 

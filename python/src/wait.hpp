@@ -7,45 +7,88 @@
 #include <pybind11/pybind11.h>
 
 #include <chrono>
+#include <cstdint>
+#include <mutex>
 #include <optional>
 #include <thread>
 #include <utility>
 
 namespace codrive::python {
 
-/// How long one thread runs a bus before others waiting to start a request get it.
-inline constexpr Duration kBusSlice = std::chrono::milliseconds(2);
+/// The bus for one thread: announces the thread (the thread running the bus sees
+/// submitters() and lets go at its next wake-up, which interrupt() makes immediate), then holds
+/// mutex(). Release the GIL first.
+class BusTurn {
+public:
+    explicit BusTurn(Bus& bus) : bus_(bus) {
+        bus.submitters().fetch_add(1);
+        // A thread that starts running after this sees submitters() in its predicate first, so
+        // only a running one needs the interrupt (a system call a lone caller does not pay).
+        if (bus.running().load()) {
+            bus.interrupt();
+        }
+        lock_ = std::unique_lock(bus.mutex());
+        bus.submitters().fetch_sub(1);
+        bus.handoff().store(false);
+    }
+    /// Lets go of the bus for the thread that is waiting for it (a result of its came, or it
+    /// wants to start a request) and waits until that thread has it, or a millisecond passed.
+    void hand_over() {
+        bus_.handoff().store(true);
+        lock_.unlock();
+        const auto until = std::chrono::steady_clock::now() + std::chrono::milliseconds(1);
+        while (bus_.handoff().load() && std::chrono::steady_clock::now() < until) {
+            std::this_thread::yield();
+        }
+    }
+    /// Takes the bus again after hand_over(), without interrupting anyone: this thread only
+    /// waits for a result the bus will deliver to whoever runs it.
+    void take_back() {
+        lock_.lock();
+        bus_.handoff().store(false);
+    }
+
+private:
+    Bus& bus_;
+    std::unique_lock<std::mutex> lock_;
+};
 
 /// Runs `start(done_callback)` on `bus` and the bus until the callback delivered a result of
-/// type R, with the GIL released (other Python threads run meanwhile). The bus is held while
-/// it runs, in slices of kBusSlice: between slices a thread that is waiting to start its own
-/// request gets the bus first, so requests from several threads (asyncio's executor) to
-/// different nodes run side by side in the one loop instead of one after the other.
+/// type R, with the GIL released (other Python threads run meanwhile). One thread at a time runs
+/// the bus, for everyone's requests: it runs with no time limit of its own (so the event loop's
+/// one-system-call-per-frame path stays on) and lets go of the bus only when another thread wants
+/// to start a request or another thread's result came. So requests from several threads
+/// (asyncio's executor) to different nodes run side by side in the one loop, each returns as
+/// soon as its own result is in, and a lone caller pays nothing for the sharing.
 template <typename R, typename Start>
 R wait_for_result(Bus& bus, Start&& start) {
     std::optional<R> out;
     {
         pybind11::gil_scoped_release nogil;
-        bus.submitters().fetch_add(1);
-        {
-            std::lock_guard lock(bus.mutex());
-            start([&out](R r) { out.emplace(std::move(r)); });
-        }
-        bus.submitters().fetch_sub(1);
+        BusTurn turn(bus);
+        start([&out, &bus](R r) {
+            out.emplace(std::move(r));
+            bus.delivered().fetch_add(1);
+        });
         // Every C++ request ends by itself (SDO requests have a timeout), so no outer limit. A
-        // simulated network runs on its own clock, one caller at a time: it is not sliced.
-        const Duration slice = bus.simulated() ? Duration::max() : kBusSlice;
-        for (;;) {
-            {
-                std::lock_guard lock(bus.mutex());
-                if (out || bus.run_until([&out] { return out.has_value(); }, slice) ||
-                    bus.simulated()) {
-                    break;
-                }
+        // simulated network runs on its own clock, one caller at a time: it is not shared.
+        while (!out && !bus.simulated()) {
+            const std::uint64_t seen = bus.delivered().load();
+            bus.running().store(true);
+            bus.run_until(
+                [&] {
+                    return out.has_value() || bus.submitters().load() > 0 ||
+                           bus.delivered().load() != seen;
+                },
+                Duration::max());
+            bus.running().store(false);
+            if (!out) {
+                turn.hand_over();
+                turn.take_back();
             }
-            while (bus.submitters().load() > 0) {
-                std::this_thread::yield(); // let the other thread start its request
-            }
+        }
+        if (!out) {
+            bus.run_until([&out] { return out.has_value(); }, Duration::max());
         }
     }
     if (!out) {
@@ -58,7 +101,7 @@ R wait_for_result(Bus& bus, Start&& start) {
 template <typename Fn>
 decltype(auto) with_bus(Bus& bus, Fn&& fn) {
     pybind11::gil_scoped_release nogil;
-    std::lock_guard lock(bus.mutex());
+    BusTurn turn(bus);
     return fn();
 }
 
