@@ -31,6 +31,7 @@ const std::vector<std::pair<std::string, TraceFormat>> kSameConversation = {
     {"conversation-v21.trc", TraceFormat::PeakTrc},
     {"conversation.asc", TraceFormat::VectorAsc},
     {"conversation-python-can.csv", TraceFormat::Csv},
+    {"conversation.blf", TraceFormat::VectorBlf},
 };
 
 // The output with the interface column taken out (each format names interfaces its own way).
@@ -73,6 +74,9 @@ TEST(DumpTraceFormat, EachFormatIsRecognisedByItsContent) {
     EXPECT_EQ(detect("Time Stamp,ID,Extended,Dir,Bus,LEN,D1,D2\n"), TraceFormat::Csv);
     EXPECT_EQ(detect("a,b,c\n1,2,3\n"), TraceFormat::Candump) << "CSV needs id and data columns";
     EXPECT_EQ(detect("\xD4\xC3\xB2\xA1"), TraceFormat::Pcap);
+    EXPECT_EQ(detect(std::string_view("LOGG\x90\0\0\0", 8)), TraceFormat::VectorBlf);
+    EXPECT_EQ(detect("LOGGING STARTED\n(1.0) can0 181#00\n"), TraceFormat::Candump)
+        << "BLF is recognised by its binary header, not by a word";
     EXPECT_EQ(detect(""), TraceFormat::Candump);
 }
 
