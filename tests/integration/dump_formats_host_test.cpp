@@ -123,7 +123,7 @@ TEST(DumpFormatsHost, EveryFormatConvertsToCapturesTsharkReads) {
         "conversation.log",          "conversation-screen.txt", "conversation-screen-delta.txt",
         "conversation-v11.trc",      "conversation-v13.trc",    "conversation-v20.trc",
         "conversation-v21.trc",      "conversation.asc",        "conversation-python-can.csv",
-        "conversation-savvycan.csv", "conversation.blf"};
+        "conversation-savvycan.csv", "conversation.blf",        "conversation-ixxat.csv"};
     for (const auto& sample : samples) {
         // pcapng for every format; classic pcap (the same records) for two, tshark is slow.
         const bool also_pcap = sample == "conversation-v21.trc" || sample == "conversation.asc";
@@ -141,7 +141,9 @@ TEST(DumpFormatsHost, EveryFormatConvertsToCapturesTsharkReads) {
                                          " -d can.subdissector,canopen -T fields -e can.id "
                                          "-e canopen.nmt_ctrl.node_id 2>/dev/null");
             ASSERT_EQ(t.status, 0) << out << ": " << t.output;
-            const std::size_t frames = sample == "conversation-savvycan.csv" ? 11 : 12;
+            const std::size_t frames =
+                sample == "conversation-savvycan.csv" || sample == "conversation-ixxat.csv" ? 11
+                                                                                            : 12;
             EXPECT_EQ(lines_of(t.output), frames) << out << ":\n" << t.output;
             EXPECT_NE(t.output.find("419364865"), std::string::npos) << "the 29-bit id 18FF0001";
             EXPECT_NE(t.output.find("1412"), std::string::npos) << "the SDO response 584h";

@@ -122,9 +122,29 @@ TEST(DumpTraceFormat, SavvyCanExportHasTheFramesRelativeToItsStart) {
     }
 }
 
+TEST(DumpTraceFormat, IxxatExportHasTheFramesRelativeToTheInterfaceStart) {
+    auto reference = frames_of(read_trace(conversation("conversation.log")));
+    std::erase_if(reference, [](const ReadItem& i) { return i.frame.rtr(); }); // no RTR column
+    TraceFormat format{};
+    const auto frames = frames_of(read_trace(conversation("conversation-ixxat.csv"), &format));
+    EXPECT_EQ(format, TraceFormat::Csv);
+    ASSERT_EQ(frames.size(), reference.size());
+    for (std::size_t i = 0; i < frames.size(); ++i) {
+        ASSERT_EQ(frames[i].status, ReadStatus::Frame) << i << ": " << frames[i].error;
+        EXPECT_EQ(frames[i].frame, reference[i].frame) << i;
+        // "Time (abs)" counts from when the interface started (3605.25 s before the first frame).
+        EXPECT_EQ(frames[i].ts_ns - 3'605'250'000'000LL, reference[i].ts_ns - reference[0].ts_ns)
+            << i;
+        EXPECT_EQ(frames[i].iface, "can1") << "the Bus column";
+    }
+}
+
 TEST(DumpTraceFormat, EveryFormatRoundTripsThroughPcapngByteExact) {
     const auto path = ::testing::TempDir() + "/dump_roundtrip.pcapng";
-    for (const auto& [file, format] : kSameConversation) {
+    auto files = kSameConversation;
+    files.emplace_back("conversation-savvycan.csv", TraceFormat::Csv);
+    files.emplace_back("conversation-ixxat.csv", TraceFormat::Csv);
+    for (const auto& [file, format] : files) {
         const auto original = frames_of(read_trace(conversation(file)));
         {
             auto w = PcapWriter::open(path);
