@@ -6,7 +6,7 @@ set -euo pipefail
 packages=(
     build-essential cmake ninja-build pkg-config git
     libsocketcan-dev libfmt-dev libeigen3-dev libgtest-dev libgmock-dev libbenchmark-dev
-    libcli11-dev libexpected-dev libyaml-cpp-dev nlohmann-json3-dev libpugixml-dev
+    libcli11-dev libexpected-dev libyaml-cpp-dev nlohmann-json3-dev libpugixml-dev zlib1g-dev
     can-utils iproute2 kmod user-mode-linux tshark
     clang-14 clang-format-14 libclang-rt-14-dev valgrind python3
     python3-dev pybind11-dev python3-pytest
@@ -15,6 +15,7 @@ packages=(
 # (libclang_rt.fuzzer-x86_64.a) and the ASan/UBSan runtimes for clang come from
 # libclang-rt-14-dev (dpkg -S libclang_rt.fuzzer-x86_64.a on Debian 12). Leak check: valgrind.
 # ESI XML files (devices/*.xml, `codrive esi export`): libpugixml-dev.
+# Vector BLF traces (codrive-dump): zlib1g-dev, the containers are zlib streams.
 # The Python module (python/, docs/python.md): python3-dev, pybind11-dev; its tests: python3-pytest.
 
 missing=()

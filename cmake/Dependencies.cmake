@@ -10,6 +10,8 @@ find_package(yaml-cpp REQUIRED)
 # The fuzz build compiles the simulator (fuzz_slave_replies), whose daemons use CLI11.
 if(CODRIVE_BUILD_TOOLS OR CODRIVE_FUZZ)
     find_package(CLI11 REQUIRED)
+    # codrive-dump reads Vector BLF files, whose containers are zlib streams (zlib1g-dev).
+    find_package(ZLIB REQUIRED)
 endif()
 # `codrive eds|esi export` and the devices/ tests write and read ESI XML (ETG.2000) with
 # Debian's libpugixml-dev; only the tools link it, so the installed libraries do not need it.

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: Apache-2.0
-// Fuzzes every trace reader of codrive-dump (candump, PEAK trc, Vector asc, CSV, pcap/pcapng) and
-// the pcap/pcapng writer: the first byte picks a reader (or content detection), the rest is the
+// Fuzzes every trace reader of codrive-dump (candump, PEAK trc, Vector asc, CSV, pcap/pcapng, BLF)
+// and the pcap/pcapng writer: the first byte picks a reader (or content detection), the rest is the
 // file. Readers must end (End or Fatal), never crash, and report every malformed entry.
 #include <codrive/dump/pcap.hpp>
 #include <codrive/dump/trace_format.hpp>
@@ -20,7 +20,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     auto in = BufferedInput::from_memory(
         std::string_view(reinterpret_cast<const char*>(data + 1), size - 1));
     auto reader =
-        pick < 5 ? make_trace_reader(static_cast<TraceFormat>(pick), *in) : open_trace_reader(*in);
+        pick < 6 ? make_trace_reader(static_cast<TraceFormat>(pick), *in) : open_trace_reader(*in);
     TraceRecord r;
     // Every step consumes input, so the number of steps is bounded by the input size.
     for (std::size_t steps = 0;; ++steps) {

@@ -12,6 +12,8 @@
 #              FUZZ_DEADLINE (epoch seconds: a target still running then is stopped and counted
 #              as failed, "stopped at the deadline"; no target starts after it).
 # The table's executions and cov/ft are libFuzzer's final figures (the "DONE" stats line).
+# A target that crashes on its first input has no coverage line: its row shows "-" (set -e must
+# not end the script there, or the summary line run-all.sh counts would be missing).
 # A crash leaves its input in <build>/fuzz-artifacts/<target>/; copy it to
 # tests/data/fuzz/regressions/<target>/ and add a test that replays it.
 set -euo pipefail
@@ -94,8 +96,8 @@ for target in "${targets[@]}"; do
     execs=$(awk '/stat::number_of_executed_units:/ {v=$2} END {print v+0}' "$log")
     rate=$(awk '/stat::average_exec_per_sec:/ {v=$2} END {print v+0}' "$log")
     # Coverage from libFuzzer's last status line (the "DONE" line of a finished run).
-    cov=$(grep -o 'cov: [0-9]*' "$log" | tail -1 | awk '{print $2}')
-    ft=$(grep -o 'ft: [0-9]*' "$log" | tail -1 | awk '{print $2}')
+    cov=$(grep -o 'cov: [0-9]*' "$log" | tail -1 | awk '{print $2}' || true)
+    ft=$(grep -o 'ft: [0-9]*' "$log" | tail -1 | awk '{print $2}' || true)
     units=$(find "$corpus" -type f | wc -l)
     if [[ $status -eq 0 ]]; then
         result=ok
@@ -104,7 +106,7 @@ for target in "${targets[@]}"; do
         result="FAILED (stopped at the deadline after $execs executions; log $log)"
         failed=$((failed + 1))
     else
-        crash=$(grep -o "Test unit written to [^ ]*" "$log" | tail -1 | sed 's/Test unit written to //')
+        crash=$(grep -o "Test unit written to [^ ]*" "$log" | tail -1 | sed 's/Test unit written to //' || true)
         result="FAILED (exit $status${crash:+, input $crash}; log $log)"
         failed=$((failed + 1))
     fi

@@ -83,7 +83,7 @@ std::size_t lines_of(const std::string& s) {
 
 TEST(DumpFormatsHost, DocumentedTraceCommandsRunAsWritten) {
     const auto commands = documented_trace_commands();
-    ASSERT_EQ(commands.size(), 5U) << "docs/codrive-dump.md lost its trace-file commands";
+    ASSERT_EQ(commands.size(), 6U) << "docs/codrive-dump.md lost its trace-file commands";
     Scratch scratch("docs");
     std::vector<ct::RunResult> results;
     for (const auto& c : commands) {
@@ -108,15 +108,22 @@ TEST(DumpFormatsHost, DocumentedTraceCommandsRunAsWritten) {
         << results[3].output;
     EXPECT_EQ(lines_of(results[3].output), 2U) << results[3].output;
     EXPECT_TRUE(std::filesystem::exists(scratch.path() + "/conversation.pcap"));
+    // The BLF sample (zlib containers): the SDO exchange on BLF channel 1, absolute times.
+    EXPECT_NE(results[5].output.find("(1795478400.021000)  can1   584"), std::string::npos)
+        << results[5].output;
+    EXPECT_NE(results[5].output.find("node 4 upload 1000:00 Device type = 0x00020192"),
+              std::string::npos)
+        << results[5].output;
+    EXPECT_EQ(lines_of(results[5].output), 2U) << results[5].output;
 }
 
 TEST(DumpFormatsHost, EveryFormatConvertsToCapturesTsharkReads) {
     Scratch scratch("tshark");
     const std::vector<std::string> samples = {
-        "conversation.log",         "conversation-screen.txt", "conversation-screen-delta.txt",
-        "conversation-v11.trc",     "conversation-v13.trc",    "conversation-v20.trc",
-        "conversation-v21.trc",     "conversation.asc",        "conversation-python-can.csv",
-        "conversation-savvycan.csv"};
+        "conversation.log",          "conversation-screen.txt", "conversation-screen-delta.txt",
+        "conversation-v11.trc",      "conversation-v13.trc",    "conversation-v20.trc",
+        "conversation-v21.trc",      "conversation.asc",        "conversation-python-can.csv",
+        "conversation-savvycan.csv", "conversation.blf",        "conversation-ixxat.csv"};
     for (const auto& sample : samples) {
         // pcapng for every format; classic pcap (the same records) for two, tshark is slow.
         const bool also_pcap = sample == "conversation-v21.trc" || sample == "conversation.asc";
@@ -134,7 +141,9 @@ TEST(DumpFormatsHost, EveryFormatConvertsToCapturesTsharkReads) {
                                          " -d can.subdissector,canopen -T fields -e can.id "
                                          "-e canopen.nmt_ctrl.node_id 2>/dev/null");
             ASSERT_EQ(t.status, 0) << out << ": " << t.output;
-            const std::size_t frames = sample == "conversation-savvycan.csv" ? 11 : 12;
+            const std::size_t frames =
+                sample == "conversation-savvycan.csv" || sample == "conversation-ixxat.csv" ? 11
+                                                                                            : 12;
             EXPECT_EQ(lines_of(t.output), frames) << out << ":\n" << t.output;
             EXPECT_NE(t.output.find("419364865"), std::string::npos) << "the 29-bit id 18FF0001";
             EXPECT_NE(t.output.find("1412"), std::string::npos) << "the SDO response 584h";

@@ -7,7 +7,8 @@ import pytest
 
 import codrive
 
-TRACES = ["pdo.log", "sdo.log", "sdo_block.log", "services.log", "screen.log", "profile.log"]
+TRACES = ["pdo.log", "sdo.log", "sdo_block.log", "services.log", "screen.log", "profile.log",
+          "formats/conversation.blf", "formats/conversation-ixxat.csv"]
 
 
 @pytest.mark.parametrize("name", TRACES)

@@ -65,7 +65,7 @@ bool split_node_arg(const std::string& arg, NodeId& node, std::string& rest) {
 
 int main(int argc, char** argv) {
     CLI::App app{"codrive-dump: decode CANopen traffic live from SocketCAN interfaces or from "
-                 "trace files (candump, PEAK trc, Vector asc, CSV, pcap/pcapng)"};
+                 "trace files (candump, PEAK trc, Vector asc and blf, CSV, pcap/pcapng)"};
     app.set_version_flag("--version", "codrive-dump " CODRIVE_VERSION);
     std::vector<std::string> ifaces;
     std::string read_file;
@@ -89,8 +89,8 @@ int main(int argc, char** argv) {
                    "SocketCAN interfaces to capture, with optional candump filters "
                    "(vcan0,0x580:0x780), or 'any'");
     app.add_option("-r,--read", read_file,
-                   "Read a trace file: candump log/screen, PEAK .trc, Vector .asc, CSV, "
-                   "pcap/pcapng, recognised by content ('-' for stdin)");
+                   "Read a trace file: candump log/screen, PEAK .trc, Vector .asc and .blf, "
+                   "CSV, pcap/pcapng, recognised by content ('-' for stdin)");
     app.add_option("-w,--write", write_file,
                    "Write the frames to a pcap file, pcapng if the name ends in .pcapng "
                    "(SocketCAN link type) for Wireshark; printing stops unless --print");

@@ -65,3 +65,30 @@ TEST(DumpCsv, MalformedRowsNameLineAndCause) {
     EXPECT_EQ(items[4].frame.extended(), true) << "an id above 7FF without a column is 29-bit";
     EXPECT_EQ(items[5].status, ReadStatus::Frame);
 }
+
+// HMS/IXXAT export layout (CANnector Log user manual, section 6.1): Bus, No, Time (abs) as
+// s.ms.µs.ns, State, ID (hex), Length, Data (hex), ASCII.
+TEST(DumpCsv, IxxatLayoutDottedTimeBusAndAsciiColumn) {
+    TraceFormat format{};
+    const auto items = read_trace("Bus;No;Time (abs);State;ID (hex);Length;Data (hex);ASCII\r\n"
+                                  "2;1;3605.250.000.123;;181;2;37 06;7.\r\n"
+                                  "2;2;3605.250.100;;1ABCDEF0;1;3B;;\r\n"
+                                  "2;3;3605.25.000;;181;1;05;.\r\n"
+                                  "2;4;3605.1.2.3.4;;181;1;05;.\r\n"
+                                  "2;5;3605.300.000.000;;181;1;05;.\r\n",
+                                  &format);
+    EXPECT_EQ(format, TraceFormat::Csv);
+    ASSERT_EQ(items.size(), 5U);
+    ASSERT_EQ(items[0].status, ReadStatus::Frame) << items[0].error;
+    EXPECT_EQ(items[0].frame, Frame::make(0x181, {0x37, 0x06}));
+    EXPECT_EQ(items[0].ts_ns, 3'605'250'000'123LL) << "seconds, ms, µs, ns";
+    EXPECT_EQ(items[0].iface, "can2");
+    ASSERT_EQ(items[1].status, ReadStatus::Frame) << items[1].error;
+    EXPECT_EQ(items[1].ts_ns, 3'605'250'100'000LL) << "groups left out are zero";
+    EXPECT_TRUE(items[1].frame.extended());
+    EXPECT_EQ(items[1].frame.data[0], 0x3B) << "a ';' in the ASCII column is past the last column";
+    EXPECT_EQ(items[2].error, "4: bad timestamp: '2;3;3605.25.000;;181;1;05;.'")
+        << "groups have three digits";
+    EXPECT_EQ(items[3].error.rfind("5: bad timestamp", 0), 0U) << "at most ms, µs and ns";
+    EXPECT_EQ(items[4].status, ReadStatus::Frame) << "reading goes on";
+}

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 // Golden-output tests: hand-made traces in tests/data/traces decoded and compared with *.expected.
 // Set CODRIVE_UPDATE_GOLDEN=1 to rewrite the expected files (then review the diff by hand).
+#include "blf_test_writer.hpp"
 #include "dump_test_util.hpp"
 
 #include <gtest/gtest.h>
@@ -12,6 +13,7 @@
 using namespace codrive;
 using namespace codrive::dump;
 using codrive::dump::testing::run_dump;
+using codrive::dump::testing::run_dump_bytes;
 using codrive::dump::testing::trace_path;
 
 namespace {
@@ -123,4 +125,51 @@ TEST(DumpGolden, VectorAscRelativeTimesCanFdChannelAndErrorFrame) {
 
 TEST(DumpGolden, CsvWithSemicolonsMillisecondsAndCanFd) {
     expect_golden("formats/features-csv.expected", run_dump("formats/features.csv", {}));
+}
+
+// A BLF file made by the test writer (BLF is binary: the sample is built here, not kept in the
+// tree): every CAN object kind, header versions 1 and 2, an object the reader skips, one it
+// cannot decode (reported, then reading goes on) and an error frame.
+TEST(DumpGolden, VectorBlfObjectKindsSkippedAndBadObjectsAndErrorFrame) {
+    using codrive::dump::testing::blf_event_object;
+    using codrive::dump::testing::blf_file;
+    using codrive::dump::testing::blf_object;
+    using codrive::dump::testing::BlfEvent;
+    using codrive::dump::testing::BlfWriteOptions;
+    const std::int64_t t0 = 1'795'478'400'000'000'000LL;
+    const auto ms = [&](std::int64_t n) { return t0 + n * 1'000'000; };
+    Frame fd = Frame::make(0x284, {});
+    fd.flags = Frame::kFd | Frame::kBrs;
+    fd.len = 12;
+    fd.data[0] = 0x27;
+    Frame ext = Frame::make(0x18FF0001, {1, 2, 3});
+    ext.flags = Frame::kExtended;
+    const std::vector<BlfEvent> events = {
+        {Frame::make(0x000, {0x01, 0x04}), ms(0), 1, BlfObjectType::CanMessage},
+        {Frame::make(0x704, {0x05}), ms(10), 1, BlfObjectType::CanMessage2},
+        {Frame::make(0x604, {0x40, 0x00, 0x10, 0x00, 0, 0, 0, 0}), ms(20), 1,
+         BlfObjectType::CanFdMessage64},
+        {Frame::make(0x584, {0x43, 0x00, 0x10, 0x00, 0x92, 0x01, 0x02, 0x00}), ms(21), 1,
+         BlfObjectType::CanFdMessage},
+        {Frame::make_rtr(0x705, 1), ms(30), 1, BlfObjectType::CanFdMessage64},
+        {fd, ms(40), 2, BlfObjectType::CanFdMessage},
+        {ext, ms(50), 1, BlfObjectType::CanMessage},
+        {Frame{}, ms(60), 1, BlfObjectType::CanErrorExt},
+    };
+    BlfWriteOptions v1;
+    BlfWriteOptions v2;
+    v2.header_version = 2;
+    std::string stream;
+    for (std::size_t i = 0; i < events.size(); ++i) {
+        stream += blf_event_object(events[i], t0, i % 2 == 0 ? v1 : v2);
+        if (i == 2) {
+            stream += blf_object(65, std::string(40, 't'), 0); // APP_TEXT: skipped
+            std::string bad(16, '\0');
+            bad[0] = 1;
+            bad[5] = 0x08; // 11-bit id 0x800
+            stream += blf_object(BlfObjectType::CanMessage, bad, 25'000'000);
+        }
+    }
+    v1.container_bytes = 64;
+    expect_golden("formats/features-blf.expected", run_dump_bytes(blf_file(t0, stream, v1), {}));
 }

@@ -31,6 +31,7 @@ const std::vector<std::pair<std::string, TraceFormat>> kSameConversation = {
     {"conversation-v21.trc", TraceFormat::PeakTrc},
     {"conversation.asc", TraceFormat::VectorAsc},
     {"conversation-python-can.csv", TraceFormat::Csv},
+    {"conversation.blf", TraceFormat::VectorBlf},
 };
 
 // The output with the interface column taken out (each format names interfaces its own way).
@@ -73,6 +74,9 @@ TEST(DumpTraceFormat, EachFormatIsRecognisedByItsContent) {
     EXPECT_EQ(detect("Time Stamp,ID,Extended,Dir,Bus,LEN,D1,D2\n"), TraceFormat::Csv);
     EXPECT_EQ(detect("a,b,c\n1,2,3\n"), TraceFormat::Candump) << "CSV needs id and data columns";
     EXPECT_EQ(detect("\xD4\xC3\xB2\xA1"), TraceFormat::Pcap);
+    EXPECT_EQ(detect(std::string_view("LOGG\x90\0\0\0", 8)), TraceFormat::VectorBlf);
+    EXPECT_EQ(detect("LOGGING STARTED\n(1.0) can0 181#00\n"), TraceFormat::Candump)
+        << "BLF is recognised by its binary header, not by a word";
     EXPECT_EQ(detect(""), TraceFormat::Candump);
 }
 
@@ -118,9 +122,29 @@ TEST(DumpTraceFormat, SavvyCanExportHasTheFramesRelativeToItsStart) {
     }
 }
 
+TEST(DumpTraceFormat, IxxatExportHasTheFramesRelativeToTheInterfaceStart) {
+    auto reference = frames_of(read_trace(conversation("conversation.log")));
+    std::erase_if(reference, [](const ReadItem& i) { return i.frame.rtr(); }); // no RTR column
+    TraceFormat format{};
+    const auto frames = frames_of(read_trace(conversation("conversation-ixxat.csv"), &format));
+    EXPECT_EQ(format, TraceFormat::Csv);
+    ASSERT_EQ(frames.size(), reference.size());
+    for (std::size_t i = 0; i < frames.size(); ++i) {
+        ASSERT_EQ(frames[i].status, ReadStatus::Frame) << i << ": " << frames[i].error;
+        EXPECT_EQ(frames[i].frame, reference[i].frame) << i;
+        // "Time (abs)" counts from when the interface started (3605.25 s before the first frame).
+        EXPECT_EQ(frames[i].ts_ns - 3'605'250'000'000LL, reference[i].ts_ns - reference[0].ts_ns)
+            << i;
+        EXPECT_EQ(frames[i].iface, "can1") << "the Bus column";
+    }
+}
+
 TEST(DumpTraceFormat, EveryFormatRoundTripsThroughPcapngByteExact) {
     const auto path = ::testing::TempDir() + "/dump_roundtrip.pcapng";
-    for (const auto& [file, format] : kSameConversation) {
+    auto files = kSameConversation;
+    files.emplace_back("conversation-savvycan.csv", TraceFormat::Csv);
+    files.emplace_back("conversation-ixxat.csv", TraceFormat::Csv);
+    for (const auto& [file, format] : files) {
         const auto original = frames_of(read_trace(conversation(file)));
         {
             auto w = PcapWriter::open(path);

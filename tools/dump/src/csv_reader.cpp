@@ -135,6 +135,41 @@ bool decode_hex_data(std::string_view s, Frame& f, std::size_t& n) {
     return true;
 }
 
+// "12.345.678.901": seconds, then groups of three digits for ms, µs and ns, as HMS/IXXAT
+// exports write "Time (abs)" (CANnector Log user manual 4.01.0091.21000, section 6.1: "format:
+// s.ms.µs.ns"). False if `v` has fewer than two dots, so plain decimals go the usual way.
+bool parse_dotted_time(std::string_view v, std::int64_t& ns) {
+    const auto dot = v.find('.');
+    if (dot == std::string_view::npos || v.find('.', dot + 1) == std::string_view::npos) {
+        return false;
+    }
+    std::int64_t secs = 0;
+    if (!scan::parse_digits(v.substr(0, dot), secs) || secs > 9'000'000'000LL) {
+        return false;
+    }
+    std::int64_t total = secs;
+    auto rest = v.substr(dot + 1);
+    int groups = 0;
+    for (; !rest.empty() && groups < 3; ++groups) {
+        const auto end = rest.find('.');
+        const auto g = rest.substr(0, end);
+        std::int64_t x = 0;
+        if (g.size() != 3 || !scan::parse_digits(g, x)) {
+            return false;
+        }
+        total = total * 1000 + x;
+        rest = end == std::string_view::npos ? std::string_view() : rest.substr(end + 1);
+    }
+    if (!rest.empty()) {
+        return false;
+    }
+    for (; groups < 3; ++groups) {
+        total *= 1000;
+    }
+    ns = total;
+    return true;
+}
+
 } // namespace
 
 bool looks_like_csv_header(std::string_view line) {
@@ -224,7 +259,8 @@ LineStatus CsvReader::parse_line(std::string_view line, TraceRecord& out, std::s
         }
         switch (roles_[col++]) {
         case Role::Time:
-            if (!scan::parse_scaled(v, time_unit_ns_, out.ts_ns)) {
+            if (!scan::parse_scaled(v, time_unit_ns_, out.ts_ns) &&
+                (time_unit_ns_ != 1'000'000'000 || !parse_dotted_time(v, out.ts_ns))) {
                 why = "bad timestamp";
                 ok = false;
             }

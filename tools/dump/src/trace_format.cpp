@@ -3,6 +3,7 @@
 #include <codrive/dump/trace_format.hpp>
 
 #include <codrive/dump/asc_reader.hpp>
+#include <codrive/dump/blf_reader.hpp>
 #include <codrive/dump/csv_reader.hpp>
 #include <codrive/dump/log_parser.hpp>
 #include <codrive/dump/pcap.hpp>
@@ -33,10 +34,10 @@ bool looks_like_asc_event(std::string_view line) {
     return id == "ErrorFrame" || dir == "Rx" || dir == "Tx";
 }
 
-// True once the buffered bytes decide the format: a pcap magic number, or a complete line that
-// is neither blank nor a '#' comment.
+// True once the buffered bytes decide the format: a pcap magic number, a BLF signature, or a
+// complete line that is neither blank nor a '#' comment.
 bool decisive(const std::uint8_t* p, std::size_t n) {
-    if (looks_like_pcap(p, n)) {
+    if (looks_like_pcap(p, n) || looks_like_blf(p, n)) {
         return true;
     }
     std::string_view text(reinterpret_cast<const char*>(p), n);
@@ -66,6 +67,8 @@ std::string_view to_string(TraceFormat f) {
         return "Vector asc";
     case TraceFormat::Csv:
         return "CSV";
+    case TraceFormat::VectorBlf:
+        return "Vector blf";
     }
     return "unknown";
 }
@@ -73,6 +76,9 @@ std::string_view to_string(TraceFormat f) {
 TraceFormat detect_trace_format(const std::uint8_t* p, std::size_t n) {
     if (looks_like_pcap(p, n)) {
         return TraceFormat::Pcap;
+    }
+    if (looks_like_blf(p, n)) {
+        return TraceFormat::VectorBlf;
     }
     std::string_view text(reinterpret_cast<const char*>(p), n);
     if (text.substr(0, 3) == "\xEF\xBB\xBF") {
@@ -134,6 +140,8 @@ std::unique_ptr<ITraceSource> make_trace_reader(TraceFormat format, BufferedInpu
         return std::make_unique<AscReader>(input);
     case TraceFormat::Csv:
         return std::make_unique<CsvReader>(input);
+    case TraceFormat::VectorBlf:
+        return std::make_unique<BlfReader>(input);
     case TraceFormat::Candump:
         break;
     }

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
-// CAN traces exported as CSV (SavvyCAN, python-can, any export whose header names the columns).
+// CAN traces exported as CSV (SavvyCAN, python-can, HMS/IXXAT, any export naming its columns).
 #pragma once
 
 #include <codrive/dump/text_reader.hpp>
@@ -16,7 +16,8 @@ namespace codrive::dump {
 
 /// Reads a CSV trace whose first line names the columns (case does not matter):
 ///  - time: a name containing `time`; seconds, unless the name says `ms` or `us`/`µs`, or is
-///    SavvyCAN's `Time Stamp` (microseconds);
+///    SavvyCAN's `Time Stamp` (microseconds); seconds may be written `s.ms.µs.ns` with dots
+///    between groups of three digits (`12.345.678.901`, HMS/IXXAT exports' `Time (abs)`);
 ///  - id: `id`, `arbitration_id`, `can id`, `identifier`, `id (hex)`, `message id` (hex, with or
 ///    without `0x`, a trailing `h` allowed);
 ///  - `extended`/`ext`/`ide`, `remote`/`rtr`, `error`/`is_error_frame`: `1`, `true`, `yes`,

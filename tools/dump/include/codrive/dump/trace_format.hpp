@@ -17,13 +17,15 @@ enum class TraceFormat : std::uint8_t {
     PeakTrc, ///< PEAK PCAN-View/PCAN-Explorer .trc
     VectorAsc,
     Csv,
+    VectorBlf, ///< Vector binary logging format (.blf)
 };
 
-/// "candump", "pcap", "PEAK trc", "Vector asc", "CSV".
+/// "candump", "pcap", "PEAK trc", "Vector asc", "CSV", "Vector blf".
 [[nodiscard]] std::string_view to_string(TraceFormat f);
 
 /// Recognises the format from the first bytes of a file (never from its name): a pcap/pcapng
-/// magic number; a first non-blank line starting with ';' (PEAK header, e.g.
+/// magic number; the BLF file header (`LOGG`); a first non-blank line starting with ';' (PEAK
+/// header, e.g.
 /// `;$FILEVERSION=2.1`); `date `, `base hex|dec`, `// version` or `Begin Triggerblock` (Vector
 /// ASC header), or an ASC event line; a CSV header with id and data columns; else candump text.
 [[nodiscard]] TraceFormat detect_trace_format(const std::uint8_t* p, std::size_t n);
