@@ -65,8 +65,20 @@ tl::expected<void, std::string> EcatSegment::bring_up(ethercat::IEcatLink* link,
     if (!master_->set_state_all(ethercat::AlState::PreOp)) {
         return tl::unexpected(fmt::format("{}: PRE-OP: {}", where, master_->last_error()));
     }
+    // ETG.1020 §21.1.3.1: DC SYNC0 needs the segment's clocks set up first (delays, offsets,
+    // drift compensation), once for the segment.
+    if (std::any_of(slaves_.begin(), slaves_.end(),
+                    [&](const auto& s) { return slave_dc(config_, s->entry); })) {
+        if (!master_->configure_dc()) {
+            return tl::unexpected(
+                fmt::format("{}: distributed clocks: {}", where, master_->last_error()));
+        }
+    }
     for (auto& s : slaves_) {
         if (auto r = configure_slave(*s); !r) {
+            return r;
+        }
+        if (auto r = synchronise_slave(*s); !r) {
             return r;
         }
     }
@@ -152,6 +164,29 @@ tl::expected<void, std::string> EcatSegment::configure_slave(Slave& s) {
         return tl::unexpected(
             fmt::format("{}: PDO configuration failed: {}", who, master_->last_error()));
     }
+    return {};
+}
+
+tl::expected<void, std::string> EcatSegment::synchronise_slave(Slave& s) {
+    // The same 1C32h/1C33h writes and SYNC0 set-up as `codrive drive --ethercat`, before
+    // SAFE-OP; a cycle below the slave's minimum (1C32h:05) is refused here, never in OP.
+    ethercat::SyncSettings sync;
+    sync.cycle = period_;
+    sync.dc = slave_dc(config_, s.entry);
+    sync.shift = microseconds(slave_sync0_shift_us(config_, s.entry));
+    sync.name = s.entry.name;
+    auto r = ethercat::configure_sync(*master_, s.index, sync);
+    if (!r) {
+        return tl::unexpected(fmt::format("{}:{}: {}", config_.file, s.entry.line, r.error()));
+    }
+    for (const auto& note : r->notes) {
+        emit_(note);
+    }
+    emit_(fmt::format(
+        "{}: sync mode {} ({}), cycle {} µs{}", master_->slave_label(s.index), r->mode,
+        ethercat::sync_mode_name(r->mode), config_.cycle_us,
+        sync.dc ? fmt::format(", SYNC0 shift {} µs", slave_sync0_shift_us(config_, s.entry))
+                : std::string()));
     return {};
 }
 

@@ -84,6 +84,8 @@ private:
         std::atomic<std::uint16_t> emcy_code{0}; ///< written by the acyclic side
     };
     tl::expected<void, std::string> configure_slave(Slave& s);
+    /// 1C32h/1C33h and, with `dc`, SYNC0 (ethercat::configure_sync), in PRE-OP.
+    tl::expected<void, std::string> synchronise_slave(Slave& s);
 
     EcatSegmentConfig config_;
     std::size_t bus_index_;
