@@ -209,6 +209,13 @@ void EcatSegment::cycle(TimePoint now) {
     // cycle is due, never longer: a lost one is counted and the cycle goes on; it never waits
     // for the mailbox.
     const TimePoint deadline = next_;
+    // AL control writes the acyclic side asked for (recovery of a slave that left OP) ride in
+    // this frame; nothing waits for them.
+    for (auto& s : slaves_) {
+        if (const std::uint16_t v = s->al_request.exchange(0, std::memory_order_acquire); v != 0) {
+            (void)master_->queue_al_control(s->index, v);
+        }
+    }
     bool ok = false;
     if (master_->send_process_data()) {
         auto r = master_->receive_process_data(deadline);
@@ -257,7 +264,7 @@ void EcatSegment::cycle(TimePoint now) {
     }
 }
 
-void EcatSegment::acyclic(TimePoint /*now*/) {
+void EcatSegment::acyclic(TimePoint now) {
     EmcyEvent e;
     while (emcy_.pop(e)) {
         // With the drive profile's text (AKD2G "F2002 Output over current"), as the CAN side
@@ -278,6 +285,7 @@ void EcatSegment::acyclic(TimePoint /*now*/) {
             emit_(fmt::format("{}: cyclic exchange failed: {}", where,
                               master_->describe_wkc(probes_wkc_, probes_)));
         }
+        recover_slaves(now);
         probes_ready_.store(false, std::memory_order_release);
     }
     if (const std::uint64_t run = lost_run_.exchange(0, std::memory_order_acquire); run != 0) {
@@ -290,10 +298,80 @@ void EcatSegment::acyclic(TimePoint /*now*/) {
                           where, run, to_ms(period_),
                           lost_frames_.load(std::memory_order_relaxed)));
     }
+    if (last_cycle_ok_.load(std::memory_order_relaxed)) {
+        // A full working counter: every slave is back in OP.
+        for (auto& s : slaves_) {
+            if (s->left_op) {
+                s->left_op = false;
+                emit_(fmt::format(
+                    "{}: back in OP after {} OP request(s), {:.0f} ms after it was seen outside OP",
+                    master_->slave_label(s->index), s->op_requests, to_ms(now - s->left_at)));
+            }
+        }
+    }
     if (frame_error_reported_ && last_cycle_ok_.load(std::memory_order_relaxed)) {
         frame_error_reported_ = false;
         emit_(fmt::format("{}: cyclic exchange works again ({} failed cycles)", where,
                           frame_errors_.load(std::memory_order_relaxed) - failed_at_report_ + 1));
+    }
+}
+
+void EcatSegment::recover_slaves(TimePoint now) {
+    // ETG.1000.6 §6.4.1: a slave that left OP by itself (SAFE-OP with an error: 0x001B SM
+    // watchdog, 0x001A synchronisation lost...) keeps its sync managers and FMMUs, so the
+    // master can bring it back while the cycle runs: acknowledge the error (AL control SAFE-OP
+    // with bit 4), then request OP. Requests repeat with back-off (100 ms doubling to 5 s) while
+    // the slave refuses; the writes ride in the cyclic frame (Master::queue_al_control).
+    constexpr Duration kFirstBackoff = milliseconds(100);
+    constexpr Duration kMaxBackoff = milliseconds(5000);
+    constexpr std::uint16_t kSafeOp = 0x04;
+    constexpr std::uint16_t kOp = 0x08;
+    for (auto& s : slaves_) {
+        if (s->index >= probes_.size() || !probes_[s->index].answered) {
+            continue; // a slave that does not answer is named by the working-counter report
+        }
+        const auto& st = probes_[s->index].status;
+        if (st.state == ethercat::AlState::Op && !st.error) {
+            continue;
+        }
+        const std::string who = master_->slave_label(s->index);
+        if (!s->left_op) {
+            s->left_op = true;
+            s->stuck_reported = false;
+            s->op_requests = 0;
+            s->left_at = now;
+            s->next_request = now;
+            s->backoff = kFirstBackoff;
+            emit_(fmt::format("{}: left OP, now in {}{}; requesting OP again", who,
+                              ethercat::to_string(st.state),
+                              st.error ? fmt::format(" with AL status code 0x{:04X} ({})", st.code,
+                                                     ethercat::al_status_code_describe(st.code))
+                                       : std::string()));
+        }
+        if (st.state != ethercat::AlState::SafeOp && st.state != ethercat::AlState::Op) {
+            // Below SAFE-OP its process data sync managers are gone: only a new bring-up
+            // (stop and start) configures them again.
+            if (!s->stuck_reported) {
+                s->stuck_reported = true;
+                emit_(fmt::format("{}: fell to {}, below SAFE-OP: its process data is no longer "
+                                  "configured; restart the controller to bring it back",
+                                  who, ethercat::to_string(st.state)));
+            }
+            continue;
+        }
+        if (now < s->next_request) {
+            continue;
+        }
+        if (st.error) {
+            s->al_request.store(static_cast<std::uint16_t>(kSafeOp | ethercat::kAlErrorFlag),
+                                std::memory_order_release);
+            s->next_request = now + 2 * period_; // OP once the acknowledge is through
+            continue;
+        }
+        s->al_request.store(kOp, std::memory_order_release);
+        ++s->op_requests;
+        s->next_request = now + s->backoff;
+        s->backoff = std::min(s->backoff * 2, kMaxBackoff);
     }
 }
 

@@ -82,7 +82,19 @@ private:
         std::unique_ptr<ethercat::CoeTransport> transport;
         std::vector<std::unique_ptr<drives::Axis>> axes;
         std::atomic<std::uint16_t> emcy_code{0}; ///< written by the acyclic side
+        /// AL control value the acyclic side asks the cycle to send (0 = none).
+        std::atomic<std::uint16_t> al_request{0};
+        // Recovery of a slave that left OP (acyclic side only).
+        bool left_op = false;
+        bool stuck_reported = false;
+        unsigned op_requests = 0;
+        TimePoint left_at{};
+        TimePoint next_request{};
+        Duration backoff{};
     };
+    /// Acyclic side: a slave the probes show outside OP is reported once and asked back to OP
+    /// (error acknowledged first) with back-off; its return is reported.
+    void recover_slaves(TimePoint now);
     tl::expected<void, std::string> configure_slave(Slave& s);
     /// 1C32h/1C33h and, with `dc`, SYNC0 (ethercat::configure_sync), in PRE-OP.
     tl::expected<void, std::string> synchronise_slave(Slave& s);
