@@ -301,12 +301,7 @@ void EcatSegment::acyclic(TimePoint now) {
     if (last_cycle_ok_.load(std::memory_order_relaxed)) {
         // A full working counter: every slave is back in OP.
         for (auto& s : slaves_) {
-            if (s->left_op) {
-                s->left_op = false;
-                emit_(fmt::format(
-                    "{}: back in OP after {} OP request(s), {:.0f} ms after it was seen outside OP",
-                    master_->slave_label(s->index), s->op_requests, to_ms(now - s->left_at)));
-            }
+            report_back_in_op(*s, now);
         }
     }
     if (frame_error_reported_ && last_cycle_ok_.load(std::memory_order_relaxed)) {
@@ -314,6 +309,16 @@ void EcatSegment::acyclic(TimePoint now) {
         emit_(fmt::format("{}: cyclic exchange works again ({} failed cycles)", where,
                           frame_errors_.load(std::memory_order_relaxed) - failed_at_report_ + 1));
     }
+}
+
+void EcatSegment::report_back_in_op(Slave& s, TimePoint now) {
+    if (!s.left_op) {
+        return;
+    }
+    s.left_op = false;
+    emit_(
+        fmt::format("{}: back in OP after {} OP request(s), {:.0f} ms after it was seen outside OP",
+                    master_->slave_label(s.index), s.op_requests, to_ms(now - s.left_at)));
 }
 
 void EcatSegment::recover_slaves(TimePoint now) {
@@ -331,7 +336,8 @@ void EcatSegment::recover_slaves(TimePoint now) {
             continue; // a slave that does not answer is named by the working-counter report
         }
         const auto& st = probes_[s->index].status;
-        if (st.state == ethercat::AlState::Op && !st.error) {
+        if (st.state == ethercat::AlState::Op) {
+            report_back_in_op(*s, now); // another slave keeps the working counter short
             continue;
         }
         const std::string who = master_->slave_label(s->index);

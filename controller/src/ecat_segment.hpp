@@ -95,6 +95,8 @@ private:
     /// Acyclic side: a slave the probes show outside OP is reported once and asked back to OP
     /// (error acknowledged first) with back-off; its return is reported.
     void recover_slaves(TimePoint now);
+    /// "slave 0 (FIO): back in OP after N OP request(s), T ms ..." once, if it had left.
+    void report_back_in_op(Slave& s, TimePoint now);
     tl::expected<void, std::string> configure_slave(Slave& s);
     /// 1C32h/1C33h and, with `dc`, SYNC0 (ethercat::configure_sync), in PRE-OP.
     tl::expected<void, std::string> synchronise_slave(Slave& s);
