@@ -66,7 +66,7 @@ tl::expected<void, std::string> EcatSegment::bring_up(ethercat::IEcatLink* link,
         return tl::unexpected(fmt::format("{}: PRE-OP: {}", where, master_->last_error()));
     }
     // ETG.1020 §21.1.3.1: DC SYNC0 needs the segment's clocks set up first (delays, offsets,
-    // drift compensation), once for the segment.
+    // static drift compensation), once for the segment.
     if (std::any_of(slaves_.begin(), slaves_.end(),
                     [&](const auto& s) { return slave_dc(config_, s->entry); })) {
         if (!master_->configure_dc()) {
@@ -329,8 +329,8 @@ void EcatSegment::recover_slaves(TimePoint now) {
     // the slave refuses; the writes ride in the cyclic frame (Master::queue_al_control).
     constexpr Duration kFirstBackoff = milliseconds(100);
     constexpr Duration kMaxBackoff = milliseconds(5000);
-    constexpr std::uint16_t kSafeOp = 0x04;
-    constexpr std::uint16_t kOp = 0x08;
+    constexpr auto kSafeOp = static_cast<std::uint16_t>(ethercat::AlState::SafeOp);
+    constexpr auto kOp = static_cast<std::uint16_t>(ethercat::AlState::Op);
     for (auto& s : slaves_) {
         if (s->index >= probes_.size() || !probes_[s->index].answered) {
             continue; // a slave that does not answer is named by the working-counter report
@@ -348,11 +348,12 @@ void EcatSegment::recover_slaves(TimePoint now) {
             s->left_at = now;
             s->next_request = now;
             s->backoff = kFirstBackoff;
-            emit_(fmt::format("{}: left OP, now in {}{}; requesting OP again", who,
-                              ethercat::to_string(st.state),
-                              st.error ? fmt::format(" with AL status code 0x{:04X} ({})", st.code,
-                                                     ethercat::al_status_code_describe(st.code))
-                                       : std::string()));
+            emit_(
+                fmt::format("{}: left OP, now in {}{}{}", who, ethercat::to_string(st.state),
+                            st.error ? fmt::format(" with AL status code 0x{:04X} ({})", st.code,
+                                                   ethercat::al_status_code_describe(st.code))
+                                     : std::string(),
+                            st.state == ethercat::AlState::SafeOp ? "; requesting OP again" : ""));
         }
         if (st.state != ethercat::AlState::SafeOp && st.state != ethercat::AlState::Op) {
             // Below SAFE-OP its process data sync managers are gone: only a new bring-up
