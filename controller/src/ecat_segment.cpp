@@ -65,8 +65,20 @@ tl::expected<void, std::string> EcatSegment::bring_up(ethercat::IEcatLink* link,
     if (!master_->set_state_all(ethercat::AlState::PreOp)) {
         return tl::unexpected(fmt::format("{}: PRE-OP: {}", where, master_->last_error()));
     }
+    // ETG.1020 §21.1.3.1: DC SYNC0 needs the segment's clocks set up first (delays, offsets,
+    // static drift compensation), once for the segment.
+    if (std::any_of(slaves_.begin(), slaves_.end(),
+                    [&](const auto& s) { return slave_dc(config_, s->entry); })) {
+        if (!master_->configure_dc()) {
+            return tl::unexpected(
+                fmt::format("{}: distributed clocks: {}", where, master_->last_error()));
+        }
+    }
     for (auto& s : slaves_) {
         if (auto r = configure_slave(*s); !r) {
+            return r;
+        }
+        if (auto r = synchronise_slave(*s); !r) {
             return r;
         }
     }
@@ -155,6 +167,29 @@ tl::expected<void, std::string> EcatSegment::configure_slave(Slave& s) {
     return {};
 }
 
+tl::expected<void, std::string> EcatSegment::synchronise_slave(Slave& s) {
+    // The same 1C32h/1C33h writes and SYNC0 set-up as `codrive drive --ethercat`, before
+    // SAFE-OP; a cycle below the slave's minimum (1C32h:05) is refused here, never in OP.
+    ethercat::SyncSettings sync;
+    sync.cycle = period_;
+    sync.dc = slave_dc(config_, s.entry);
+    sync.shift = microseconds(slave_sync0_shift_us(config_, s.entry));
+    sync.name = s.entry.name;
+    auto r = ethercat::configure_sync(*master_, s.index, sync);
+    if (!r) {
+        return tl::unexpected(fmt::format("{}:{}: {}", config_.file, s.entry.line, r.error()));
+    }
+    for (const auto& note : r->notes) {
+        emit_(note);
+    }
+    emit_(fmt::format(
+        "{}: sync mode {} ({}), cycle {} µs{}", master_->slave_label(s.index), r->mode,
+        ethercat::sync_mode_name(r->mode), config_.cycle_us,
+        sync.dc ? fmt::format(", SYNC0 shift {} µs", slave_sync0_shift_us(config_, s.entry))
+                : std::string()));
+    return {};
+}
+
 void EcatSegment::start_cycles(TimePoint first, CycleHook hook) {
     hook_ = std::move(hook);
     next_ = first;
@@ -174,6 +209,13 @@ void EcatSegment::cycle(TimePoint now) {
     // cycle is due, never longer: a lost one is counted and the cycle goes on; it never waits
     // for the mailbox.
     const TimePoint deadline = next_;
+    // AL control writes the acyclic side asked for (recovery of a slave that left OP) ride in
+    // this frame; nothing waits for them.
+    for (auto& s : slaves_) {
+        if (const std::uint16_t v = s->al_request.exchange(0, std::memory_order_acquire); v != 0) {
+            (void)master_->queue_al_control(s->index, v);
+        }
+    }
     bool ok = false;
     if (master_->send_process_data()) {
         auto r = master_->receive_process_data(deadline);
@@ -222,7 +264,7 @@ void EcatSegment::cycle(TimePoint now) {
     }
 }
 
-void EcatSegment::acyclic(TimePoint /*now*/) {
+void EcatSegment::acyclic(TimePoint now) {
     EmcyEvent e;
     while (emcy_.pop(e)) {
         // With the drive profile's text (AKD2G "F2002 Output over current"), as the CAN side
@@ -243,6 +285,7 @@ void EcatSegment::acyclic(TimePoint /*now*/) {
             emit_(fmt::format("{}: cyclic exchange failed: {}", where,
                               master_->describe_wkc(probes_wkc_, probes_)));
         }
+        recover_slaves(now);
         probes_ready_.store(false, std::memory_order_release);
     }
     if (const std::uint64_t run = lost_run_.exchange(0, std::memory_order_acquire); run != 0) {
@@ -255,10 +298,87 @@ void EcatSegment::acyclic(TimePoint /*now*/) {
                           where, run, to_ms(period_),
                           lost_frames_.load(std::memory_order_relaxed)));
     }
+    if (last_cycle_ok_.load(std::memory_order_relaxed)) {
+        // A full working counter: every slave is back in OP.
+        for (auto& s : slaves_) {
+            report_back_in_op(*s, now);
+        }
+    }
     if (frame_error_reported_ && last_cycle_ok_.load(std::memory_order_relaxed)) {
         frame_error_reported_ = false;
         emit_(fmt::format("{}: cyclic exchange works again ({} failed cycles)", where,
                           frame_errors_.load(std::memory_order_relaxed) - failed_at_report_ + 1));
+    }
+}
+
+void EcatSegment::report_back_in_op(Slave& s, TimePoint now) {
+    if (!s.left_op) {
+        return;
+    }
+    s.left_op = false;
+    emit_(
+        fmt::format("{}: back in OP after {} OP request(s), {:.0f} ms after it was seen outside OP",
+                    master_->slave_label(s.index), s.op_requests, to_ms(now - s.left_at)));
+}
+
+void EcatSegment::recover_slaves(TimePoint now) {
+    // ETG.1000.6 §6.4.1: a slave that left OP by itself (SAFE-OP with an error: 0x001B SM
+    // watchdog, 0x001A synchronisation lost...) keeps its sync managers and FMMUs, so the
+    // master can bring it back while the cycle runs: acknowledge the error (AL control SAFE-OP
+    // with bit 4), then request OP. Requests repeat with back-off (100 ms doubling to 5 s) while
+    // the slave refuses; the writes ride in the cyclic frame (Master::queue_al_control).
+    constexpr Duration kFirstBackoff = milliseconds(100);
+    constexpr Duration kMaxBackoff = milliseconds(5000);
+    constexpr auto kSafeOp = static_cast<std::uint16_t>(ethercat::AlState::SafeOp);
+    constexpr auto kOp = static_cast<std::uint16_t>(ethercat::AlState::Op);
+    for (auto& s : slaves_) {
+        if (s->index >= probes_.size() || !probes_[s->index].answered) {
+            continue; // a slave that does not answer is named by the working-counter report
+        }
+        const auto& st = probes_[s->index].status;
+        if (st.state == ethercat::AlState::Op) {
+            report_back_in_op(*s, now); // another slave keeps the working counter short
+            continue;
+        }
+        const std::string who = master_->slave_label(s->index);
+        if (!s->left_op) {
+            s->left_op = true;
+            s->stuck_reported = false;
+            s->op_requests = 0;
+            s->left_at = now;
+            s->next_request = now;
+            s->backoff = kFirstBackoff;
+            emit_(
+                fmt::format("{}: left OP, now in {}{}{}", who, ethercat::to_string(st.state),
+                            st.error ? fmt::format(" with AL status code 0x{:04X} ({})", st.code,
+                                                   ethercat::al_status_code_describe(st.code))
+                                     : std::string(),
+                            st.state == ethercat::AlState::SafeOp ? "; requesting OP again" : ""));
+        }
+        if (st.state != ethercat::AlState::SafeOp && st.state != ethercat::AlState::Op) {
+            // Below SAFE-OP its process data sync managers are gone: only a new bring-up
+            // (stop and start) configures them again.
+            if (!s->stuck_reported) {
+                s->stuck_reported = true;
+                emit_(fmt::format("{}: fell to {}, below SAFE-OP: its process data is no longer "
+                                  "configured; restart the controller to bring it back",
+                                  who, ethercat::to_string(st.state)));
+            }
+            continue;
+        }
+        if (now < s->next_request) {
+            continue;
+        }
+        if (st.error) {
+            s->al_request.store(static_cast<std::uint16_t>(kSafeOp | ethercat::kAlErrorFlag),
+                                std::memory_order_release);
+            s->next_request = now + 2 * period_; // OP once the acknowledge is through
+            continue;
+        }
+        s->al_request.store(kOp, std::memory_order_release);
+        ++s->op_requests;
+        s->next_request = now + s->backoff;
+        s->backoff = std::min(s->backoff * 2, kMaxBackoff);
     }
 }
 

@@ -82,8 +82,24 @@ private:
         std::unique_ptr<ethercat::CoeTransport> transport;
         std::vector<std::unique_ptr<drives::Axis>> axes;
         std::atomic<std::uint16_t> emcy_code{0}; ///< written by the acyclic side
+        /// AL control value the acyclic side asks the cycle to send (0 = none).
+        std::atomic<std::uint16_t> al_request{0};
+        // Recovery of a slave that left OP (acyclic side only).
+        bool left_op = false;
+        bool stuck_reported = false;
+        unsigned op_requests = 0;
+        TimePoint left_at{};
+        TimePoint next_request{};
+        Duration backoff{};
     };
+    /// Acyclic side: a slave the probes show outside OP is reported once and asked back to OP
+    /// (error acknowledged first) with back-off; its return is reported.
+    void recover_slaves(TimePoint now);
+    /// "slave 0 (FIO): back in OP after N OP request(s), T ms ..." once, if it had left.
+    void report_back_in_op(Slave& s, TimePoint now);
     tl::expected<void, std::string> configure_slave(Slave& s);
+    /// 1C32h/1C33h and, with `dc`, SYNC0 (ethercat::configure_sync), in PRE-OP.
+    tl::expected<void, std::string> synchronise_slave(Slave& s);
 
     EcatSegmentConfig config_;
     std::size_t bus_index_;

@@ -36,7 +36,9 @@ public:
             error(key_line, "`ethercat` must be a map with `interface`, `cycle_us` and `slaves`");
             return std::nullopt;
         }
-        check_keys(s, {"interface", "cycle_us", "lost_frames_event", "slaves"}, "`ethercat`");
+        check_keys(s,
+                   {"interface", "cycle_us", "lost_frames_event", "dc", "sync0_shift_us", "slaves"},
+                   "`ethercat`");
         if (s["interface"] && s["interface"].IsScalar()) {
             c.iface = s["interface"].as<std::string>();
         } else {
@@ -61,6 +63,22 @@ public:
                 c.lost_frames_event = static_cast<unsigned>(*v);
             }
         }
+        bool dc_readable = true; // a bad `dc` is one finding, not a second one on the shift
+        if (s["dc"]) {
+            const auto dc = flag(s["dc"], "`ethercat.dc`");
+            dc_readable = dc.has_value();
+            c.dc = dc.value_or(false);
+        }
+        std::optional<int> shift_line;
+        if (s["sync0_shift_us"]) {
+            shift_line = line_of(s["sync0_shift_us"]);
+            c.sync0_shift_us =
+                shift(s["sync0_shift_us"], c.cycle_us, "`ethercat.sync0_shift_us`").value_or(0);
+        }
+        if (shift_line && dc_readable && !c.dc) {
+            error(*shift_line, "`ethercat.sync0_shift_us` needs `dc: true` (SYNC0 exists only "
+                               "with distributed clocks)");
+        }
         const YAML::Node slaves = s["slaves"];
         if (!slaves || !slaves.IsSequence()) {
             error(key_line, "`ethercat` needs `slaves:`, a list (each item starts with "
@@ -68,7 +86,7 @@ public:
         } else {
             std::set<unsigned> seen;
             for (const auto& n : slaves) {
-                auto e = parse_slave(n);
+                auto e = parse_slave(n, c);
                 if (e && !seen.insert(e->position).second) {
                     error(e->line,
                           fmt::format("slave position {} is configured twice", e->position));
@@ -137,14 +155,47 @@ private:
         }
     }
 
-    std::optional<EcatSlaveEntry> parse_slave(const YAML::Node& n) {
+    // `dc: true|false`: anything else is a finding naming the key, not a silent false.
+    std::optional<bool> flag(const YAML::Node& n, const std::string& what) {
+        if (n.IsScalar()) {
+            const std::string t = n.Scalar();
+            if (t == "true") {
+                return true;
+            }
+            if (t == "false") {
+                return false;
+            }
+        }
+        error(line_of(n), fmt::format("{} must be true or false, but it is {}", what,
+                                      n.IsScalar()     ? "`" + n.Scalar() + "`"
+                                      : n.IsMap()      ? std::string("a map")
+                                      : n.IsSequence() ? std::string("a list")
+                                                       : std::string("empty")));
+        return std::nullopt;
+    }
+
+    // SYNC0 shift in µs: 0 up to one cycle (a shift of a whole cycle is the next SYNC0).
+    std::optional<std::uint32_t> shift(const YAML::Node& n, std::uint32_t cycle_us,
+                                       const std::string& what) {
+        const auto v = number(n);
+        if (!v || *v < 0 || *v >= static_cast<long long>(cycle_us)) {
+            error(line_of(n), fmt::format("{} must be a number of microseconds, 0..{} (less than "
+                                          "the cycle of {} µs)",
+                                          what, cycle_us - 1U, cycle_us));
+            return std::nullopt;
+        }
+        return static_cast<std::uint32_t>(*v);
+    }
+
+    std::optional<EcatSlaveEntry> parse_slave(const YAML::Node& n, const EcatSegmentConfig& seg) {
         EcatSlaveEntry e;
         e.line = line_of(n);
         if (!n.IsMap()) {
             error(e.line, "an EtherCAT slave must be a map with `position` and `profile`");
             return std::nullopt;
         }
-        check_keys(n, {"position", "name", "profile", "axes"}, "an EtherCAT slave");
+        check_keys(n, {"position", "name", "profile", "axes", "dc", "sync0_shift_us"},
+                   "an EtherCAT slave");
         const auto pos = n["position"] ? number(n["position"]) : std::nullopt;
         if (!pos || *pos < 0 || *pos > 65535) {
             error(e.line, "an EtherCAT slave needs `position: N` (0 = first slave after the "
@@ -170,6 +221,20 @@ private:
             error(e.line, fmt::format("slave {}: `profile` is required (akd2g, ds-bvs, fio, "
                                       "generic)",
                                       e.position));
+        }
+        if (n["dc"]) {
+            e.dc = flag(n["dc"], fmt::format("slave {}: `dc`", e.position));
+        }
+        if (n["sync0_shift_us"]) {
+            e.sync0_shift_us = shift(n["sync0_shift_us"], seg.cycle_us,
+                                     fmt::format("slave {}: `sync0_shift_us`", e.position));
+            const bool dc_readable = !n["dc"] || e.dc.has_value();
+            if (dc_readable && !slave_dc(seg, e)) {
+                error(line_of(n["sync0_shift_us"]),
+                      fmt::format("slave {}: `sync0_shift_us` needs `dc: true` (SYNC0 exists "
+                                  "only with distributed clocks)",
+                                  e.position));
+            }
         }
         if (n["axes"]) {
             if (!n["axes"].IsSequence()) {
@@ -254,6 +319,14 @@ private:
 };
 
 } // namespace
+
+bool slave_dc(const EcatSegmentConfig& segment, const EcatSlaveEntry& slave) {
+    return slave.dc.value_or(segment.dc);
+}
+
+std::uint32_t slave_sync0_shift_us(const EcatSegmentConfig& segment, const EcatSlaveEntry& slave) {
+    return slave.sync0_shift_us.value_or(segment.sync0_shift_us);
+}
 
 BusFileSections split_bus_file(const std::string& text, const std::string& file) {
     BusFileSections out;

@@ -254,9 +254,10 @@ VoidResult Master::map_process_data(std::uint32_t logical_base) {
     output_size_ = out_total;
     image_.assign(out_total + in_total, 0);
     al_probes_.assign(slaves_.size(), AlProbe{});
-    // Room for the largest frame (LRW, probes, one mailbox datagram per slave) up front, so the
-    // cyclic path does not allocate.
-    frame_.reserve(2 + 2 * slaves_.size());
+    al_control_.assign(slaves_.size(), 0);
+    // Room for the largest frame (LRW, probes, AL control writes, one mailbox datagram per
+    // slave) up front, so the cyclic path does not allocate.
+    frame_.reserve(2 + 3 * slaves_.size());
     for (std::size_t i = 0; i < slaves_.size(); ++i) {
         channel(i);
     }
@@ -291,6 +292,7 @@ VoidResult Master::send_process_data() {
     lrw.address = logical_base_;
     std::copy(image_.begin(), image_.end(), lrw.data.begin());
     probes_add();
+    al_control_add();
     // Mailbox traffic rides in the same frame, as much as fits: one datagram per slave whose
     // channel has something to do (ETG.1000.6 §5.6: mailbox access is plain FPWR/FPRD).
     const std::size_t before = frame_used_;
@@ -338,6 +340,49 @@ void Master::probes_done(bool lost) {
     probe_first_ = -1;
 }
 
+bool Master::queue_al_control(std::size_t slave, std::uint16_t value) {
+    if (!mapped_ || slave >= al_control_.size() || value == 0) {
+        return false;
+    }
+    al_control_[slave] = value;
+    return true;
+}
+
+void Master::al_control_add() {
+    al_control_first_ = -1;
+    std::size_t count = 0;
+    for (const std::uint16_t v : al_control_) {
+        count += v != 0 ? 1U : 0U;
+    }
+    if (count == 0 || frame_room() < count * (kDatagramOverhead + 2)) {
+        return;
+    }
+    al_control_first_ = static_cast<int>(frame_used_);
+    for (std::size_t i = 0; i < al_control_.size(); ++i) {
+        if (al_control_[i] != 0) {
+            Datagram& d =
+                add_datagram(Command::Fpwr, slaves_[i].station_address, reg::kAlControl, 2);
+            put_le<std::uint16_t>(d.data.data(), al_control_[i]);
+        }
+    }
+}
+
+void Master::al_control_done(bool lost) {
+    if (al_control_first_ < 0 || lost) {
+        return; // still queued: the next frame carries it again
+    }
+    auto at = static_cast<std::size_t>(al_control_first_);
+    for (auto& v : al_control_) {
+        if (v != 0) {
+            if (frame_[at].wkc == 1) {
+                v = 0;
+            }
+            ++at;
+        }
+    }
+    al_control_first_ = -1;
+}
+
 bool Master::take_al_probes() {
     const bool fresh = probe_fresh_;
     probe_fresh_ = false;
@@ -363,6 +408,7 @@ Result<std::uint16_t> Master::receive_process_data(TimePoint deadline) {
                 // ask for a repeat; nothing waits here for them.
                 mailbox_done(true, clock_.now());
                 probes_done(true);
+                al_control_done(true);
                 deliver_finished();
                 cyclic_note_ = CyclicNote::FrameLost; // put into words by last_error()
                 return fail(EcatErrc::NoResponse);
@@ -380,6 +426,7 @@ Result<std::uint16_t> Master::receive_process_data(TimePoint deadline) {
         stats_.consecutive_lost = 0;
         mailbox_done(false, clock_.now());
         probes_done(false);
+        al_control_done(false);
         const std::uint16_t wkc = frame_[0].wkc;
         if (wkc != expected_wkc_) {
             ++stats_.wkc_errors;

@@ -38,6 +38,10 @@ void on_usr2(int) {
 void on_fault_signal(int) {
     ++g_fault;
 }
+std::atomic<int> g_leave_op{0};
+void on_leave_op_signal(int) {
+    ++g_leave_op;
+}
 
 } // namespace
 
@@ -88,6 +92,10 @@ int main(int argc, char** argv) {
     app.add_option("--fault-on-signal", fault_on_signal,
                    "POS:AXIS — SIGRTMIN injects an over-current fault on this axis (from 1) of "
                    "slave POS, as writing 1 to its control object 2FF0h+AXIS-1 sub 2 does");
+    std::string leave_op_on_signal;
+    app.add_option("--leave-op-on-signal", leave_op_on_signal,
+                   "POS:CODE[:N] — SIGRTMIN+1 drops slave POS from OP to SAFE-OP with AL status "
+                   "CODE (a local error), and it refuses the next N OP requests with CODE");
     app.add_option("--pcap", pcap, "write every frame received and sent to this pcap file");
     app.add_flag("--echo", echo, "return frames untouched (raw-socket floor for benchmarks)");
     CLI11_PARSE(app, argc, argv);
@@ -203,6 +211,30 @@ int main(int argc, char** argv) {
         fault_slave = static_cast<std::size_t>(*pos);
         fault_axis = static_cast<unsigned>(*axis);
     }
+    std::size_t leave_op_slave = 0;
+    std::uint16_t leave_op_code = 0;
+    unsigned leave_op_refusals = 0;
+    if (!leave_op_on_signal.empty()) {
+        const auto a = leave_op_on_signal.find(':');
+        const auto b = a == std::string::npos ? a : leave_op_on_signal.find(':', a + 1);
+        const auto pos = parse_uint(leave_op_on_signal.substr(0, a));
+        const auto code = a == std::string::npos
+                              ? std::nullopt
+                              : parse_uint(leave_op_on_signal.substr(a + 1, b - a - 1));
+        const auto n = b == std::string::npos ? std::optional<std::uint64_t>(0)
+                                              : parse_uint(leave_op_on_signal.substr(b + 1));
+        if (!pos || !code || !n || *pos >= segment.size() || *code == 0 || *code > 0xFFFF ||
+            *n > 1000) {
+            std::fprintf(stderr,
+                         "codrive-ecat-sim: bad --leave-op-on-signal '%s' (POS:CODE[:N], e.g. "
+                         "0:0x001A:2; POS a configured slave, CODE 1..0xFFFF, N 0..1000)\n",
+                         leave_op_on_signal.c_str());
+            return 2;
+        }
+        leave_op_slave = static_cast<std::size_t>(*pos);
+        leave_op_code = static_cast<std::uint16_t>(*code);
+        leave_op_refusals = static_cast<unsigned>(*n);
+    }
     auto link = RawSocketLink::open(iface);
     if (!link) {
         std::fprintf(stderr, "codrive-ecat-sim: %s\n",
@@ -222,6 +254,7 @@ int main(int argc, char** argv) {
     std::signal(SIGUSR1, on_usr1);
     std::signal(SIGUSR2, on_usr2);
     std::signal(SIGRTMIN, on_fault_signal);
+    std::signal(SIGRTMIN + 1, on_leave_op_signal);
     std::minstd_rand drop_rng(20);
     std::uint64_t dropped = 0;
     std::printf("codrive-ecat-sim: %zu slave(s) on %s ready\n", segment.size(), iface.c_str());
@@ -231,6 +264,7 @@ int main(int argc, char** argv) {
     int toggles_seen = 0;
     int mailbox_toggles_seen = 0;
     int faults_seen = 0;
+    int leave_op_seen = 0;
     while (!g_stop) {
         if (const int t = g_fault.load(); t != faults_seen && fault_axis != 0) {
             faults_seen = t;
@@ -242,6 +276,18 @@ int main(int argc, char** argv) {
                        sim::kControlOverCurrent, on, true);
             std::printf("codrive-ecat-sim: slave %zu axis %u: over-current injected\n", fault_slave,
                         fault_axis);
+            std::fflush(stdout);
+        }
+        if (const int t = g_leave_op.load(); t != leave_op_seen && leave_op_code != 0) {
+            leave_op_seen = t;
+            auto& slave = segment.slave(leave_op_slave);
+            if (slave.leave_op(leave_op_code)) {
+                slave.faults().refuse_op_requests = leave_op_refusals;
+                slave.faults().refuse_op_code = leave_op_code;
+            }
+            std::printf("codrive-ecat-sim: slave %zu: left OP with AL status code 0x%04X, "
+                        "refuses the next %u OP request(s)\n",
+                        leave_op_slave, leave_op_code, leave_op_refusals);
             std::fflush(stdout);
         }
         if (const int t = g_toggle.load(); t != toggles_seen) {

@@ -411,6 +411,11 @@ void EscSlave::on_al_control(std::uint16_t value) {
         set_al_status(state_, true, it->second, true);
         return;
     }
+    if (*to == AlState::Op && faults_.refuse_op_requests > 0) {
+        --faults_.refuse_op_requests;
+        set_al_status(state_, true, faults_.refuse_op_code, true);
+        return;
+    }
     if (const std::uint16_t code = check_transition(*to); code != al_code::kNoError) {
         set_al_status(state_, true, code);
         return;
@@ -553,6 +558,17 @@ void EscSlave::unpack_outputs(TimePoint now) {
 Duration EscSlave::watchdog_time() const {
     return nanoseconds(static_cast<std::int64_t>(reg16(reg::kWatchdogDivider) + 2) * 40 *
                        reg16(reg::kWatchdogProcessData));
+}
+
+bool EscSlave::leave_op(std::uint16_t code) {
+    if (state_ != AlState::Op) {
+        return false;
+    }
+    watchdog_armed_ = false;
+    state_ = AlState::SafeOp;
+    set_al_status(state_, true, code, true);
+    app_->on_state_change(AlState::Op, AlState::SafeOp);
+    return true;
 }
 
 bool EscSlave::tick(TimePoint now) {

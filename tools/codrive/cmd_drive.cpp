@@ -428,19 +428,22 @@ int run_drive_ecat(const DriveArgs& a) {
         restore.assignment = std::move(*current);
     }
     const Duration cycle = microseconds(a.cycle_us);
-    if (auto r = ethercat::write_sync_objects(m, *slave, {cycle, a.dc}); !r) {
-        fmt::print(stderr, "codrive: {}\n", r.error());
-        return kExitFailure;
-    }
     if (a.dc) {
         if (auto r = m.configure_dc(); !r) {
             fmt::print(stderr, "codrive: distributed clocks: {}\n", m.last_error());
             return kExitFailure;
         }
-        if (auto r = m.configure_sync0(*slave, cycle); !r) {
-            fmt::print(stderr, "codrive: SYNC0: {}\n", m.last_error());
-            return kExitFailure;
-        }
+    }
+    ethercat::SyncSettings sync;
+    sync.cycle = cycle;
+    sync.dc = a.dc;
+    auto synced = ethercat::configure_sync(m, *slave, sync);
+    if (!synced) {
+        fmt::print(stderr, "codrive: {}\n", synced.error());
+        return kExitFailure;
+    }
+    for (const auto& note : synced->notes) {
+        fmt::print("{}\n", note);
     }
     if (!m.set_state_all(ethercat::AlState::Op)) {
         fmt::print(stderr, "codrive: OP: {}\n", m.last_error());

@@ -104,27 +104,51 @@ tl::expected<DriveLayout, std::string> choose_layout(const drives::Profile& prof
     return profile_layout(drives::generic_profile(), axis, mode, LayoutSource::Generic);
 }
 
-tl::expected<void, std::string> write_sync_objects(Master& master, std::size_t slave,
-                                                   const SyncSettings& sync) {
-    const std::string who = master.slave_label(slave);
+const char* sync_mode_name(std::uint16_t mode) {
+    switch (mode) {
+    case 0:
+        return "free run";
+    case 1:
+        return "SM synchronous";
+    case 2:
+        return "DC SYNC0";
+    case 3:
+        return "DC SYNC1";
+    case 0x22:
+        return "synchronous with SM2";
+    default:
+        return "unknown sync mode";
+    }
+}
+
+tl::expected<SyncReport, std::string> write_sync_objects(Master& master, std::size_t slave,
+                                                         const SyncSettings& sync) {
+    const std::string who = sync.name.empty()
+                                ? master.slave_label(slave)
+                                : fmt::format("{} \"{}\"", master.slave_label(slave), sync.name);
     const auto cycle_ns = static_cast<std::uint32_t>(
         std::chrono::duration_cast<std::chrono::nanoseconds>(sync.cycle).count());
+    SyncReport report;
     // ETG.1020 §21.1.3.2: 1C32h:05 minimum cycle time (ns); the AKD2G reports 250 µs
     // (manual 000 ~8848). A slave without it states no minimum.
     if (auto min = master.sdo_read<std::uint32_t>(slave, 0x1C32, 5)) {
+        report.min_cycle_ns = *min;
         if (*min != 0 && cycle_ns < *min) {
             return tl::unexpected(fmt::format(
                 "{}: cycle time {} µs is shorter than the slave's minimum cycle time {} µs "
                 "(0x1C32:05)",
                 who, cycle_ns / 1000U, *min / 1000U));
         }
-    } else if (!is_absent(min.error())) {
+    } else if (is_absent(min.error())) {
+        report.notes.push_back(
+            fmt::format("{}: has no 0x1C32:05 (it states no minimum cycle time)", who));
+    } else {
         return tl::unexpected(fmt::format("{}: cannot read the minimum cycle time (0x1C32:05): {}",
                                           who, master.last_error()));
     }
     // 1C32h:01 / 1C33h:01 synchronisation type: 0 free run, 2 DC SYNC0 (ETG.1020 §21.1.3.1);
     // the FIO manual has the master set them (004 ~4088).
-    const std::uint16_t mode = sync.dc ? 2 : 0;
+    report.mode = sync.dc ? 2 : 0;
     struct Write {
         std::uint16_t index;
         std::uint8_t sub;
@@ -132,25 +156,47 @@ tl::expected<void, std::string> write_sync_objects(Master& master, std::size_t s
         bool u16;
         const char* what;
     };
-    const std::array writes{Write{0x1C32, 1, mode, true, "output sync mode"},
+    const std::array writes{Write{0x1C32, 1, report.mode, true, "output sync mode"},
                             Write{0x1C32, 2, cycle_ns, false, "cycle time"},
-                            Write{0x1C33, 1, mode, true, "input sync mode"}};
+                            Write{0x1C33, 1, report.mode, true, "input sync mode"}};
     for (const Write& w : writes) {
         VoidResult r = w.u16 ? master.sdo_write<std::uint16_t>(slave, w.index, w.sub,
                                                                static_cast<std::uint16_t>(w.value))
                              : master.sdo_write<std::uint32_t>(slave, w.index, w.sub, w.value);
-        if (r || is_absent(r.error())) {
+        if (r) {
+            continue;
+        }
+        if (is_absent(r.error())) {
+            report.notes.push_back(fmt::format("{}: has no 0x{:04X}:{:02X} ({}); not written", who,
+                                               w.index, w.sub, w.what));
             continue;
         }
         if (r.error() == SdoAbort::ReadOnly) {
             // The slave sets it itself: the AKD2G's 1C32h:01/:02 are read-only, derived from
             // SYNC0 or 60C1h (manual §5.2.50).
+            report.notes.push_back(fmt::format(
+                "{}: 0x{:04X}:{:02X} ({}) is read-only, the slave sets it itself; not written", who,
+                w.index, w.sub, w.what));
             continue;
         }
         return tl::unexpected(fmt::format("{}: writing {} 0x{:04X}:{:02X} = {} failed: {}", who,
                                           w.what, w.index, w.sub, w.value, master.last_error()));
     }
-    return {};
+    return report;
+}
+
+tl::expected<SyncReport, std::string> configure_sync(Master& master, std::size_t slave,
+                                                     const SyncSettings& sync) {
+    auto report = write_sync_objects(master, slave, sync);
+    if (!report || !sync.dc) {
+        return report;
+    }
+    // ETG.1020 §21.1.3.1: sync mode 2 runs the slave's application on SYNC0, which the master
+    // programs in the ESC's DC unit (0x0980..0x09A3) at the cycle time.
+    if (!master.configure_sync0(slave, sync.cycle, sync.shift)) {
+        return tl::unexpected(fmt::format("DC SYNC0: {}", master.last_error()));
+    }
+    return report;
 }
 
 } // namespace codrive::ethercat

@@ -6,6 +6,9 @@
 
 #include <gtest/gtest.h>
 
+#include <fstream>
+#include <sstream>
+
 using namespace codrive;
 using namespace codrive::controller;
 
@@ -101,4 +104,101 @@ TEST(ControllerBusFile, FileWithoutAnySectionIsRejected) {
     ASSERT_EQ(s.errors.size(), 1U);
     EXPECT_NE(s.errors[0].find("neither a `bus:` (CAN) nor an `ethercat:` section"),
               std::string::npos);
+}
+
+namespace {
+std::string joined(const std::vector<std::string>& errors) {
+    std::string all;
+    for (const auto& e : errors) {
+        all += e + "\n";
+    }
+    return all;
+}
+} // namespace
+
+TEST(ControllerBusFile, DcAndSync0ShiftPerSegmentWithASlaveOverride) {
+    const std::string text = "ethercat:\n"
+                             "  interface: ecm0\n"
+                             "  cycle_us: 1000\n"
+                             "  dc: true\n"
+                             "  sync0_shift_us: 100\n"
+                             "  slaves:\n"
+                             "    - {position: 0, profile: fio}\n"
+                             "    - {position: 1, profile: fio, dc: false}\n"
+                             "    - {position: 2, profile: fio, sync0_shift_us: 250}\n";
+    const auto s = split_bus_file(text, "dc.yml");
+    ASSERT_TRUE(s.ethercat) << joined(s.errors);
+    const auto& seg = *s.ethercat;
+    EXPECT_TRUE(slave_dc(seg, seg.slaves[0]));
+    EXPECT_EQ(slave_sync0_shift_us(seg, seg.slaves[0]), 100U);
+    EXPECT_FALSE(slave_dc(seg, seg.slaves[1]));
+    EXPECT_TRUE(slave_dc(seg, seg.slaves[2]));
+    EXPECT_EQ(slave_sync0_shift_us(seg, seg.slaves[2]), 250U);
+    // Without `dc` a segment runs free (sync mode 0).
+    const auto plain = split_bus_file("ethercat:\n  interface: ecm0\n  slaves:\n"
+                                      "    - {position: 0, profile: fio}\n",
+                                      "p.yml");
+    ASSERT_TRUE(plain.ethercat) << joined(plain.errors);
+    EXPECT_FALSE(slave_dc(*plain.ethercat, plain.ethercat->slaves[0]));
+}
+
+TEST(ControllerBusFile, BadDcAndSync0ShiftValuesAreFindingsWithTheirLines) {
+    const std::string text = "ethercat:\n"
+                             "  interface: ecm0\n"
+                             "  cycle_us: 1000\n"
+                             "  dc: maybe\n"
+                             "  slaves:\n"
+                             "    - {position: 0, profile: fio, dc: [1]}\n"
+                             "    - {position: 1, profile: fio, dc: true, sync0_shift_us: 1000}\n"
+                             "    - {position: 2, profile: fio, dc: false, sync0_shift_us: 5}\n"
+                             "    - {position: 3, profile: fio, dc: true, sync0_shift_us: -1}\n";
+    const auto s = split_bus_file(text, "e.yml");
+    EXPECT_FALSE(s.ethercat);
+    const std::string all = joined(s.errors);
+    EXPECT_NE(all.find("e.yml:4: `ethercat.dc` must be true or false, but it is `maybe`"),
+              std::string::npos)
+        << all;
+    EXPECT_NE(all.find("e.yml:6: slave 0: `dc` must be true or false, but it is a list"),
+              std::string::npos)
+        << all;
+    EXPECT_NE(all.find("e.yml:7: slave 1: `sync0_shift_us` must be a number of microseconds, "
+                       "0..999 (less than the cycle of 1000 µs)"),
+              std::string::npos)
+        << all;
+    EXPECT_NE(all.find("e.yml:8: slave 2: `sync0_shift_us` needs `dc: true` (SYNC0 exists only "
+                       "with distributed clocks)"),
+              std::string::npos)
+        << all;
+    EXPECT_NE(all.find("e.yml:9: slave 3: `sync0_shift_us` must be a number of microseconds"),
+              std::string::npos)
+        << all;
+    EXPECT_EQ(s.errors.size(), 5U) << all;
+    // A shift on the segment without DC names the segment key.
+    const auto no_dc = split_bus_file("ethercat:\n  interface: ecm0\n  sync0_shift_us: 10\n"
+                                      "  slaves:\n    - {position: 0, profile: fio}\n",
+                                      "n.yml");
+    ASSERT_EQ(no_dc.errors.size(), 1U) << joined(no_dc.errors);
+    EXPECT_EQ(no_dc.errors[0], "n.yml:3: `ethercat.sync0_shift_us` needs `dc: true` (SYNC0 "
+                               "exists only with distributed clocks)");
+}
+
+TEST(ControllerBusFile, TheDcExampleOfTheDocsParsesAsPrinted) {
+    // docs/bus-file.md, the `dc: true` example, exactly as printed there.
+    std::ifstream in(std::string(CODRIVE_SOURCE_DIR) + "/docs/bus-file.md");
+    std::stringstream doc;
+    doc << in.rdbuf();
+    const std::string text = doc.str();
+    const auto at = text.find("sync0_shift_us: 100");
+    ASSERT_NE(at, std::string::npos) << "docs/bus-file.md lost its DC example";
+    const auto begin = text.rfind("```yaml\n", at);
+    const auto end = text.find("```", at);
+    ASSERT_TRUE(begin != std::string::npos && end != std::string::npos);
+    const auto s = split_bus_file(text.substr(begin + 8, end - begin - 8), "bus-file.md");
+    ASSERT_TRUE(s.ethercat) << joined(s.errors);
+    const auto& seg = *s.ethercat;
+    EXPECT_EQ(seg.cycle_us, 1000U);
+    ASSERT_EQ(seg.slaves.size(), 2U);
+    EXPECT_TRUE(slave_dc(seg, seg.slaves[0]));
+    EXPECT_EQ(slave_sync0_shift_us(seg, seg.slaves[0]), 100U);
+    EXPECT_FALSE(slave_dc(seg, seg.slaves[1]));
 }

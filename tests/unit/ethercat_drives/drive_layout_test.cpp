@@ -92,22 +92,42 @@ TEST_F(DriveLayoutTest, AnUnknownSlaveWithoutControlwordGetsTheGenericLayoutThat
     EXPECT_GE(master_.slaves()[3].input_bytes, 6U);
 }
 
+SyncSettings sync_at(Duration cycle, bool dc, std::string name = {}) {
+    SyncSettings s;
+    s.cycle = cycle;
+    s.dc = dc;
+    s.name = std::move(name);
+    return s;
+}
+
 TEST_F(DriveLayoutTest, SyncObjectsAreWrittenWhereWritableAndTheMinimumCycleRefused) {
     // FIO §7.13.22/§7.13.23: sync type and cycle time writable; the master sets them.
-    ASSERT_TRUE(write_sync_objects(master_, 0, {microseconds(2000), false}));
+    auto fio = write_sync_objects(master_, 0, sync_at(microseconds(2000), false));
+    ASSERT_TRUE(fio) << fio.error();
+    EXPECT_EQ(fio->mode, 0U);
     EXPECT_EQ(master_.sdo_read<std::uint32_t>(0, 0x1C32, 2).value_or(0), 2'000'000U);
     EXPECT_EQ(master_.sdo_read<std::uint16_t>(0, 0x1C32, 1).value_or(9), 0U);
     EXPECT_EQ(master_.sdo_read<std::uint16_t>(0, 0x1C33, 1).value_or(9), 0U);
-    ASSERT_TRUE(write_sync_objects(master_, 0, {microseconds(1000), true}));
+    ASSERT_TRUE(write_sync_objects(master_, 0, sync_at(microseconds(1000), true)));
     EXPECT_EQ(master_.sdo_read<std::uint16_t>(0, 0x1C32, 1).value_or(9), 2U); // DC SYNC0
     EXPECT_EQ(master_.sdo_read<std::uint16_t>(0, 0x1C33, 1).value_or(9), 2U);
     // AKD2G §5.2.50: 250 µs minimum in 1C32h:05; sync type and cycle read-only (left alone).
-    auto fast = write_sync_objects(master_, 1, {microseconds(200), false});
+    auto fast = write_sync_objects(master_, 1, sync_at(microseconds(200), false));
     ASSERT_FALSE(fast);
     EXPECT_EQ(fast.error(), "slave 1 (AKD2G): cycle time 200 µs is shorter than the slave's "
                             "minimum cycle time 250 µs (0x1C32:05)");
-    EXPECT_TRUE(write_sync_objects(master_, 1, {microseconds(250), false}));
+    auto named = write_sync_objects(master_, 1, sync_at(microseconds(200), false, "spindle"));
+    ASSERT_FALSE(named);
+    EXPECT_EQ(named.error(), "slave 1 (AKD2G) \"spindle\": cycle time 200 µs is shorter than "
+                             "the slave's minimum cycle time 250 µs (0x1C32:05)");
+    auto akd = write_sync_objects(master_, 1, sync_at(microseconds(250), false));
+    ASSERT_TRUE(akd) << akd.error();
+    EXPECT_EQ(akd->min_cycle_ns, 250'000U);
     EXPECT_EQ(master_.sdo_read<std::uint32_t>(1, 0x1C32, 2).value_or(9), 0U); // untouched
+    // What was left alone is said (an info line), not silently skipped.
+    ASSERT_FALSE(akd->notes.empty());
+    EXPECT_EQ(akd->notes[0], "slave 1 (AKD2G): 0x1C32:01 (output sync mode) is read-only, the "
+                             "slave sets it itself; not written");
 }
 
 } // namespace

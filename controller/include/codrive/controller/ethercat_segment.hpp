@@ -22,6 +22,8 @@ struct EcatSlaveEntry {
     std::string name;    ///< shown in messages
     std::string profile; ///< "akd2g", "ds-bvs", "fio", "generic"
     std::vector<EcatAxisEntry> axes;
+    std::optional<bool> dc;                      ///< overrides the segment's `dc`
+    std::optional<std::uint32_t> sync0_shift_us; ///< overrides the segment's `sync0_shift_us`
     int line = 0;
 };
 
@@ -33,8 +35,20 @@ struct EcatSegmentConfig {
     /// Cyclic frames lost in a row that raise an event naming the segment (each lost frame is
     /// counted in the statistics; the cycle never waits longer than its period for one).
     unsigned lost_frames_event = 3;
+    /// Distributed clocks for every slave (a slave's own `dc` overrides it): the master runs
+    /// its DC setup, programs SYNC0 at the cycle and writes sync mode 2 (DC SYNC0) to
+    /// 1C32h:01/1C33h:01 (ETG.1020 §21.1.3.1); without it, free run (0).
+    bool dc = false;
+    /// SYNC0 start after the cycle's time grid, µs (0..cycle_us − 1; only with `dc`).
+    std::uint32_t sync0_shift_us = 0;
     std::vector<EcatSlaveEntry> slaves;
 };
+
+/// The DC setting of one slave: its own `dc`, else the segment's.
+[[nodiscard]] bool slave_dc(const EcatSegmentConfig& segment, const EcatSlaveEntry& slave);
+/// The SYNC0 shift of one slave (µs): its own `sync0_shift_us`, else the segment's.
+[[nodiscard]] std::uint32_t slave_sync0_shift_us(const EcatSegmentConfig& segment,
+                                                 const EcatSlaveEntry& slave);
 
 /// What from_file() finds in a bus file: CAN buses and EtherCAT segments.
 struct BusFileSections {

@@ -382,6 +382,13 @@ public:
     bool take_al_probes();
     [[nodiscard]] const std::vector<AlProbe>& al_probes() const { return al_probes_; }
     [[nodiscard]] std::uint16_t probed_wkc() const { return probed_wkc_; }
+    /// Asks for an AL control write (0x0120: requested state, bit 4 = error acknowledge,
+    /// ETG.1000.6 §6.4.1) to ride in the next cyclic frame: an FPWR next to the LRW, no extra
+    /// frame, no wait, no allocation. Kept until a frame brings it to the slave (WKC 1), so a
+    /// lost frame repeats it. For recovering a slave that left OP while the cycle runs; the
+    /// result shows in the AL status probes of later frames. False for an unknown slave or
+    /// before the process data is mapped.
+    bool queue_al_control(std::size_t slave, std::uint16_t value);
     /// The diagnosis sentence (see diagnose_wkc()) from probe results; touches no link.
     [[nodiscard]] std::string describe_wkc(std::uint16_t wkc,
                                            std::span<const AlProbe> probes) const;
@@ -450,6 +457,8 @@ private:
     void deliver_finished();
     void probes_add();
     void probes_done(bool lost);
+    void al_control_add();
+    void al_control_done(bool lost);
     /// Programs SM2/SM3 and FMMU0/1 of one slave for its part of the process image.
     VoidResult write_process_data_config(std::size_t slave, std::uint32_t logical_base);
     /// A mapped slave back from below SAFE-OP: its PDO layout checked, its SMs/FMMUs rewritten.
@@ -489,6 +498,8 @@ private:
     std::uint16_t probe_wkc_ = 0;
     std::uint16_t probed_wkc_ = 0;
     std::vector<AlProbe> al_probes_;
+    std::vector<std::uint16_t> al_control_; ///< per slave: AL control value to write, 0 = none
+    int al_control_first_ = -1; ///< position of the first AL control datagram in the frame
     ProcessDataStats stats_;
     std::optional<std::size_t> dc_reference_;
 };

@@ -28,6 +28,9 @@ struct EscFaults {
     bool mailbox_silent = false; ///< consumes mailbox requests but never answers
     /// Refuse an up-transition into a state with this AL status code.
     std::map<ethercat::AlState, std::uint16_t> refuse;
+    /// Requests for OP still to refuse with `refuse_op_code` (after leave_op()).
+    unsigned refuse_op_requests = 0;
+    std::uint16_t refuse_op_code = 0;
 };
 
 /// Where the frame is in the chain (for auto-increment addressing and DC receive times).
@@ -55,6 +58,9 @@ public:
     /// application applies its bus-loss reaction (ETG.1000.6 §6.4; FIO: 6007h). True if it
     /// expired now.
     bool tick(TimePoint now);
+    /// A local error in OP (ETG.1000.6 §6.4.1.3): the slave drops to SAFE-OP with the error
+    /// flag and `code` and the application applies its bus-loss reaction. False if not in OP.
+    bool leave_op(std::uint16_t code);
     /// The process data watchdog time set in 0x0400 (divider, 40 ns ticks) and 0x0420.
     [[nodiscard]] Duration watchdog_time() const;
     /// Times the SM watchdog expired.
