@@ -5,6 +5,7 @@
 #include <fmt/format.h>
 #include <pugixml.hpp>
 
+#include <optional>
 #include <sstream>
 #include <vector>
 
@@ -79,12 +80,26 @@ void add_flags(pugi::xml_node parent, const SubObject& s) {
     }
 }
 
+// MinValue and MaxValue are ETG.2000 HexDecValues: "#x" and hex digits, or a signed decimal
+// (not the "0x" of a CiA 306 EDS). Written for integer types only: a REAL has no such form.
+std::optional<std::string> hex_dec_text(const Value& v) {
+    if (is_signed_integer(v.type()) && v.as_int()) {
+        return std::to_string(*v.as_int());
+    }
+    if (is_unsigned_integer(v.type()) && v.as_uint()) {
+        return fmt::format("#x{:0{}X}", *v.as_uint(), 2 * v.size());
+    }
+    return std::nullopt;
+}
+
 // DefaultData is the value's little-endian byte image in hex (ETG.2000 §5.4.3.4 hexBinary).
 void add_info(pugi::xml_node parent, const SubObject& s) {
     pugi::xml_node info = parent.append_child("Info");
-    if (s.low_limit && s.high_limit) {
-        info.append_child("MinValue").text().set(eds_value_text(*s.low_limit).c_str());
-        info.append_child("MaxValue").text().set(eds_value_text(*s.high_limit).c_str());
+    const auto low = s.low_limit ? hex_dec_text(*s.low_limit) : std::nullopt;
+    const auto high = s.high_limit ? hex_dec_text(*s.high_limit) : std::nullopt;
+    if (low && high) {
+        info.append_child("MinValue").text().set(low->c_str());
+        info.append_child("MaxValue").text().set(high->c_str());
     }
     std::string data;
     for (const std::uint8_t b : s.value.bytes()) {
