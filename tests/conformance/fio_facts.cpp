@@ -262,6 +262,7 @@ const std::array kFacts{
     F{0x60A4, 2, DT::Unsigned32, Acc::Rw, 0x3E8, "§7.13.139", 7874},
     F{0x60A4, 3, DT::Unsigned32, Acc::Rw, 0x3E8, "§7.13.139", 7883},
     F{0x60A4, 4, DT::Unsigned32, Acc::Rw, 0x3E8, "§7.13.139", 7892},
+    F{0x60A8, 0, DT::Unsigned32, Acc::Rw, 0xFF410000, "§7.13.140", 7905},
     F{0x60A9, 0, DT::Unsigned32, Acc::Rw, 0xB44700, "§7.13.141", 7935},
     F{0x60B0, 0, DT::Integer32, Acc::Rw, 0, "§7.13.142", 7963},
     F{0x60B1, 0, DT::Integer32, Acc::Rw, 0, "§7.13.143", 7978},
@@ -287,8 +288,15 @@ const std::array kFacts{
 };
 // clang-format on
 
-// Facts the simulator gets wrong where the fix belongs to another part (docs/conformance.md).
-const std::array<KnownDivergence, 0> kKnown{};
+// Facts the device files get wrong where the fix belongs to another part (docs/conformance.md).
+// clang-format off
+const std::array<KnownDivergence, 4> kKnown{{
+    {0x1001, 0, "device files: build_device_dictionary adds 1001h only for CANopen drives (quirks.canopen); the FIO has it over CoE (§7.13.2) and CiA 306 lists it as mandatory", In::DeviceFile, 0x1001},
+    {0x1003, 0, kStackObjectsNotExported, In::DeviceFile, 0x1003},
+    {0x1010, 0, kStackObjectsNotExported, In::DeviceFile, 0x1011},
+    {0x1600, 0, kStackObjectsNotExported, In::DeviceFile, 0x1C33},
+}};
+// clang-format on
 
 } // namespace
 
