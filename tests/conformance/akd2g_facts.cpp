@@ -370,6 +370,9 @@ const std::array kFacts{
     F{0x68BC, 0, DT::Integer32, Acc::Ro, std::nullopt, "§5.4.40.2", 12428},
     F{0x60BD, 0, DT::Integer32, Acc::Ro, std::nullopt, "§5.4.41.1", 12439},
     F{0x68BD, 0, DT::Integer32, Acc::Ro, std::nullopt, "§5.4.41.2", 12444},
+    // §5.1 lists 6066h/6866h in its object table only (no §5.4 section).
+    F{0x6066, 0, DT::Unsigned16, Acc::Rw, std::nullopt, "§5.1 (object table)", 7709},
+    F{0x6866, 0, DT::Unsigned16, Acc::Rw, std::nullopt, "§5.1 (object table)", 7826},
     // Values the manual states in prose next to the tables.
     F{0x1000, 0, DT::Unsigned32, Acc::Ro, 0x00020192, "§5.2.1 (CANopen over CANbus)", 7943},
     F{0x1003, 11, DT::Unsigned32, Acc::Absent, std::nullopt, "§5.2.3 (at most 10 entries)", 7965},
