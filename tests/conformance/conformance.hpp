@@ -121,13 +121,6 @@ struct KnownDivergence {
     std::uint16_t last = 0;
 };
 
-/// Why a device file lacks a communication object: the files hold the dictionary the master
-/// builds from the profile (drives::build_device_dictionary), and the objects the CANopen and CoE
-/// stacks make are not exported (devices/README.md, "What the files do not hold").
-inline constexpr const char* kStackObjectsNotExported =
-    "device files: the objects the CANopen/CoE stacks make (error history, SYNC/EMCY/guarding, "
-    "store/restore, SDO server, PDO and sync-manager objects) are not exported (devices/README.md)";
-
 /// A drive's device description files, read the way a user's tool reads them: the EDS (CiA 306)
 /// with codrive's EDS parser, the ESI (ETG.2000) with pugixml. Either may be missing (a drive
 /// without that bus); a file that cannot be read is reported in every fact checked against it.

@@ -288,15 +288,9 @@ const std::array kFacts{
 };
 // clang-format on
 
-// Facts the device files get wrong where the fix belongs to another part (docs/conformance.md).
-// clang-format off
-const std::array<KnownDivergence, 4> kKnown{{
-    {0x1001, 0, "device files: build_device_dictionary adds 1001h only for CANopen drives (quirks.canopen); the FIO has it over CoE (§7.13.2) and CiA 306 lists it as mandatory", In::DeviceFile, 0x1001},
-    {0x1003, 0, kStackObjectsNotExported, In::DeviceFile, 0x1003},
-    {0x1010, 0, kStackObjectsNotExported, In::DeviceFile, 0x1011},
-    {0x1600, 0, kStackObjectsNotExported, In::DeviceFile, 0x1C33},
-}};
-// clang-format on
+// No known divergence: the simulators, the profile and the device files agree with every fact
+// of the table (docs/conformance.md).
+const std::array<KnownDivergence, 0> kKnown{};
 
 } // namespace
 

@@ -33,9 +33,20 @@ const drives::Profile& profile_of(const devices::DeviceFile& f) {
     return p != nullptr ? *p : drives::generic_profile();
 }
 
-ObjectDictionary master_dictionary(const devices::DeviceFile& f) {
+// The master's dictionary of the profile plus the objects the stack builds around it: what a
+// file must hold. The EDS carries the CANopen stack's objects on a drive with a CAN interface,
+// else (and the ESI always) the CoE stack's.
+ObjectDictionary file_dictionary(const devices::DeviceFile& f, bool esi) {
+    const drives::Profile& p = profile_of(f);
     ObjectDictionary od;
-    drives::build_device_dictionary(od, profile_of(f), f.axes);
+    drives::build_device_dictionary(od, p, f.axes);
+    const auto stack = !esi && p.quirks.canopen ? devices::Stack::CanOpen : devices::Stack::Coe;
+    const ObjectDictionary extra = devices::stack_objects(p, f.axes, stack);
+    for (const auto& [index, obj] : extra.objects()) {
+        EXPECT_EQ(od.find(index), nullptr)
+            << f.stem << ": the stack and the profile both make " << std::hex << index;
+        od.insert(obj);
+    }
     return od;
 }
 
@@ -103,7 +114,7 @@ TEST(DeviceFiles, EdsParsesWithoutErrorsAndHoldsTheMasterDictionary) {
         for (const auto& finding : desc->findings) {
             EXPECT_NE(finding.severity, EdsSeverity::Error) << format_finding(finding);
         }
-        const ObjectDictionary od = master_dictionary(f);
+        const ObjectDictionary od = file_dictionary(f, false);
         ASSERT_EQ(desc->od.size(), od.size()) << path;
         for (const auto& [index, obj] : od.objects()) {
             const Object* got = desc->od.find(index);
@@ -146,7 +157,7 @@ TEST(DeviceFiles, EsiLoadsWithPugixmlWithTheProfileIdentityAndEveryObject) {
         const pugi::xml_parse_result r = doc.load_file(path.c_str());
         ASSERT_TRUE(r) << path << ": " << r.description();
         const drives::Profile& p = profile_of(f);
-        const ObjectDictionary od = master_dictionary(f);
+        const ObjectDictionary od = file_dictionary(f, true);
         const pugi::xml_node info = doc.child("EtherCATInfo");
         char want[16];
         std::snprintf(want, sizeof want, "#x%08X", p.identity.vendor_id);

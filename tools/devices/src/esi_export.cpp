@@ -270,7 +270,7 @@ void add_sm(pugi::xml_node device, const char* kind, unsigned address, unsigned 
 } // namespace
 
 std::string export_esi(const drives::Profile& p, unsigned axes, std::string_view vendor_name) {
-    const DeviceDescription d = profile_description(p, axes, vendor_name);
+    const DeviceDescription d = profile_description(p, axes, vendor_name, Stack::Coe);
     pugi::xml_document doc;
     pugi::xml_node decl = doc.append_child(pugi::node_declaration);
     decl.append_attribute("version").set_value("1.0");
