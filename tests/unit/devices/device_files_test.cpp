@@ -211,6 +211,14 @@ TEST(DeviceFiles, EsiLoadsWithPugixmlWithTheProfileIdentityAndEveryObject) {
                         EXPECT_FALSE(e.child("DataType"));
                         continue;
                     }
+                    // DS-BVS manual §6.2.20: the fixed map 1609h names 4700h:01..08 (Target
+                    // Motion Info, §6.2.70); the profile describes only 4700h:02 so far.
+                    if (f.stem == "ds-bvs" && index == 0x4700 && sub != 2) {
+                        EXPECT_EQ(s, nullptr) << "4700h:" << unsigned(sub)
+                                              << " is described now: drop this exception";
+                        EXPECT_FALSE(e.child("DataType"));
+                        continue;
+                    }
                     ASSERT_NE(s, nullptr) << path << " " << kind << " " << e.child_value("Index");
                     EXPECT_TRUE(s->pdo_mappable) << path << " " << e.child_value("Index");
                 }

@@ -5,6 +5,7 @@
 #include <fmt/format.h>
 #include <pugixml.hpp>
 
+#include <algorithm>
 #include <optional>
 #include <sstream>
 #include <vector>
@@ -198,43 +199,45 @@ struct PdoSpec {
     std::uint16_t index = 0;
     std::vector<std::uint32_t> entries; ///< index << 16 | sub << 8 | bits
     bool assigned = false;
+    bool fixed = false;
 };
 
-// The profile's default PDOs: the maps its manual gives (FIO §7.13.11-§7.13.18), else the
-// cyclic synchronous position layout of every axis (the mode an EtherCAT master runs).
-void default_pdos(const drives::Profile& p, unsigned axes, std::vector<PdoSpec>& rx,
-                  std::vector<PdoSpec>& tx) {
-    if (!p.default_pdo_maps.empty()) {
-        for (const drives::DefaultPdoMap& m : p.default_pdo_maps) {
-            const bool is_rx = m.index < 0x1A00;
-            auto& list = is_rx ? rx : tx;
-            list.push_back({m.index, {m.entries.begin(), m.entries.end()}, list.empty()});
-        }
-        return;
+// ETG.2000 RxPdo/TxPdo: every mapping object of the dictionary (first..last) with its default
+// entries, the same defaults its Dictionary object states; Sm for the maps the sync manager's
+// assignment object (1C12h/1C13h, ETG.1000.6 §5.6.7.4) assigns by default, Fixed for a map
+// whose entry count cannot be written.
+std::vector<PdoSpec> dictionary_pdos(const ObjectDictionary& od, std::uint16_t first,
+                                     std::uint16_t last, std::uint16_t assignment) {
+    std::vector<std::uint16_t> assigned;
+    const auto count = od.get<std::uint8_t>(assignment, 0).value_or(0);
+    for (unsigned i = 1; i <= count; ++i) {
+        assigned.push_back(
+            od.get<std::uint16_t>(assignment, static_cast<std::uint8_t>(i)).value_or(0));
     }
-    const drives::ModeLayout* l = p.layout(drives::cia402::Mode::CyclicSyncPosition);
-    if (l == nullptr) {
-        return;
-    }
-    for (unsigned axis = 1; axis <= axes; ++axis) {
-        const auto n = static_cast<std::uint16_t>(l->first_pdo + axis - 1);
-        PdoSpec r{static_cast<std::uint16_t>(0x1600 + n), {}, true};
-        PdoSpec t{static_cast<std::uint16_t>(0x1A00 + n), {}, true};
-        for (const drives::PdoEntry& e : l->rx) {
-            r.entries.push_back(drives::mapping_value(p, e, axis));
+    std::vector<PdoSpec> out;
+    for (const auto& [index, obj] : od.objects()) {
+        if (index < first || index > last) {
+            continue;
         }
-        for (const drives::PdoEntry& e : l->tx) {
-            t.entries.push_back(drives::mapping_value(p, e, axis));
+        PdoSpec pdo;
+        pdo.index = index;
+        pdo.assigned = std::find(assigned.begin(), assigned.end(), index) != assigned.end();
+        const SubObject* n = od.find(index, 0);
+        pdo.fixed = n == nullptr || !writable(n->access);
+        const auto entries = od.get<std::uint8_t>(index, 0).value_or(0);
+        for (unsigned i = 1; i <= entries; ++i) {
+            pdo.entries.push_back(
+                od.get<std::uint32_t>(index, static_cast<std::uint8_t>(i)).value_or(0));
         }
-        rx.push_back(std::move(r));
-        tx.push_back(std::move(t));
+        out.push_back(std::move(pdo));
     }
+    return out;
 }
 
 void add_pdo(pugi::xml_node device, const char* element, const PdoSpec& pdo, unsigned sm,
              const ObjectDictionary& od) {
     pugi::xml_node x = device.append_child(element);
-    x.append_attribute("Fixed").set_value("0");
+    x.append_attribute("Fixed").set_value(pdo.fixed ? "1" : "0");
     if (pdo.assigned) {
         x.append_attribute("Sm").set_value(sm);
     }
@@ -319,13 +322,10 @@ std::string export_esi(const drives::Profile& p, unsigned axes, std::string_view
     add_sm(device, "Outputs", 0x1100, 0, 0x64);
     add_sm(device, "Inputs", 0x1180, 0, 0x20);
 
-    std::vector<PdoSpec> rx;
-    std::vector<PdoSpec> tx;
-    default_pdos(p, axes, rx, tx);
-    for (const PdoSpec& pdo : rx) {
+    for (const PdoSpec& pdo : dictionary_pdos(d.od, 0x1600, 0x17FF, 0x1C12)) {
         add_pdo(device, "RxPdo", pdo, 2, d.od);
     }
-    for (const PdoSpec& pdo : tx) {
+    for (const PdoSpec& pdo : dictionary_pdos(d.od, 0x1A00, 0x1BFF, 0x1C13)) {
         add_pdo(device, "TxPdo", pdo, 3, d.od);
     }
 

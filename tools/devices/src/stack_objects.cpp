@@ -9,6 +9,8 @@
 #include <codrive/sim/profile.hpp>
 #include <codrive/sim/sim_device.hpp>
 
+#include <vector>
+
 namespace codrive::devices {
 
 namespace {
@@ -35,11 +37,36 @@ bool is_stack_object(const drives::Profile& p, unsigned axes, std::uint16_t inde
     return false;
 }
 
+bool is_mapping_object(std::uint16_t index) {
+    return (index >= 0x1600 && index <= 0x17FF) || (index >= 0x1A00 && index <= 0x1BFF);
+}
+
+// The stack objects `from` has and the profile lacks, then the objects their PDO maps name that
+// only the stack builds (AKD2G 3580h/3601h of the fixed maps 1A20h/1620h, manual §5.3.25 and
+// §5.3.39), so every mapped entry of a file is an object of the same file.
 void take(ObjectDictionary& out, const ObjectDictionary& from, const ObjectDictionary& profile,
           const drives::Profile& p, unsigned axes) {
     for (const auto& [index, obj] : from.objects()) {
         if (profile.find(index) == nullptr && is_stack_object(p, axes, index)) {
             out.insert(obj);
+        }
+    }
+    std::vector<std::uint16_t> mapped;
+    for (const auto& [index, obj] : out.objects()) {
+        if (!is_mapping_object(index)) {
+            continue;
+        }
+        for (const auto& [si, sub] : obj.subs) {
+            const auto entry = sub.value.as_uint().value_or(0);
+            if (si != 0 && entry != 0) {
+                mapped.push_back(static_cast<std::uint16_t>(entry >> 16));
+            }
+        }
+    }
+    for (const std::uint16_t index : mapped) {
+        const Object* obj = from.find(index);
+        if (obj != nullptr && profile.find(index) == nullptr && out.find(index) == nullptr) {
+            out.insert(*obj);
         }
     }
 }

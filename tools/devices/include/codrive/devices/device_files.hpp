@@ -54,8 +54,10 @@ enum class Stack {
 
 /// The same dictionary as an EtherCAT slave information file (ETG.2000): one
 /// EtherCATInfo/Descriptions/Devices/Device with the identity, the sync managers and FMMUs of
-/// codrive's simulated slave, a CoE mailbox, the profile's default RxPDO/TxPDO and
-/// Profile/Dictionary with DataTypes and one Object per index.
+/// codrive's simulated slave, a CoE mailbox, one RxPdo/TxPdo per mapping object of the
+/// dictionary with its default entries (Sm where 1C12h/1C13h assign it by default, Fixed where
+/// its entry count is read-only) and Profile/Dictionary with DataTypes and one Object per index
+/// (the profile's objects plus stack_objects(p, axes, Stack::Coe)).
 [[nodiscard]] std::string export_esi(const drives::Profile& p, unsigned axes,
                                      std::string_view vendor_name = {});
 
