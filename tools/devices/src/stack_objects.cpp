@@ -18,7 +18,7 @@ namespace {
 // The objects a device description takes from the stack rather than the profile: the CiA 301
 // communication area 1000h-1FFFh (error register and history, SYNC/EMCY/guarding, store and
 // restore, SDO server, PDO communication and mapping, ETG.1000.6 sync-manager objects), the
-// DS-BVS error history 4080h (§6.2.88) and 60E3h of every axis, which the drive core builds
+// DS-BVS error history 4080h (§6.2.44) and 60E3h of every axis, which the drive core builds
 // from the profile's homing list (Profile::homing_methods). Everything else the simulators
 // add (simulation control records, scratch objects, objects a profile does not describe) is
 // the simulator's, not the drive's, and stays out of the files.
