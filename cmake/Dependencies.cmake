@@ -13,9 +13,10 @@ if(CODRIVE_BUILD_TOOLS OR CODRIVE_FUZZ)
     # codrive-dump reads Vector BLF files, whose containers are zlib streams (zlib1g-dev).
     find_package(ZLIB REQUIRED)
 endif()
-# `codrive eds|esi export` and the devices/ tests write and read ESI XML (ETG.2000) with
-# Debian's libpugixml-dev; only the tools link it, so the installed libraries do not need it.
-if(CODRIVE_BUILD_TOOLS)
+# `codrive eds|esi export` and the devices/ and conformance tests write and read ESI XML
+# (ETG.2000) with Debian's libpugixml-dev; only the tools and tests link it, so the installed
+# libraries do not need it.
+if(CODRIVE_BUILD_TOOLS OR CODRIVE_BUILD_TESTS)
     find_package(pugixml REQUIRED)
 endif()
 if(CODRIVE_BUILD_TESTS)

@@ -82,7 +82,8 @@ report_gtest() {
         cat "$log"
         status=1
     else
-        # unit_conformance also prints "conformance: N facts checked per drive, M failed".
+        # unit_conformance also prints "conformance: N facts checked per drive, M failed; device
+        # files (EDS, ESI): ... facts checked, F failed; simulators and profiles: S failed".
         grep -E '^\[  (PASSED|SKIPPED) \]|^conformance:' "$log" | sed "s|^|$name: |" || true
     fi
     count_gtest "$suite" "$log"

@@ -357,6 +357,22 @@ const std::array kFacts{
     F{0x68FF, 0, DT::Integer32, Acc::Rw, std::nullopt, "§5.4.62.2", 12883},
     F{0x6502, 0, DT::Unsigned32, Acc::Ro, std::nullopt, "§5.4.63.1", 12905},
     F{0x6D02, 0, DT::Unsigned32, Acc::Ro, std::nullopt, "§5.4.63.2", 12910},
+    // §5.4.36-§5.4.41: touch probe function, status and latched positions of both axes.
+    F{0x60B8, 0, DT::Unsigned16, Acc::Rw, std::nullopt, "§5.4.36.1", 12343},
+    F{0x68B8, 0, DT::Unsigned16, Acc::Rw, std::nullopt, "§5.4.36.2", 12348},
+    F{0x60B9, 0, DT::Unsigned16, Acc::Ro, std::nullopt, "§5.4.37.1", 12375},
+    F{0x68B9, 0, DT::Unsigned16, Acc::Ro, std::nullopt, "§5.4.37.2", 12380},
+    F{0x60BA, 0, DT::Integer32, Acc::Ro, std::nullopt, "§5.4.38.1", 12391},
+    F{0x68BA, 0, DT::Integer32, Acc::Ro, std::nullopt, "§5.4.38.2", 12396},
+    F{0x60BB, 0, DT::Integer32, Acc::Ro, std::nullopt, "§5.4.39.1", 12407},
+    F{0x68BB, 0, DT::Integer32, Acc::Ro, std::nullopt, "§5.4.39.2", 12412},
+    F{0x60BC, 0, DT::Integer32, Acc::Ro, std::nullopt, "§5.4.40.1", 12423},
+    F{0x68BC, 0, DT::Integer32, Acc::Ro, std::nullopt, "§5.4.40.2", 12428},
+    F{0x60BD, 0, DT::Integer32, Acc::Ro, std::nullopt, "§5.4.41.1", 12439},
+    F{0x68BD, 0, DT::Integer32, Acc::Ro, std::nullopt, "§5.4.41.2", 12444},
+    // §5.1 lists 6066h/6866h in its object table only (no §5.4 section).
+    F{0x6066, 0, DT::Unsigned16, Acc::Rw, std::nullopt, "§5.1 (object table)", 7709},
+    F{0x6866, 0, DT::Unsigned16, Acc::Rw, std::nullopt, "§5.1 (object table)", 7826},
     // Values the manual states in prose next to the tables.
     F{0x1000, 0, DT::Unsigned32, Acc::Ro, 0x00020192, "§5.2.1 (CANopen over CANbus)", 7943},
     F{0x1003, 11, DT::Unsigned32, Acc::Absent, std::nullopt, "§5.2.3 (at most 10 entries)", 7965},
@@ -387,11 +403,18 @@ const std::array kFacts{
 
 // Facts the simulator gets wrong where the fix belongs to another part (docs/conformance.md).
 // clang-format off
-const std::array<KnownDivergence, 4> kKnown{{
+const std::array<KnownDivergence, 9> kKnown{{
     {0x1A00, 0x20, "CAN: the simulator keeps 8 entries as §5.2.20 says for RxPDOs; §5.2.31 says 0 to 32 for TxPDOs without the CAN-bus note"},
     {0x1A01, 0x20, "CAN: the simulator keeps 8 entries as §5.2.20 says for RxPDOs; §5.2.31 says 0 to 32 for TxPDOs without the CAN-bus note"},
     {0x1A02, 0x20, "CAN: the simulator keeps 8 entries as §5.2.20 says for RxPDOs; §5.2.31 says 0 to 32 for TxPDOs without the CAN-bus note"},
     {0x1A03, 0x20, "CAN: the simulator keeps 8 entries as §5.2.20 says for RxPDOs; §5.2.31 says 0 to 32 for TxPDOs without the CAN-bus note"},
+    // Only in devices/akd2g.eds and devices/akd2g.xml, which take their communication objects
+    // from the simulators' stacks (devices::stack_objects) and so show the same gaps.
+    {0x1200, 0, "device files: akd2g.xml takes its communication objects from the CoE slave of codrive-ecat-sim, which makes no SDO server parameter 1200h (an SDO server's COB-IDs are a CAN matter, CiA 301 §7.5.2.33); akd2g.eds has it", In::DeviceFile, 0x1200},
+    {0x1A00, 0x20, "device files: akd2g.eds takes its PDO objects from the CAN stack, which keeps 8 entries (the CAN divergence of 1A00h:20)", In::DeviceFile},
+    {0x1A01, 0x20, "device files: akd2g.eds takes its PDO objects from the CAN stack, which keeps 8 entries (the CAN divergence of 1A01h:20)", In::DeviceFile},
+    {0x1A02, 0x20, "device files: akd2g.eds takes its PDO objects from the CAN stack, which keeps 8 entries (the CAN divergence of 1A02h:20)", In::DeviceFile},
+    {0x1A03, 0x20, "device files: akd2g.eds takes its PDO objects from the CAN stack, which keeps 8 entries (the CAN divergence of 1A03h:20)", In::DeviceFile},
 }};
 // clang-format on
 

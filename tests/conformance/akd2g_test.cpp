@@ -12,7 +12,8 @@ namespace {
 TEST(Akd2gConformance, ObjectTableMatchesTheManual) {
     // CAN only: the EtherCAT AKD2G simulator is single-axis and being reworked (branch dual).
     CanProbe can("akd2g");
-    check_facts("akd2g", drives::akd2g_profile(), &can, nullptr, akd2g_facts(), akd2g_known());
+    check_facts("akd2g", drives::akd2g_profile(), &can, nullptr, DeviceFiles::of("akd2g"),
+                akd2g_facts(), akd2g_known());
 }
 
 TEST(Akd2gConformance, PositionActualInternalValue6063hCounts2To12PerRevolution) {

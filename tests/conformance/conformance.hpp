@@ -1,11 +1,12 @@
 // SPDX-License-Identifier: Apache-2.0
 // Conformance facts (object, sub, type, access, default, manual section) checked against a
-// simulated drive through the real protocol and against the master's drive profile.
+// simulated drive through the real protocol, the master's drive profile and the device files.
 #pragma once
 
 #include "../unit/sim/device_test_support.hpp"
 
 #include <codrive/core/data_type.hpp>
+#include <codrive/core/eds.hpp>
 #include <codrive/drives/profile.hpp>
 #include <codrive/ethercat/master.hpp>
 #include <codrive/sim/ecat/drive_profiles.hpp>
@@ -16,6 +17,7 @@
 #include <optional>
 #include <span>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace codrive::conformance {
@@ -103,14 +105,57 @@ private:
     ethercat::Master master_{link_, clock_};
 };
 
-/// A fact the simulator or profile is known to get wrong, with the reason (listed in
-/// docs/conformance.md). It is still checked and counted as failed in the summary; the test
-/// fails if it is no longer wrong, so the list stays true.
+/// Where a known divergence is: in the simulator or the master's profile, or only in the device
+/// description files (devices/*.eds, devices/*.xml).
+enum class In { SimOrProfile, DeviceFile };
+
+/// A fact the simulator, profile or device file is known to get wrong, with the reason (listed
+/// in docs/conformance.md). It is still checked and counted as failed in the summary; the test
+/// fails if it is no longer wrong, so the list stays true. `last` (not 0) makes it cover every
+/// sub-index of the objects index..last (the objects a device file does not hold).
 struct KnownDivergence {
     std::uint16_t index = 0;
     std::uint8_t sub = 0;
     const char* reason = "";
+    In in = In::SimOrProfile;
+    std::uint16_t last = 0;
 };
+
+/// A drive's device description files, read the way a user's tool reads them: the EDS (CiA 306)
+/// with codrive's EDS parser, the ESI (ETG.2000) with pugixml. Either may be missing (a drive
+/// without that bus); a file that cannot be read is reported in every fact checked against it.
+class DeviceFiles {
+public:
+    DeviceFiles(std::string eds_path, std::string esi_path);
+    ~DeviceFiles();
+    DeviceFiles(const DeviceFiles&) = delete;
+    DeviceFiles& operator=(const DeviceFiles&) = delete;
+    /// `devices/<stem>.eds` and `devices/<stem>.xml` of the source tree (CODRIVE_SOURCE_DIR).
+    static DeviceFiles of(std::string_view stem);
+
+    /// Checks a fact against the EDS (facts not EtherCAT only) and the ESI (facts not CAN
+    /// only): the object is there (or absent where the manual says so) with the fact's type,
+    /// access, default and limits as far as the file carries them. Returns one sentence per
+    /// difference, naming `what` (drive, object, section), the file and the difference.
+    [[nodiscard]] std::vector<std::string> check(const std::string& what, const Fact& f) const;
+    /// Whether the fact is checked against a file at all (its bus has one).
+    [[nodiscard]] bool applies(const Fact& f) const;
+
+    struct Esi;
+
+private:
+    std::string eds_name_;
+    std::string esi_name_;
+    std::unique_ptr<DeviceDescription> eds_;
+    std::string eds_error_;
+    std::unique_ptr<Esi> esi_;
+    std::string esi_error_;
+};
+
+/// The smallest and largest value of an integer type.
+std::pair<std::int64_t, std::int64_t> type_range(DataType t);
+/// Little-endian bytes as a value of the type (sign-extended for signed types).
+std::int64_t decode(DataType t, const std::vector<std::uint8_t>& d);
 
 /// The fact tables, one per drive (akd2g_facts.cpp, ds_bvs_facts.cpp, fio_facts.cpp).
 std::span<const Fact> akd2g_facts();
@@ -122,10 +167,12 @@ std::span<const KnownDivergence> fio_known();
 
 /// Checks every fact against the simulator through the protocol of each bus the fact names
 /// (`can`: SDO over the virtual CAN bus, `ecat`: CoE over the in-process EtherCAT segment; a
-/// null probe skips that bus) and against the master's profile; reports each failure as a test
-/// failure naming the fact, its section and manual line, and tallies them for the summary line
-/// `conformance: N facts checked per drive, M failed`.
+/// null probe skips that bus), against the master's profile and against the drive's device
+/// description files; reports each failure as a test failure naming the fact, its section and
+/// manual line, and tallies them for the summary line `conformance: N facts checked per drive,
+/// M failed; device files (EDS, ESI): N checked, F failed`.
 void check_facts(std::string_view drive, const drives::Profile& profile, Probe* can, Probe* ecat,
-                 std::span<const Fact> facts, std::span<const KnownDivergence> known = {});
+                 const DeviceFiles& files, std::span<const Fact> facts,
+                 std::span<const KnownDivergence> known = {});
 
 } // namespace codrive::conformance

@@ -13,7 +13,8 @@ namespace {
 TEST(DsBvsConformance, ObjectTableMatchesTheManual) {
     CanProbe can("ds-bvs");
     EcatProbe ecat("ds-bvs");
-    check_facts("ds-bvs", drives::ds_bvs_profile(), &can, &ecat, ds_bvs_facts(), ds_bvs_known());
+    check_facts("ds-bvs", drives::ds_bvs_profile(), &can, &ecat, DeviceFiles::of("ds-bvs"),
+                ds_bvs_facts(), ds_bvs_known());
 }
 
 TEST(DsBvsConformance, SupportedHomingMethodsInTheManualsOrder60E3h) {

@@ -13,7 +13,8 @@ namespace {
 
 TEST(FioConformance, ObjectTableMatchesTheManual) {
     EcatProbe ecat("fio");
-    check_facts("fio", drives::fio_profile(), nullptr, &ecat, fio_facts(), fio_known());
+    check_facts("fio", drives::fio_profile(), nullptr, &ecat, DeviceFiles::of("fio"), fio_facts(),
+                fio_known());
 }
 
 TEST(FioConformance, DefaultPdoMaps1600hTo1A03hComeFromTheProfileTable) {

@@ -44,8 +44,18 @@ const DeviceFile* device_file(std::string_view profile) {
 
 DeviceDescription profile_description(const drives::Profile& p, unsigned axes,
                                       std::string_view vendor_name) {
+    return profile_description(p, axes, vendor_name,
+                               p.quirks.canopen ? Stack::CanOpen : Stack::Coe);
+}
+
+DeviceDescription profile_description(const drives::Profile& p, unsigned axes,
+                                      std::string_view vendor_name, Stack stack) {
     DeviceDescription d;
     drives::build_device_dictionary(d.od, p, axes);
+    const ObjectDictionary stack_od = stack_objects(p, axes, stack);
+    for (const auto& [index, obj] : stack_od.objects()) {
+        d.od.insert(obj);
+    }
     // Every sub-object's DefaultValue is its value in the dictionary the master builds.
     std::vector<std::uint16_t> indexes;
     for (const auto& [index, obj] : d.od.objects()) {

@@ -5,6 +5,8 @@
 #include <fmt/format.h>
 #include <pugixml.hpp>
 
+#include <algorithm>
+#include <optional>
 #include <sstream>
 #include <vector>
 
@@ -79,12 +81,26 @@ void add_flags(pugi::xml_node parent, const SubObject& s) {
     }
 }
 
+// MinValue and MaxValue are ETG.2000 HexDecValues: "#x" and hex digits, or a signed decimal
+// (not the "0x" of a CiA 306 EDS). Written for integer types only: a REAL has no such form.
+std::optional<std::string> hex_dec_text(const Value& v) {
+    if (is_signed_integer(v.type()) && v.as_int()) {
+        return std::to_string(*v.as_int());
+    }
+    if (is_unsigned_integer(v.type()) && v.as_uint()) {
+        return fmt::format("#x{:0{}X}", *v.as_uint(), 2 * v.size());
+    }
+    return std::nullopt;
+}
+
 // DefaultData is the value's little-endian byte image in hex (ETG.2000 §5.4.3.4 hexBinary).
 void add_info(pugi::xml_node parent, const SubObject& s) {
     pugi::xml_node info = parent.append_child("Info");
-    if (s.low_limit && s.high_limit) {
-        info.append_child("MinValue").text().set(eds_value_text(*s.low_limit).c_str());
-        info.append_child("MaxValue").text().set(eds_value_text(*s.high_limit).c_str());
+    const auto low = s.low_limit ? hex_dec_text(*s.low_limit) : std::nullopt;
+    const auto high = s.high_limit ? hex_dec_text(*s.high_limit) : std::nullopt;
+    if (low && high) {
+        info.append_child("MinValue").text().set(low->c_str());
+        info.append_child("MaxValue").text().set(high->c_str());
     }
     std::string data;
     for (const std::uint8_t b : s.value.bytes()) {
@@ -183,43 +199,45 @@ struct PdoSpec {
     std::uint16_t index = 0;
     std::vector<std::uint32_t> entries; ///< index << 16 | sub << 8 | bits
     bool assigned = false;
+    bool fixed = false;
 };
 
-// The profile's default PDOs: the maps its manual gives (FIO §7.13.11-§7.13.18), else the
-// cyclic synchronous position layout of every axis (the mode an EtherCAT master runs).
-void default_pdos(const drives::Profile& p, unsigned axes, std::vector<PdoSpec>& rx,
-                  std::vector<PdoSpec>& tx) {
-    if (!p.default_pdo_maps.empty()) {
-        for (const drives::DefaultPdoMap& m : p.default_pdo_maps) {
-            const bool is_rx = m.index < 0x1A00;
-            auto& list = is_rx ? rx : tx;
-            list.push_back({m.index, {m.entries.begin(), m.entries.end()}, list.empty()});
-        }
-        return;
+// ETG.2000 RxPdo/TxPdo: every mapping object of the dictionary (first..last) with its default
+// entries, the same defaults its Dictionary object states; Sm for the maps the sync manager's
+// assignment object (1C12h/1C13h, ETG.1000.6 §5.6.7.4) assigns by default, Fixed for a map
+// whose entry count cannot be written.
+std::vector<PdoSpec> dictionary_pdos(const ObjectDictionary& od, std::uint16_t first,
+                                     std::uint16_t last, std::uint16_t assignment) {
+    std::vector<std::uint16_t> assigned;
+    const auto count = od.get<std::uint8_t>(assignment, 0).value_or(0);
+    for (unsigned i = 1; i <= count; ++i) {
+        assigned.push_back(
+            od.get<std::uint16_t>(assignment, static_cast<std::uint8_t>(i)).value_or(0));
     }
-    const drives::ModeLayout* l = p.layout(drives::cia402::Mode::CyclicSyncPosition);
-    if (l == nullptr) {
-        return;
-    }
-    for (unsigned axis = 1; axis <= axes; ++axis) {
-        const auto n = static_cast<std::uint16_t>(l->first_pdo + axis - 1);
-        PdoSpec r{static_cast<std::uint16_t>(0x1600 + n), {}, true};
-        PdoSpec t{static_cast<std::uint16_t>(0x1A00 + n), {}, true};
-        for (const drives::PdoEntry& e : l->rx) {
-            r.entries.push_back(drives::mapping_value(p, e, axis));
+    std::vector<PdoSpec> out;
+    for (const auto& [index, obj] : od.objects()) {
+        if (index < first || index > last) {
+            continue;
         }
-        for (const drives::PdoEntry& e : l->tx) {
-            t.entries.push_back(drives::mapping_value(p, e, axis));
+        PdoSpec pdo;
+        pdo.index = index;
+        pdo.assigned = std::find(assigned.begin(), assigned.end(), index) != assigned.end();
+        const SubObject* n = od.find(index, 0);
+        pdo.fixed = n == nullptr || !writable(n->access);
+        const auto entries = od.get<std::uint8_t>(index, 0).value_or(0);
+        for (unsigned i = 1; i <= entries; ++i) {
+            pdo.entries.push_back(
+                od.get<std::uint32_t>(index, static_cast<std::uint8_t>(i)).value_or(0));
         }
-        rx.push_back(std::move(r));
-        tx.push_back(std::move(t));
+        out.push_back(std::move(pdo));
     }
+    return out;
 }
 
 void add_pdo(pugi::xml_node device, const char* element, const PdoSpec& pdo, unsigned sm,
              const ObjectDictionary& od) {
     pugi::xml_node x = device.append_child(element);
-    x.append_attribute("Fixed").set_value("0");
+    x.append_attribute("Fixed").set_value(pdo.fixed ? "1" : "0");
     if (pdo.assigned) {
         x.append_attribute("Sm").set_value(sm);
     }
@@ -255,7 +273,7 @@ void add_sm(pugi::xml_node device, const char* kind, unsigned address, unsigned 
 } // namespace
 
 std::string export_esi(const drives::Profile& p, unsigned axes, std::string_view vendor_name) {
-    const DeviceDescription d = profile_description(p, axes, vendor_name);
+    const DeviceDescription d = profile_description(p, axes, vendor_name, Stack::Coe);
     pugi::xml_document doc;
     pugi::xml_node decl = doc.append_child(pugi::node_declaration);
     decl.append_attribute("version").set_value("1.0");
@@ -304,13 +322,10 @@ std::string export_esi(const drives::Profile& p, unsigned axes, std::string_view
     add_sm(device, "Outputs", 0x1100, 0, 0x64);
     add_sm(device, "Inputs", 0x1180, 0, 0x20);
 
-    std::vector<PdoSpec> rx;
-    std::vector<PdoSpec> tx;
-    default_pdos(p, axes, rx, tx);
-    for (const PdoSpec& pdo : rx) {
+    for (const PdoSpec& pdo : dictionary_pdos(d.od, 0x1600, 0x17FF, 0x1C12)) {
         add_pdo(device, "RxPdo", pdo, 2, d.od);
     }
-    for (const PdoSpec& pdo : tx) {
+    for (const PdoSpec& pdo : dictionary_pdos(d.od, 0x1A00, 0x1BFF, 0x1C13)) {
         add_pdo(device, "TxPdo", pdo, 3, d.od);
     }
 
