@@ -4,6 +4,7 @@
 #include <codrive/core/socket_can_bus.hpp>
 
 #include <algorithm>
+#include <array>
 #include <cerrno>
 #include <cstring>
 #include <fcntl.h>
@@ -22,7 +23,7 @@
 namespace codrive {
 namespace {
 
-constexpr std::size_t kBatch = 32;
+constexpr std::size_t kBatch = 64;
 
 std::int64_t to_ns(const timespec& t) {
     return static_cast<std::int64_t>(t.tv_sec) * 1'000'000'000 + t.tv_nsec;
@@ -97,6 +98,7 @@ Result<std::unique_ptr<SocketCanBus>> SocketCanBus::open(const std::string& ifna
     bus->ifname_ = ifname;
     bus->opts_ = std::move(options);
     bus->tx_ring_.resize(std::max<std::size_t>(1, bus->opts_.tx_queue_capacity));
+    bus->tx_batch_ = std::make_unique<TxBatch>();
 
     // A blocking socket: every send and receive passes MSG_DONTWAIT except the direct-read
     // fast path's receive, which blocks up to SO_RCVTIMEO.
@@ -206,8 +208,11 @@ VoidResult SocketCanBus::set_filters(const std::vector<CanFilter>& filters) {
     return {};
 }
 
-bool SocketCanBus::write_one(const Frame& f, int& err) {
-    canfd_frame kf{};
+namespace {
+
+/// `f` as the kernel takes it; returns the size to write (CAN_MTU or CANFD_MTU).
+std::size_t to_kernel(const Frame& f, canfd_frame& kf) {
+    kf = canfd_frame{};
     kf.can_id = f.id;
     if (f.extended()) {
         kf.can_id = (f.id & CAN_EFF_MASK) | CAN_EFF_FLAG;
@@ -227,6 +232,20 @@ bool SocketCanBus::write_one(const Frame& f, int& err) {
         }
     }
     std::memcpy(kf.data, f.data.data(), f.len);
+    return size;
+}
+
+} // namespace
+
+struct SocketCanBus::TxBatch {
+    std::array<canfd_frame, kTxBatch> frames{};
+    std::array<iovec, kTxBatch> iov{};
+    std::array<mmsghdr, kTxBatch> msgs{};
+};
+
+bool SocketCanBus::write_one(const Frame& f, int& err) {
+    canfd_frame kf{};
+    const std::size_t size = to_kernel(f, kf);
     const ssize_t n = ::send(fd_, &kf, size, MSG_DONTWAIT);
     if (n == static_cast<ssize_t>(size)) {
         ++stats_.tx_frames;
@@ -234,6 +253,47 @@ bool SocketCanBus::write_one(const Frame& f, int& err) {
     }
     err = n < 0 ? errno : EIO;
     return false;
+}
+
+std::size_t SocketCanBus::send_many(std::span<const Frame> frames) {
+    std::size_t done = 0;
+    if (tx_count_ > 0) {
+        flush();
+    }
+    // Straight to the kernel while nothing waits in the ring (order) and it takes the frames.
+    TxBatch& b = *tx_batch_;
+    while (done < frames.size() && tx_count_ == 0) {
+        const std::size_t want = std::min(kTxBatch, frames.size() - done);
+        std::size_t k = 0;
+        for (; k < want; ++k) {
+            const Frame& f = frames[done + k];
+            if (!f.valid() || (f.fd() && !opts_.fd)) {
+                break; // send() below refuses it with its error
+            }
+            const std::size_t size = to_kernel(f, b.frames[k]);
+            b.iov[k].iov_base = &b.frames[k];
+            b.iov[k].iov_len = size;
+            b.msgs[k].msg_hdr = msghdr{};
+            b.msgs[k].msg_hdr.msg_iov = &b.iov[k];
+            b.msgs[k].msg_hdr.msg_iovlen = 1;
+        }
+        if (k == 0) {
+            break;
+        }
+        const int n = ::sendmmsg(fd_, b.msgs.data(), static_cast<unsigned>(k), MSG_DONTWAIT);
+        if (n <= 0) {
+            break; // full (ENOBUFS/EAGAIN) or failing: send() queues or reports, frame by frame
+        }
+        stats_.tx_frames += static_cast<std::uint64_t>(n);
+        done += static_cast<std::size_t>(n);
+        if (static_cast<std::size_t>(n) < k || k < want) {
+            break;
+        }
+    }
+    while (done < frames.size() && send(frames[done])) {
+        ++done;
+    }
+    return done;
 }
 
 VoidResult SocketCanBus::send(const Frame& frame) {

@@ -201,12 +201,22 @@ void PdoMaster::emit(const PdoEvent& e) {
     }
 }
 
-void PdoMaster::send(detail::PdoChannel& p, TimePoint now) {
+Frame PdoMaster::frame_of(const detail::PdoChannel& p) {
     Frame f;
     f.id = p.can_id;
     f.flags = p.extended ? std::uint8_t{Frame::kExtended} : std::uint8_t{0};
     f.len = p.len;
     std::memcpy(f.data.data(), p.data.data(), 8);
+    return f;
+}
+
+void PdoMaster::sent(detail::PdoChannel& p) {
+    ++p.tx_count;
+    ++stats_.rpdos_sent;
+}
+
+void PdoMaster::send(detail::PdoChannel& p, TimePoint now) {
+    const Frame f = frame_of(p);
     p.dirty = false;
     p.last_tx = now;
     p.sent_once = true;
@@ -224,8 +234,35 @@ void PdoMaster::send(detail::PdoChannel& p, TimePoint now) {
         emit(e);
         return;
     }
-    ++p.tx_count;
-    ++stats_.rpdos_sent;
+    sent(p);
+}
+
+void PdoMaster::queue_send(detail::PdoChannel& p, TimePoint now) {
+    if (batch_size_ == batch_.size()) {
+        flush_sends(now);
+    }
+    batch_[batch_size_] = frame_of(p);
+    batch_channels_[batch_size_] = &p;
+    ++batch_size_;
+    p.dirty = false;
+    p.last_tx = now;
+    p.sent_once = true;
+}
+
+void PdoMaster::flush_sends(TimePoint now) {
+    const std::size_t n = batch_size_;
+    if (n == 0) {
+        return;
+    }
+    batch_size_ = 0;
+    const std::size_t accepted = bus_.send_many(std::span<const Frame>(batch_.data(), n));
+    for (std::size_t i = 0; i < accepted && i < n; ++i) {
+        sent(*batch_channels_[i]);
+    }
+    // What the bus would not take, one by one: each refusal with its own error and event.
+    for (std::size_t i = accepted; i < n; ++i) {
+        send(*batch_channels_[i], now);
+    }
 }
 
 void PdoMaster::check_window(detail::PdoChannel& p, std::uint64_t cycle, TimePoint now) {
@@ -274,15 +311,16 @@ void PdoMaster::on_sync(std::uint64_t cycle, TimePoint now) {
     for (detail::PdoChannel* p : rpdos_) {
         if (p->type == transmission::kSyncAcyclic) {
             if (p->dirty) {
-                send(*p, now);
+                queue_send(*p, now);
             }
         } else if (is_cyclic_sync(p->type)) {
             if (++p->sync_div >= p->every) {
                 p->sync_div = 0;
-                send(*p, now);
+                queue_send(*p, now);
             }
         }
     }
+    flush_sends(now);
 }
 
 bool PdoMaster::on_frame(const Frame& frame, TimePoint now) {

@@ -10,6 +10,7 @@
 #include <linux/can/error.h>
 
 #include <cstdlib>
+#include <span>
 #include <thread>
 #include <vector>
 
@@ -227,4 +228,95 @@ TEST(VcanBus, StopFromAnotherThreadEndsALoopWaitingOnALoneBus) {
     ASSERT_TRUE((*loop)->run());
     stopper.join();
     EXPECT_LT(std::chrono::steady_clock::now() - t0, 2s);
+}
+
+namespace {
+
+/// `n` frames on `id`, each carrying its sequence number in its first two bytes.
+std::vector<Frame> numbered(std::uint32_t id, int n) {
+    std::vector<Frame> out;
+    for (int i = 0; i < n; ++i) {
+        out.push_back(Frame::make(
+            id, {static_cast<std::uint8_t>(i & 0xFF), static_cast<std::uint8_t>(i >> 8), 0xA5}));
+    }
+    return out;
+}
+
+} // namespace
+
+TEST(VcanBus, SendManyDeliversEveryFrameInOrderAndStopsAtAFrameSendRefuses) {
+    CODRIVE_REQUIRE_VCAN("vcan0");
+    auto loop = EventLoop::create();
+    ASSERT_TRUE(loop);
+    SocketCanOptions o;
+    o.filters = {CanFilter{0x322, 0x7FF, false, false}};
+    auto rx = open_or_fail("vcan0", o);
+    auto tx = open_or_fail("vcan0");
+    ASSERT_TRUE(rx && tx);
+    std::vector<int> got;
+    rx->set_frame_handler(
+        [&](const Frame& f, TimePoint) { got.push_back(f.data[0] | (f.data[1] << 8)); });
+    ASSERT_TRUE(rx->attach(**loop));
+    // 150 frames: more than one sendmmsg() batch (64), so batches must follow each other.
+    std::vector<Frame> frames = numbered(0x322, 150);
+    EXPECT_EQ(tx->send_many(frames), 150U);
+    EXPECT_EQ(tx->stats().tx_frames, 150U);
+    // A frame send() refuses (11-bit id out of range) ends the call there: the ones before it
+    // go out, the caller learns its error from send().
+    std::vector<Frame> bad = numbered(0x322, 10);
+    for (std::size_t i = 0; i < bad.size(); ++i) {
+        bad[i].data[0] = static_cast<std::uint8_t>(150 + i);
+    }
+    bad[4].id = 0x1322;
+    EXPECT_EQ(tx->send_many(bad), 4U);
+    EXPECT_FALSE(tx->send(bad[4]));
+    ASSERT_TRUE((*loop)->run_until([&] { return got.size() >= 154; }, 10s)) << got.size();
+    (void)(*loop)->run_until([] { return false; }, 50ms); // nothing more may come
+    ASSERT_EQ(got.size(), 154U);
+    for (int i = 0; i < 154; ++i) {
+        ASSERT_EQ(got[static_cast<std::size_t>(i)], i) << "frame " << i << " out of order";
+    }
+}
+
+TEST(VcanBus, SendManyQueuesWhatAFullKernelRefusesAndKeepsTheOrder) {
+    CODRIVE_REQUIRE_VCAN("vcan1");
+    // As in FloodingARateLimitedTransmitQueueLosesNothing: a token bucket on vcan1 makes the
+    // kernel refuse frames (ENOBUFS) in the middle of a sendmmsg() batch; the rest must queue in
+    // the bus and follow in order.
+    const int tc = std::system("tc qdisc replace dev vcan1 root tbf rate 100kbit burst 1600 "
+                               "limit 3000 >/dev/null 2>&1");
+    ASSERT_EQ(tc, 0) << "cannot rate-limit vcan1 with tc (sch_tbf missing?)";
+    auto loop = EventLoop::create();
+    ASSERT_TRUE(loop);
+    SocketCanOptions o;
+    o.filters = {CanFilter{0x323, 0x7FF, false, false}};
+    o.rcvbuf_bytes = 4 * 1024 * 1024; // all 600 may arrive before the loop first reads
+    auto rx = open_or_fail("vcan1", o);
+    auto tx = open_or_fail("vcan1");
+    ASSERT_TRUE(rx && tx);
+    std::vector<int> got;
+    rx->set_frame_handler(
+        [&](const Frame& f, TimePoint) { got.push_back(f.data[0] | (f.data[1] << 8)); });
+    ASSERT_TRUE(rx->attach(**loop));
+    ASSERT_TRUE(tx->attach(**loop));
+    constexpr int kFrames = 600;
+    const std::vector<Frame> frames = numbered(0x323, kFrames);
+    std::size_t accepted = 0;
+    for (std::size_t at = 0; at < frames.size(); at += 100) {
+        accepted += tx->send_many(std::span<const Frame>(frames).subspan(at, 100));
+    }
+    EXPECT_EQ(accepted, static_cast<std::size_t>(kFrames));
+    EXPECT_GT(tx->stats().tx_queued, 0U) << "the kernel took every frame, so the queue path "
+                                            "was not exercised";
+    const bool done = (*loop)->run_until([&] { return got.size() >= kFrames; }, 30s);
+    (void)std::system("tc qdisc del dev vcan1 root >/dev/null 2>&1");
+    ASSERT_TRUE(done) << got.size() << " of " << kFrames << " frames arrived; sent "
+                      << tx->stats().tx_frames << ", queued " << tx->stats().tx_queued
+                      << ", still queued " << tx->tx_pending() << ", refused "
+                      << tx->stats().tx_queue_full << ", receiver dropped "
+                      << rx->stats().rx_dropped;
+    for (int i = 0; i < kFrames; ++i) {
+        ASSERT_EQ(got[static_cast<std::size_t>(i)], i) << "frame " << i << " out of order";
+    }
+    EXPECT_EQ(tx->tx_pending(), 0U);
 }

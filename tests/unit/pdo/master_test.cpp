@@ -263,3 +263,92 @@ TEST(PdoMaster, TpdoCobIdConflictBetweenNodesIsRefused) {
     ASSERT_FALSE(r);
     EXPECT_EQ(r.error().message, "node 3: TPDO1 COB-ID 0x190 is already used by another TPDO");
 }
+
+namespace {
+
+/// Records how frames reach it: every send_many() call with its size, and which frames it took.
+/// Takes at most `room` frames in total, then refuses with TxQueueFull (a full transmit queue).
+class BatchBus final : public ICanBus {
+public:
+    VoidResult send(const Frame& f) override {
+        ++single_sends;
+        if (taken.size() >= room) {
+            return fail(CoreErrc::TxQueueFull);
+        }
+        taken.push_back(f);
+        return {};
+    }
+    std::size_t send_many(std::span<const Frame> frames) override {
+        batches.push_back(frames.size());
+        std::size_t n = 0;
+        while (n < frames.size() && taken.size() < room) {
+            taken.push_back(frames[n++]);
+        }
+        return n;
+    }
+    void set_frame_handler(FrameHandler) override {}
+    void set_event_handler(EventHandler) override {}
+    [[nodiscard]] std::size_t tx_pending() const override { return 0; }
+    [[nodiscard]] const BusStats& stats() const override { return stats_; }
+    [[nodiscard]] const std::string& name() const override { return name_; }
+    std::size_t room = 1000;
+    std::vector<std::size_t> batches;
+    std::size_t single_sends = 0;
+    std::vector<Frame> taken;
+
+private:
+    BusStats stats_;
+    std::string name_ = "batch";
+};
+
+} // namespace
+
+TEST(PdoMaster, ASyncCyclesRpdosGoToTheBusTogetherInOrder) {
+    BatchBus bus;
+    PdoMaster master(bus);
+    for (NodeId n = 1; n <= 8; ++n) {
+        ASSERT_TRUE(master.add_node(
+            n, {rpdo(1, {entry(0x6040, 0, 16)}, 1), rpdo(2, {entry(0x607A, 0, 32)}, 1)}));
+    }
+    master.on_sync(1, TimePoint{});
+    // 16 RPDOs due at this SYNC: one send_many() call, none alone, in node and PDO order.
+    ASSERT_EQ(bus.batches, std::vector<std::size_t>{16});
+    EXPECT_EQ(bus.single_sends, 0U);
+    ASSERT_EQ(bus.taken.size(), 16U);
+    for (NodeId n = 1; n <= 8; ++n) {
+        EXPECT_EQ(bus.taken[2U * (n - 1U)].id, cob::rpdo(1, n));
+        EXPECT_EQ(bus.taken[2U * (n - 1U) + 1].id, cob::rpdo(2, n));
+    }
+    EXPECT_EQ(master.stats().rpdos_sent, 16U);
+    // A cycle with nothing due sends nothing.
+    bus.batches.clear();
+    PdoMaster idle(bus);
+    idle.on_sync(1, TimePoint{});
+    EXPECT_TRUE(bus.batches.empty());
+}
+
+TEST(PdoMaster, RpdosTheBusRefusesInABatchAreReportedOneByOne) {
+    BatchBus bus;
+    bus.room = 5;
+    PdoMaster master(bus);
+    std::vector<PdoEvent> events;
+    master.set_event_handler([&](const PdoEvent& e) { events.push_back(e); });
+    for (NodeId n = 1; n <= 4; ++n) {
+        ASSERT_TRUE(master.add_node(
+            n, {rpdo(1, {entry(0x6040, 0, 16)}, 1), rpdo(2, {entry(0x607A, 0, 32)}, 1)}));
+    }
+    master.on_sync(1, TimePoint{});
+    // The bus took 5 of 8: the other 3 were each tried alone and each reported with the bus's
+    // error, naming node and PDO.
+    EXPECT_EQ(bus.taken.size(), 5U);
+    EXPECT_EQ(bus.single_sends, 3U);
+    EXPECT_EQ(master.stats().rpdos_sent, 5U);
+    EXPECT_EQ(master.stats().send_errors, 3U);
+    ASSERT_EQ(events.size(), 3U);
+    EXPECT_EQ(events[0].kind, PdoEventKind::RpdoSendFailed);
+    EXPECT_EQ(events[0].node, 3U);
+    EXPECT_EQ(events[0].number, 2U);
+    EXPECT_EQ(events[2].node, 4U);
+    EXPECT_EQ(events[2].number, 2U);
+    EXPECT_EQ(events[0].error, make_error_code(CoreErrc::TxQueueFull));
+}

@@ -8,6 +8,7 @@
 
 #include <cstdint>
 #include <functional>
+#include <span>
 #include <string>
 
 namespace codrive {
@@ -61,6 +62,18 @@ public:
     /// later in order; an error only if it cannot be queued either (TxQueueFull) or the bus is
     /// gone. Never blocks.
     virtual VoidResult send(const Frame& frame) = 0;
+    /// Sends `frames` in order, as send() one by one would, but lets the bus hand them to the
+    /// kernel together (SocketCanBus: one sendmmsg() per batch, e.g. every RPDO of a SYNC
+    /// cycle). Returns how many were accepted (sent or queued); it stops at the first frame
+    /// send() would refuse, so the caller learns that frame's error by sending it alone. Never
+    /// blocks, never allocates.
+    virtual std::size_t send_many(std::span<const Frame> frames) {
+        std::size_t n = 0;
+        while (n < frames.size() && send(frames[n])) {
+            ++n;
+        }
+        return n;
+    }
     virtual void set_frame_handler(FrameHandler handler) = 0;
     virtual void set_event_handler(EventHandler handler) = 0;
     /// Frames waiting in the transmit retry queue.

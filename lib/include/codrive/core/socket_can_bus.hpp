@@ -50,6 +50,9 @@ public:
     ~SocketCanBus() override;
 
     VoidResult send(const Frame& frame) override;
+    /// One sendmmsg() per kTxBatch frames while the kernel takes them; what it cannot take
+    /// goes through send() (queued in order, or refused).
+    std::size_t send_many(std::span<const Frame> frames) override;
     void set_frame_handler(FrameHandler handler) override { frame_handler_ = std::move(handler); }
     void set_event_handler(EventHandler handler) override { event_handler_ = std::move(handler); }
     [[nodiscard]] std::size_t tx_pending() const override { return tx_count_; }
@@ -81,6 +84,8 @@ public:
 private:
     SocketCanBus() = default;
     bool write_one(const Frame& f, int& err);
+    /// Frames per sendmmsg() in send_many().
+    static constexpr std::size_t kTxBatch = 64;
     void handle_frame(const Frame& f, TimePoint rx_time);
     /// recvmmsg() batches until one comes back short; the first with `first_flags`.
     EventLoop::DirectRead read_batches(int first_flags);
@@ -100,6 +105,8 @@ private:
     bool want_out_ = false;
     // Fixed-capacity ring, allocated once at open(): no allocation on the send path.
     std::vector<Frame> tx_ring_;
+    struct TxBatch;                     ///< send_many()'s kernel frames and message headers
+    std::unique_ptr<TxBatch> tx_batch_; ///< allocated at open(), like the ring
     std::size_t tx_head_ = 0;
     std::size_t tx_count_ = 0;
     TimePoint retry_at_ = kNever;

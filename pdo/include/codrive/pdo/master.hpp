@@ -127,6 +127,12 @@ public:
 
 private:
     void send(detail::PdoChannel& p, TimePoint now);
+    /// The SYNC cycle's RPDOs go to the bus together (ICanBus::send_many: one sendmmsg() on
+    /// SocketCAN), in the order they were due; queue_send() collects, flush_sends() sends.
+    void queue_send(detail::PdoChannel& p, TimePoint now);
+    void flush_sends(TimePoint now);
+    static Frame frame_of(const detail::PdoChannel& p);
+    void sent(detail::PdoChannel& p);
     void emit(const PdoEvent& e);
     void check_window(detail::PdoChannel& p, std::uint64_t cycle, TimePoint now);
     void rebuild_lists();
@@ -141,6 +147,10 @@ private:
     std::vector<detail::PdoChannel*> timed_tpdos_;
     std::array<detail::PdoChannel*, 0x800> by_id_{};  ///< 11-bit TPDO COB-ID → channel
     std::vector<detail::PdoChannel*> extended_tpdos_; ///< 29-bit TPDOs (linear search)
+    static constexpr std::size_t kSendBatch = 32;
+    std::array<Frame, kSendBatch> batch_{};
+    std::array<detail::PdoChannel*, kSendBatch> batch_channels_{};
+    std::size_t batch_size_ = 0;
     bool changed_ = false; ///< some image was written since the last flush
     TimePoint next_timer_ = kNever;
     EventHandler handler_;
