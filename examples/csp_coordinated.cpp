@@ -17,13 +17,13 @@ int main(int argc, char** argv) {
     const double side = argc > 2 ? std::stod(argv[2]) : 200000.0;
     auto created = controller::Controller::from_file(argv[1]);
     if (!created) {
-        fmt::print(stderr, "{}", created.error());
+        fmt::print(stderr, "{}", created.error().detail);
         return 1;
     }
     auto& c = **created;
     c.stop_on_signals();
     if (auto r = c.start(); !r) {
-        fmt::print(stderr, "{}\n", r.error());
+        fmt::print(stderr, "{}\n", r.error().detail);
         return 1;
     }
     std::vector<drives::Axis*> xy;

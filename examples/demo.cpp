@@ -136,7 +136,7 @@ int main(int argc, char** argv) {
     }
     auto created = controller::Controller::from_file(argv[1]);
     if (!created) {
-        fmt::print(stderr, "codrive-demo: {}\n", created.error());
+        fmt::print(stderr, "codrive-demo: {}\n", created.error().detail);
         return 1;
     }
     controller::Controller& c = **created;
@@ -155,7 +155,7 @@ int main(int argc, char** argv) {
 
     d.step("boot-up: identity check, configuration, PDO mapping, NMT start");
     if (auto r = c.start(); !r) {
-        fmt::print(stderr, "codrive-demo: {}\n", r.error());
+        fmt::print(stderr, "codrive-demo: {}\n", r.error().detail);
         return c.stop_signal() != 0 ? 128 + c.stop_signal() : 1;
     }
     for (const auto& r : c.boot_reports()) {

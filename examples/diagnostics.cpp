@@ -17,7 +17,7 @@ int main(int argc, char** argv) {
     const double seconds_to_run = argc > 2 ? std::stod(argv[2]) : 2.0;
     auto created = controller::Controller::from_file(argv[1]);
     if (!created) {
-        fmt::print(stderr, "{}", created.error());
+        fmt::print(stderr, "{}", created.error().detail);
         return 1;
     }
     auto& c = **created;
@@ -33,7 +33,7 @@ int main(int argc, char** argv) {
         fmt::print("{}", r.to_string());
     }
     if (!started) {
-        fmt::print("== boot failed\n{}\n", started.error());
+        fmt::print("== boot failed\n{}\n", started.error().detail);
         return 1;
     }
     c.run_for(std::chrono::duration_cast<Duration>(std::chrono::duration<double>(seconds_to_run)));

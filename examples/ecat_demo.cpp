@@ -37,7 +37,7 @@ int main(int argc, char** argv) {
     const std::int32_t distance = argc > 2 ? std::stoi(argv[2]) : 20000;
     auto controller = controller::Controller::from_file(argv[1]);
     if (!controller) {
-        std::fprintf(stderr, "%s", controller.error().c_str());
+        std::fprintf(stderr, "%s", controller.error().detail.c_str());
         return 1;
     }
     auto& c = **controller;
@@ -45,7 +45,7 @@ int main(int argc, char** argv) {
     c.stop_on_signals();
     std::printf("== bring-up (ESM to OP, PDO layout from the profile)\n");
     if (auto started = c.start(); !started) {
-        std::fprintf(stderr, "%s\n", started.error().c_str());
+        std::fprintf(stderr, "%s\n", started.error().detail.c_str());
         return c.stop_signal() != 0 ? 128 + c.stop_signal() : 1;
     }
     drives::Axis* axis = nullptr;

@@ -18,13 +18,13 @@ int main(int argc, char** argv) {
 
     auto controller = controller::Controller::from_file(argv[1]);
     if (!controller) {
-        std::fprintf(stderr, "%s", controller.error().c_str());
+        std::fprintf(stderr, "%s", controller.error().detail.c_str());
         return 1;
     }
     auto& c = **controller;
     c.stop_on_signals();
     if (auto started = c.start(); !started) {
-        std::fprintf(stderr, "%s\n", started.error().c_str());
+        std::fprintf(stderr, "%s\n", started.error().detail.c_str());
         return 1;
     }
     drives::Axis* axis = c.axis(node);

@@ -117,7 +117,7 @@ std::vector<std::string> check_bus_file(const std::string& path) {
     return load_bus_file(path).findings;
 }
 
-tl::expected<std::unique_ptr<Controller>, std::string>
+tl::expected<std::unique_ptr<Controller>, ControllerError>
 Controller::from_file(const std::string& path, ControllerOptions options) {
     LoadedBusFile loaded = load_bus_file(path);
     if (!loaded.findings.empty()) {
@@ -125,28 +125,30 @@ Controller::from_file(const std::string& path, ControllerOptions options) {
         for (const auto& f : loaded.findings) {
             errors += f + "\n";
         }
-        return tl::unexpected(errors);
+        return tl::unexpected(ControllerError(ControllerErrc::BusFileInvalid, std::move(errors)));
     }
     return create(std::move(loaded.buses), std::move(loaded.segments), std::move(options));
 }
 
-tl::expected<std::unique_ptr<Controller>, std::string>
+tl::expected<std::unique_ptr<Controller>, ControllerError>
 Controller::create(std::vector<master::BusConfig> buses, ControllerOptions options) {
     return create(std::move(buses), {}, std::move(options));
 }
 
-tl::expected<std::unique_ptr<Controller>, std::string>
+tl::expected<std::unique_ptr<Controller>, ControllerError>
 Controller::create(std::vector<master::BusConfig> buses, std::vector<EcatSegmentConfig> segments,
                    ControllerOptions options) {
     if (buses.empty() && segments.empty()) {
-        return tl::unexpected(std::string("no bus configured"));
+        return tl::unexpected(
+            ControllerError(ControllerErrc::InvalidConfiguration, "no bus configured"));
     }
     std::unique_ptr<Controller> c(
         new Controller(std::move(buses), std::move(segments), std::move(options)));
     auto loop = EventLoop::create();
     if (!loop) {
-        return tl::unexpected(
-            fmt::format("cannot create the event loop: {}", loop.error().message()));
+        return tl::unexpected(ControllerError(
+            ControllerErrc::EventLoopFailed,
+            fmt::format("cannot create the event loop: {}", loop.error().message()), loop.error()));
     }
     c->loop_ = std::move(*loop);
     if (c->options_.event_summary_interval > Duration::zero()) {
@@ -175,7 +177,7 @@ void Controller::emit(const std::string& text, const std::string& key) {
     }
 }
 
-tl::expected<void, std::string> Controller::open_bus(Bus& b, std::size_t index) {
+tl::expected<void, ControllerError> Controller::open_bus(Bus& b, std::size_t index) {
     if (index < options_.buses.size() && options_.buses[index] != nullptr) {
         b.bus = options_.buses[index];
         return {};
@@ -184,11 +186,14 @@ tl::expected<void, std::string> Controller::open_bus(Bus& b, std::size_t index) 
     so.rcvbuf_bytes = options_.rcvbuf_bytes;
     auto s = SocketCanBus::open(b.config.iface, so);
     if (!s) {
-        return tl::unexpected(describe_can_open_error(b.config.iface, s.error()));
+        return tl::unexpected(ControllerError(ControllerErrc::BusOpenFailed,
+                                              describe_can_open_error(b.config.iface, s.error()),
+                                              s.error()));
     }
     if (auto r = (*s)->attach(*loop_); !r) {
-        return tl::unexpected(
-            fmt::format("cannot watch {}: {}", b.config.iface, r.error().message()));
+        return tl::unexpected(ControllerError(
+            ControllerErrc::BusOpenFailed,
+            fmt::format("cannot watch {}: {}", b.config.iface, r.error().message()), r.error()));
     }
     b.socket = std::move(*s);
     b.bus = b.socket.get();
@@ -320,7 +325,13 @@ std::vector<CanFilter> tpdo_filters(const std::vector<std::pair<NodeId, pdo::Pdo
 
 } // namespace
 
-tl::expected<void, std::string> Controller::start() {
+tl::expected<void, ControllerError> Controller::start() {
+    if (start_called_) {
+        return tl::unexpected(ControllerError(
+            ControllerErrc::AlreadyStarted,
+            "start() was already called on this controller; a controller starts once"));
+    }
+    start_called_ = true;
     if (!dedicated()) {
         caller_schedule_.emplace();
         for (const auto& w : apply_realtime(options_.realtime)) {
@@ -329,7 +340,8 @@ tl::expected<void, std::string> Controller::start() {
     } else {
         for (auto* given : options_.buses) {
             if (given != nullptr) {
-                return tl::unexpected(std::string(
+                return tl::unexpected(ControllerError(
+                    ControllerErrc::InvalidConfiguration,
                     "Threading::DedicatedCyclic needs SocketCAN interfaces (the cyclic thread "
                     "opens its own socket); ControllerOptions::buses work in Threading::Single"));
             }
@@ -349,8 +361,11 @@ tl::expected<void, std::string> Controller::start() {
             so.rcvbuf_bytes = options_.rcvbuf_bytes;
             auto cs = SocketCanBus::open(b.config.iface, so);
             if (!cs) {
-                return tl::unexpected(fmt::format("cannot open {} for the cyclic thread: {}",
-                                                  b.config.iface, cs.error().message()));
+                return tl::unexpected(
+                    ControllerError(ControllerErrc::BusOpenFailed,
+                                    fmt::format("cannot open {} for the cyclic thread: {}",
+                                                b.config.iface, cs.error().message()),
+                                    cs.error()));
             }
             b.cyclic_socket = std::move(*cs);
             cyclic_bus = b.cyclic_socket.get();
@@ -417,8 +432,10 @@ tl::expected<void, std::string> Controller::start() {
         if (dedicated()) {
             if (auto r = b.cyclic_socket->set_filters(tpdo_filters(all_pdos)); !r) {
                 return tl::unexpected(
-                    fmt::format("cannot set the cyclic socket's filters on {}: {}", b.config.iface,
-                                r.error().message()));
+                    ControllerError(ControllerErrc::BusOpenFailed,
+                                    fmt::format("cannot set the cyclic socket's filters on {}: {}",
+                                                b.config.iface, r.error().message()),
+                                    r.error()));
             }
         }
     }
@@ -465,8 +482,9 @@ tl::expected<void, std::string> Controller::start() {
         return abandon_start("stopped by request during the boot-up");
     }
     if (!booted) {
-        return tl::unexpected(
-            fmt::format("boot-up did not finish within {:.0f} ms", to_ms(options_.boot_timeout)));
+        return tl::unexpected(ControllerError(
+            ControllerErrc::BootTimeout,
+            fmt::format("boot-up did not finish within {:.0f} ms", to_ms(options_.boot_timeout))));
     }
     const bool all_ok = boot_ok_;
     if (!all_ok) {
@@ -476,7 +494,7 @@ tl::expected<void, std::string> Controller::start() {
                 msg += "\n  " + r.error();
             }
         }
-        return tl::unexpected(msg);
+        return tl::unexpected(ControllerError(ControllerErrc::NodeBootFailed, std::move(msg)));
     }
     // Axes learn the state from the first TPDOs; SYNC drives everything from now on.
     for (auto& bptr : buses_) {
@@ -487,8 +505,11 @@ tl::expected<void, std::string> Controller::start() {
         sync::SyncConfig sc;
         sc.period = microseconds(bp->config.sync_period_us);
         if (auto r = bp->sync->configure(sc); !r) {
-            return tl::unexpected(fmt::format("cannot configure SYNC on {}: {}", bp->config.iface,
-                                              r.error().message()));
+            return tl::unexpected(
+                ControllerError(ControllerErrc::SyncFailed,
+                                fmt::format("cannot configure SYNC on {}: {}", bp->config.iface,
+                                            r.error().message()),
+                                r.error()));
         }
         bp->sync->set_hook([this, bp](const sync::SyncInfo& s) {
             on_sync(*bp, CycleInfo{s.cycle, s.ideal, s.actual, 0});

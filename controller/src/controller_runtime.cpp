@@ -14,7 +14,7 @@
 
 namespace codrive::controller {
 
-tl::expected<void, std::string> Controller::start_cyclic_thread() {
+tl::expected<void, ControllerError> Controller::start_cyclic_thread() {
     // The segments cycled from the loop while the CAN nodes booted; the cyclic thread owns
     // their cycles from now on.
     for (auto& seg : segments_) {

@@ -108,7 +108,7 @@ void Controller::stop_buses() {
     run_loop_until([] { return false; }, flushed);
 }
 
-tl::expected<void, std::string> Controller::abandon_start(std::string why) {
+tl::expected<void, ControllerError> Controller::abandon_start(std::string why) {
     // The boot-up state machines must not start a node after the NMT command below: they get
     // no more frames and no more ticks.
     for (auto& b : buses_) {
@@ -123,7 +123,7 @@ tl::expected<void, std::string> Controller::abandon_start(std::string why) {
         caller_schedule_->restore();
         caller_schedule_.reset();
     }
-    return tl::unexpected(std::move(why));
+    return tl::unexpected(ControllerError(ControllerErrc::StopRequested, std::move(why)));
 }
 
 void Controller::shutdown() {

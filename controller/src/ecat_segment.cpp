@@ -14,6 +14,14 @@
 #include <algorithm>
 
 namespace codrive::controller {
+namespace {
+
+tl::unexpected<ControllerError> segment_failed(std::string sentence, std::error_code cause = {}) {
+    return tl::unexpected(
+        ControllerError(ControllerErrc::SegmentFailed, std::move(sentence), cause));
+}
+
+} // namespace
 
 EcatSegment::EcatSegment(EcatSegmentConfig config, std::size_t bus_index, Emit emit)
     : config_(std::move(config)), bus_index_(bus_index), emit_(std::move(emit)),
@@ -21,26 +29,27 @@ EcatSegment::EcatSegment(EcatSegmentConfig config, std::size_t bus_index, Emit e
 
 EcatSegment::~EcatSegment() = default;
 
-tl::expected<void, std::string> EcatSegment::bring_up(ethercat::IEcatLink* link,
-                                                      bool /*dedicated*/) {
+tl::expected<void, ControllerError> EcatSegment::bring_up(ethercat::IEcatLink* link,
+                                                          bool /*dedicated*/) {
     const std::string where = fmt::format("EtherCAT segment on {}", config_.iface);
     if (link == nullptr) {
         auto l = ethercat::RawSocketLink::open(config_.iface);
         if (!l) {
-            return tl::unexpected(
-                ethercat::RawSocketLink::describe_open_error(config_.iface, l.error()));
+            return segment_failed(
+                ethercat::RawSocketLink::describe_open_error(config_.iface, l.error()), l.error());
         }
         own_link_ = std::move(*l);
         link = own_link_.get();
     }
     master_ = std::make_unique<ethercat::Master>(*link, RealClock::instance());
-    if (!master_->scan()) {
-        return tl::unexpected(fmt::format("{}: scan failed: {}", where, master_->last_error()));
+    if (auto r = master_->scan(); !r) {
+        return segment_failed(fmt::format("{}: scan failed: {}", where, master_->last_error()),
+                              r.error());
     }
     const std::size_t found = master_->slaves().size();
     for (const auto& e : config_.slaves) {
         if (e.position >= found) {
-            return tl::unexpected(fmt::format("{}:{}: slave {} ({}) is configured but the segment "
+            return segment_failed(fmt::format("{}:{}: slave {} ({}) is configured but the segment "
                                               "has only {} slave(s)",
                                               config_.file, e.line, e.position, e.profile, found));
         }
@@ -54,7 +63,7 @@ tl::expected<void, std::string> EcatSegment::bring_up(ethercat::IEcatLink* link,
         if (id.vendor_id != 0 &&
             (sii.vendor_id != id.vendor_id || (sii.product_code & id.product_code_mask) !=
                                                   (id.product_code & id.product_code_mask))) {
-            return tl::unexpected(fmt::format(
+            return segment_failed(fmt::format(
                 "{}: {} is configured as {} (vendor 0x{:08X} product 0x{:08X}) but answers with "
                 "vendor 0x{:08X} product 0x{:08X}",
                 where, master_->slave_label(e.position), s->profile->title, id.vendor_id,
@@ -62,16 +71,17 @@ tl::expected<void, std::string> EcatSegment::bring_up(ethercat::IEcatLink* link,
         }
         slaves_.push_back(std::move(s));
     }
-    if (!master_->set_state_all(ethercat::AlState::PreOp)) {
-        return tl::unexpected(fmt::format("{}: PRE-OP: {}", where, master_->last_error()));
+    if (auto r = master_->set_state_all(ethercat::AlState::PreOp); !r) {
+        return segment_failed(fmt::format("{}: PRE-OP: {}", where, master_->last_error()),
+                              r.error());
     }
     // ETG.1020 §21.1.3.1: DC SYNC0 needs the segment's clocks set up first (delays, offsets,
     // static drift compensation), once for the segment.
     if (std::any_of(slaves_.begin(), slaves_.end(),
                     [&](const auto& s) { return slave_dc(config_, s->entry); })) {
-        if (!master_->configure_dc()) {
-            return tl::unexpected(
-                fmt::format("{}: distributed clocks: {}", where, master_->last_error()));
+        if (auto r = master_->configure_dc(); !r) {
+            return segment_failed(
+                fmt::format("{}: distributed clocks: {}", where, master_->last_error()), r.error());
         }
     }
     for (auto& s : slaves_) {
@@ -82,8 +92,8 @@ tl::expected<void, std::string> EcatSegment::bring_up(ethercat::IEcatLink* link,
             return r;
         }
     }
-    if (!master_->set_state_all(ethercat::AlState::Op)) {
-        return tl::unexpected(fmt::format("{}: OP: {}", where, master_->last_error()));
+    if (auto r = master_->set_state_all(ethercat::AlState::Op); !r) {
+        return segment_failed(fmt::format("{}: OP: {}", where, master_->last_error()), r.error());
     }
     // Emergencies arrive inside the cyclic exchange: the handler only queues them (no
     // formatting, no I/O there); acyclic() turns them into sentences.
@@ -122,7 +132,7 @@ tl::expected<void, std::string> EcatSegment::bring_up(ethercat::IEcatLink* link,
     return {};
 }
 
-tl::expected<void, std::string> EcatSegment::configure_slave(Slave& s) {
+tl::expected<void, ControllerError> EcatSegment::configure_slave(Slave& s) {
     if (s.entry.axes.empty()) {
         return {}; // keep the slave's own PDO assignment
     }
@@ -134,7 +144,7 @@ tl::expected<void, std::string> EcatSegment::configure_slave(Slave& s) {
               [](const EcatAxisEntry& x, const EcatAxisEntry& y) { return x.axis < y.axis; });
     for (std::size_t i = 0; i < axes.size(); ++i) {
         if (axes[i].axis != i + 1) {
-            return tl::unexpected(fmt::format(
+            return segment_failed(fmt::format(
                 "{}:{}: {}: the axes of a slave must be numbered 1..n without gaps (axis {} is "
                 "configured, axis {} is not); the PDO layout puts axis n into RxPDO/TxPDO n",
                 config_.file, s.entry.line, who, axes[i].axis, i + 1));
@@ -145,9 +155,10 @@ tl::expected<void, std::string> EcatSegment::configure_slave(Slave& s) {
         const std::int8_t mode = a.mode.value_or(8);
         modes.push_back(static_cast<drives::cia402::Mode>(mode));
         const std::uint16_t index = s.profile->axis_index(0x6060, a.axis);
-        if (!master_->sdo_write<std::int8_t>(s.index, index, 0, mode)) {
-            return tl::unexpected(fmt::format("{}: cannot set mode {} (0x{:04X}:00): {}", who, mode,
-                                              index, master_->last_error()));
+        if (auto r = master_->sdo_write<std::int8_t>(s.index, index, 0, mode); !r) {
+            return segment_failed(fmt::format("{}: cannot set mode {} (0x{:04X}:00): {}", who, mode,
+                                              index, master_->last_error()),
+                                  r.error());
         }
     }
     auto configs = drives::mode_pdo_configs(*s.profile, modes);
@@ -160,14 +171,14 @@ tl::expected<void, std::string> EcatSegment::configure_slave(Slave& s) {
     std::vector<ethercat::PdoMapping> rx;
     std::vector<ethercat::PdoMapping> tx;
     ethercat::to_ecat_pdos(*configs, rx, tx);
-    if (!master_->configure_pdos(s.index, rx, tx)) {
-        return tl::unexpected(
-            fmt::format("{}: PDO configuration failed: {}", who, master_->last_error()));
+    if (auto r = master_->configure_pdos(s.index, rx, tx); !r) {
+        return segment_failed(
+            fmt::format("{}: PDO configuration failed: {}", who, master_->last_error()), r.error());
     }
     return {};
 }
 
-tl::expected<void, std::string> EcatSegment::synchronise_slave(Slave& s) {
+tl::expected<void, ControllerError> EcatSegment::synchronise_slave(Slave& s) {
     // The same 1C32h/1C33h writes and SYNC0 set-up as `codrive drive --ethercat`, before
     // SAFE-OP; a cycle below the slave's minimum (1C32h:05) is refused here, never in OP.
     ethercat::SyncSettings sync;
@@ -177,7 +188,7 @@ tl::expected<void, std::string> EcatSegment::synchronise_slave(Slave& s) {
     sync.name = s.entry.name;
     auto r = ethercat::configure_sync(*master_, s.index, sync);
     if (!r) {
-        return tl::unexpected(fmt::format("{}:{}: {}", config_.file, s.entry.line, r.error()));
+        return segment_failed(fmt::format("{}:{}: {}", config_.file, s.entry.line, r.error()));
     }
     for (const auto& note : r->notes) {
         emit_(note);

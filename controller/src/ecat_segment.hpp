@@ -37,7 +37,7 @@ public:
     /// steps to OP and binds the axes. Error: one sentence naming the slave and the step.
     /// `dedicated`: the axes will live on the cyclic thread (their object accesses are handed
     /// to the acyclic thread).
-    tl::expected<void, std::string> bring_up(ethercat::IEcatLink* link, bool dedicated = false);
+    tl::expected<void, ControllerError> bring_up(ethercat::IEcatLink* link, bool dedicated = false);
     /// First cycle at `first`, then every cycle_us.
     void start_cycles(TimePoint first, CycleHook hook);
 
@@ -97,9 +97,9 @@ private:
     void recover_slaves(TimePoint now);
     /// "slave 0 (FIO): back in OP after N OP request(s), T ms ..." once, if it had left.
     void report_back_in_op(Slave& s, TimePoint now);
-    tl::expected<void, std::string> configure_slave(Slave& s);
+    tl::expected<void, ControllerError> configure_slave(Slave& s);
     /// 1C32h/1C33h and, with `dc`, SYNC0 (ethercat::configure_sync), in PRE-OP.
-    tl::expected<void, std::string> synchronise_slave(Slave& s);
+    tl::expected<void, ControllerError> synchronise_slave(Slave& s);
 
     EcatSegmentConfig config_;
     std::size_t bus_index_;

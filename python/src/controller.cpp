@@ -33,7 +33,7 @@ public:
     static std::shared_ptr<PyController> from_file(const std::string& path) {
         auto c = controller::Controller::from_file(path);
         if (!c) {
-            raise_error(c.error());
+            raise_controller_error(c.error());
         }
         auto self = std::shared_ptr<PyController>(new PyController());
         self->c_ = std::move(*c);
@@ -53,7 +53,7 @@ public:
     void start() {
         auto r = locked([&] { return c_->start(); });
         if (!r) {
-            raise_error(r.error());
+            raise_controller_error(r.error());
         }
     }
     void run_for(double seconds) {

@@ -34,7 +34,10 @@ PyObject* make_class(py::module_& m, const char* name, PyObject* base, const cha
 } // namespace
 
 void bind_errors(py::module_& m) {
-    g_error = make_class(m, "Error", PyExc_Exception, "Base class of every codrive error.");
+    g_error = make_class(m, "Error", PyExc_Exception,
+                         "Base class of every codrive error. Raised by Controller.from_file() "
+                         "and Controller.start() with attribute reason: 'bus_file_invalid', "
+                         "'node_boot_failed', 'bus_open_failed', ... (docs/controller.md).");
     g_bus_error = make_class(m, "BusError", g_error,
                              "A bus could not be opened or used (the message names the interface "
                              "and the cause).");
@@ -87,6 +90,14 @@ void raise_drive_error(const std::string& message) {
 
 void raise_error(const std::string& message) {
     raise(g_error, message);
+}
+
+void raise_controller_error(const controller::ControllerError& e) {
+    py::object exc = py::reinterpret_borrow<py::object>(g_error)(e.detail);
+    exc.attr("reason") =
+        std::string(controller::to_string(static_cast<controller::ControllerErrc>(e.code.value())));
+    PyErr_SetObject(g_error, exc.ptr());
+    throw py::error_already_set();
 }
 
 } // namespace codrive::python

@@ -2,6 +2,7 @@
 // The Python exceptions of codrive (codrive.Error and its subclasses) and how C++ errors map.
 #pragma once
 
+#include <codrive/controller/error.hpp>
 #include <codrive/sdo/error.hpp>
 
 #include <pybind11/pybind11.h>
@@ -22,5 +23,8 @@ void bind_errors(pybind11::module_& m);
 [[noreturn]] void raise_drive_error(const std::string& message);
 /// Raises codrive.Error with `message`.
 [[noreturn]] void raise_error(const std::string& message);
+/// Raises codrive.Error for a failed Controller::from_file()/start(): str() is the detail
+/// sentence, attribute `reason` the code's name ("node_boot_failed", controller::to_string()).
+[[noreturn]] void raise_controller_error(const controller::ControllerError& e);
 
 } // namespace codrive::python

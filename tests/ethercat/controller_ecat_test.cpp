@@ -87,7 +87,7 @@ protected:
         // The dedicated cyclic thread runs at SCHED_FIFO, as on a machine (root here).
         o.realtime.fifo = mode == controller::Threading::DedicatedCyclic;
         auto c = controller::Controller::from_file(path_, o);
-        EXPECT_TRUE(c) << (c ? "" : c.error());
+        EXPECT_TRUE(c) << (c ? "" : c.error().detail);
         if (!c) {
             return nullptr;
         }
@@ -100,7 +100,7 @@ protected:
         c = make(events, mode);
         ASSERT_TRUE(c);
         auto started = c->start();
-        ASSERT_TRUE(started) << started.error() << events;
+        ASSERT_TRUE(started) << started.error().detail << events;
     }
     /// docs/controller.md promises a cyclic path without allocation: the dedicated cyclic
     /// thread's whole loop (sleep, LRW exchange, cycle callback, Axis::on_cycle of an enabled

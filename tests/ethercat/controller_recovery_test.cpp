@@ -69,10 +69,10 @@ TEST_F(ControllerRecovery, ASlaveThatLeftOpIsReportedOnceAndBroughtBack) {
     controller::ControllerOptions o;
     o.threading = controller::Threading::Single;
     auto c = controller::Controller::from_file(path_, o);
-    ASSERT_TRUE(c) << c.error();
+    ASSERT_TRUE(c) << c.error().detail;
     (*c)->set_event_callback([this](const std::string& t) { events_ += t + "\n"; });
     auto started = (*c)->start();
-    ASSERT_TRUE(started) << started.error();
+    ASSERT_TRUE(started) << started.error().detail;
     (*c)->run_for(200ms);
     ASSERT_EQ(count("left OP"), 0U) << events_;
     // No process data for longer than the FIO's 100 ms SM watchdog (the master stalled: this
@@ -122,10 +122,10 @@ TEST_F(ControllerRecoveryBackoff, RefusedOpRequestsAreRepeatedWithBackOffOnTheCy
     o.threading = controller::Threading::DedicatedCyclic;
     o.realtime.fifo = true;
     auto c = controller::Controller::from_file(path_, o);
-    ASSERT_TRUE(c) << c.error();
+    ASSERT_TRUE(c) << c.error().detail;
     (*c)->set_event_callback([this](const std::string& t) { events_ += t + "\n"; });
     auto started = (*c)->start();
-    ASSERT_TRUE(started) << started.error();
+    ASSERT_TRUE(started) << started.error().detail;
     (*c)->run_for(200ms);
     const auto baseline = (*c)->stats().overruns;
     (*c)->run_for(400ms);

@@ -36,7 +36,7 @@ protected:
                                             veth_->master_if(), segment_keys, slaves);
     }
     /// The controller from the bus file, started (bring-up to OP); events go to `events_`.
-    tl::expected<void, std::string> start_controller() {
+    tl::expected<void, controller::ControllerError> start_controller() {
         auto c = controller::Controller::from_file(path_, {});
         if (!c) {
             return tl::unexpected(c.error());
@@ -100,7 +100,7 @@ TEST_F(ControllerSync, FreeRunAndTheCycleAreWrittenToTheFioBeforeOp) {
         "  cycle_us: 2000\n",
         "    - {position: 0, name: table, profile: fio, axes: [{axis: 1, mode: csp}]}\n");
     auto started = start_controller();
-    ASSERT_TRUE(started) << started.error() << events_;
+    ASSERT_TRUE(started) << started.error().detail << events_;
     controller_->run_for(200ms);
     EXPECT_TRUE(has("slave 0 (FIO Drive Control): sync mode 0 (free run), cycle 2000 µs\n"))
         << events_;
@@ -131,7 +131,7 @@ TEST_F(ControllerSync, DcFromTheBusFileRunsTheFioOnSync0) {
         "  cycle_us: 1000\n  dc: true\n  sync0_shift_us: 100\n",
         "    - {position: 0, name: table, profile: fio, axes: [{axis: 1, mode: csp}]}\n");
     auto started = start_controller();
-    ASSERT_TRUE(started) << started.error() << events_;
+    ASSERT_TRUE(started) << started.error().detail << events_;
     controller_->run_for(200ms);
     EXPECT_TRUE(has("slave 0 (FIO Drive Control): sync mode 2 (DC SYNC0), cycle 1000 µs, SYNC0 "
                     "shift 100 µs"))
@@ -159,7 +159,8 @@ TEST_F(ControllerSync, ACycleBelowTheSlavesMinimumIsRefusedBeforeOp) {
                    "    - {position: 1, name: spindle, profile: akd2g, axes: [{axis: 1}]}\n");
     auto started = start_controller();
     ASSERT_FALSE(started) << events_;
-    EXPECT_EQ(started.error(),
+    EXPECT_EQ(started.error().code, controller::ControllerErrc::SegmentFailed);
+    EXPECT_EQ(started.error().detail,
               fmt::format("{}:6: slave 1 (AKD2G) \"spindle\": cycle time 200 µs is shorter than "
                           "the slave's minimum cycle time 250 µs (0x1C32:05)",
                           path_))

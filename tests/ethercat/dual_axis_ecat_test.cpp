@@ -69,12 +69,12 @@ TEST_F(DualAxisAkd2gOverEthercat, BothAxesEnableFollowCspAndAFaultOnAxis2IsRepor
         return;
     }
     auto made = controller::Controller::from_file(write_bus_file());
-    ASSERT_TRUE(made) << made.error();
+    ASSERT_TRUE(made) << made.error().detail;
     auto& c = **made;
     std::string events;
     c.set_event_callback([&events](const std::string& t) { events += t + "\n"; });
     auto started = c.start();
-    ASSERT_TRUE(started) << started.error() << events;
+    ASSERT_TRUE(started) << started.error().detail << events;
     // Both axes' maps assigned: 1600h/1601h (6 bytes each) out, 1A00h/1A01h (7 bytes each) in.
     EXPECT_NE(events.find("slave 0 (AKD2G): OP, 2 axis(es), 12 output / 14 input bytes"),
               std::string::npos)

@@ -73,12 +73,12 @@ TEST_P(MuteMailboxInOp, CostsOnlyItsOwnTransferNeverACycle) {
     o.realtime.fifo = true;
     o.realtime.priority = 60;
     auto made = controller::Controller::from_file(path_, o);
-    ASSERT_TRUE(made) << made.error();
+    ASSERT_TRUE(made) << made.error().detail;
     auto& c = **made;
     std::string events;
     c.set_event_callback([&events](const std::string& t) { events += t + "\n"; });
     auto started = c.start();
-    ASSERT_TRUE(started) << started.error() << events;
+    ASSERT_TRUE(started) << started.error().detail << events;
     auto* table = c.axis(0, 1, 0);
     auto* spindle = c.axis(1, 1, 0);
     ASSERT_NE(table, nullptr);

@@ -58,7 +58,7 @@ TEST(ControllerShutdown, DrivesThatNeverAnswerDoNotHoldTheShutdownOrOutliveIt) {
     o.shutdown_timeout = 400ms;
     std::vector<master::BusConfig> buses{one_akd2g()};
     auto created = Controller::create(std::move(buses), o);
-    ASSERT_TRUE(created) << created.error();
+    ASSERT_TRUE(created) << created.error().detail;
     Controller& c = **created;
     std::string events;
     c.set_event_callback([&](const std::string& t) { events += t + "\n"; });
@@ -67,7 +67,7 @@ TEST(ControllerShutdown, DrivesThatNeverAnswerDoNotHoldTheShutdownOrOutliveIt) {
     drive.start(SteadyClock::now());
     c.run_for(20ms);
     auto started = c.start();
-    ASSERT_TRUE(started) << started.error() << events;
+    ASSERT_TRUE(started) << started.error().detail << events;
     drives::Axis* axis = c.axis(1, 1);
     ASSERT_NE(axis, nullptr);
     ASSERT_TRUE(c.run_until([&] { return axis->has_statusword(); }, 2s)) << events;
@@ -114,7 +114,7 @@ TEST(ControllerShutdown, StopRequestMakesRunningFalseAndTheWaitsReturnAtOnce) {
     o.buses = {&ctl_bus};
     std::vector<master::BusConfig> buses{one_akd2g()};
     auto created = Controller::create(std::move(buses), o);
-    ASSERT_TRUE(created) << created.error();
+    ASSERT_TRUE(created) << created.error().detail;
     Controller& c = **created;
     c.loop().add_timed(&net);
     c.loop().add_timed(&drive);

@@ -62,7 +62,7 @@ struct Rig {
         o.buses = {&ctl_bus};
         std::vector<master::BusConfig> v{config()};
         auto c = Controller::create(std::move(v), o);
-        EXPECT_TRUE(c) << (c ? "" : c.error());
+        EXPECT_TRUE(c) << (c ? "" : c.error().detail);
         controller = std::move(*c);
         controller->set_event_callback([this](const std::string& t) { events.push_back(t); });
         controller->loop().add_timed(&net);
@@ -70,7 +70,7 @@ struct Rig {
         drive->start(SteadyClock::now());
         controller->run_for(20ms); // the drive powers up before the controller starts
         auto r = controller->start();
-        EXPECT_TRUE(r) << (r ? "" : r.error());
+        EXPECT_TRUE(r) << (r ? "" : r.error().detail);
         return r.has_value();
     }
     ~Rig() {
@@ -243,8 +243,10 @@ TEST(ControllerThreading, DedicatedCyclicModeRefusesInProcessBusesWithAReason) {
     ASSERT_TRUE(ctl);
     auto r = (*ctl)->start();
     ASSERT_FALSE(r);
-    EXPECT_NE(r.error().find("DedicatedCyclic needs SocketCAN interfaces"), std::string::npos)
-        << r.error();
+    EXPECT_EQ(r.error().code, ControllerErrc::InvalidConfiguration);
+    EXPECT_NE(r.error().detail.find("DedicatedCyclic needs SocketCAN interfaces"),
+              std::string::npos)
+        << r.error().detail;
 }
 
 TEST(ControllerThreading, MissingEthercatInterfaceIsReportedByName) {
@@ -256,5 +258,59 @@ TEST(ControllerThreading, MissingEthercatInterfaceIsReportedByName) {
     ASSERT_TRUE(ctl);
     auto r = (*ctl)->start();
     ASSERT_FALSE(r);
-    EXPECT_NE(r.error().find("nosuch0"), std::string::npos) << r.error();
+    EXPECT_EQ(r.error().code, ControllerErrc::SegmentFailed);
+    EXPECT_NE(r.error().detail.find("nosuch0"), std::string::npos) << r.error().detail;
+}
+
+// A node that never answers: start() fails with NodeBootFailed, so a program can tell it from a
+// bus it could not open; the sentence is the one it always was ("boot-up failed:" and each
+// failed node's boot step), and a second start() is refused with AlreadyStarted.
+TEST(ControllerErrors, ANodeThatDoesNotBootIsNodeBootFailedAndStartRunsOnce) {
+    VirtualNetwork net{RealClock::instance()};
+    ControllerOptions o;
+    o.buses = {&net.endpoint("controller")};
+    master::BusConfig c;
+    c.file = "test";
+    c.iface = "virtual";
+    master::NodeEntry n;
+    n.id = 5;
+    n.name = "absent";
+    n.profile = "akd2g";
+    n.sdo_timeout = 100ms;
+    c.nodes.push_back(n);
+    std::vector<master::BusConfig> v{c};
+    auto ctl = Controller::create(std::move(v), o);
+    ASSERT_TRUE(ctl) << ctl.error().detail;
+    (*ctl)->loop().add_timed(&net);
+    auto r = (*ctl)->start();
+    ASSERT_FALSE(r);
+    EXPECT_EQ(r.error().code, ControllerErrc::NodeBootFailed) << r.error().detail;
+    EXPECT_FALSE(r.error().cause);
+    ASSERT_EQ((*ctl)->boot_reports().size(), 1U);
+    EXPECT_FALSE((*ctl)->boot_reports()[0].ok);
+    EXPECT_EQ(r.error().detail, "boot-up failed:\n  " + (*ctl)->boot_reports()[0].error());
+    EXPECT_NE(r.error().detail.find("node 5"), std::string::npos) << r.error().detail;
+
+    auto again = (*ctl)->start();
+    ASSERT_FALSE(again);
+    EXPECT_EQ(again.error().code, ControllerErrc::AlreadyStarted);
+    EXPECT_EQ(again.error().detail,
+              "start() was already called on this controller; a controller starts once");
+    (*ctl)->loop().remove_timed(&net);
+}
+
+// start() on a running controller is refused and leaves it running: the drives keep their
+// SYNC, PDOs and axes.
+TEST(ControllerErrors, StartingARunningControllerIsAlreadyStartedAndKeepsItRunning) {
+    Rig rig;
+    rig.axes = 1;
+    ASSERT_TRUE(rig.start()) << rig.all_events();
+    const auto cycles = rig.controller->stats().cycles;
+    auto again = rig.controller->start();
+    ASSERT_FALSE(again);
+    EXPECT_EQ(again.error().code, ControllerErrc::AlreadyStarted);
+    EXPECT_TRUE(rig.controller->running());
+    rig.controller->run_for(50ms);
+    EXPECT_GT(rig.controller->stats().cycles, cycles);
+    EXPECT_TRUE(rig.controller->boot_reports()[0].ok);
 }

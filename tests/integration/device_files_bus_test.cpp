@@ -72,7 +72,7 @@ TEST(DeviceFilesBusFile, NodeNamingTheAkd2gEdsBootsAndRunsLikeTheProfile) {
     ControllerOptions o;
     o.buses = {&ctl_bus};
     auto created = Controller::from_file(files.bus_file(), o);
-    ASSERT_TRUE(created) << created.error();
+    ASSERT_TRUE(created) << created.error().detail;
     std::unique_ptr<Controller> ctl = std::move(*created);
     std::string events;
     ctl->set_event_callback([&events](const std::string& t) { events += t + "\n"; });
@@ -81,7 +81,7 @@ TEST(DeviceFilesBusFile, NodeNamingTheAkd2gEdsBootsAndRunsLikeTheProfile) {
     drive.start(SteadyClock::now());
     ctl->run_for(20ms);
     auto started = ctl->start();
-    ASSERT_TRUE(started) << started.error() << "\n" << events;
+    ASSERT_TRUE(started) << started.error().detail << "\n" << events;
     ASSERT_EQ(ctl->boot_reports().size(), 1U);
     EXPECT_TRUE(ctl->boot_reports()[0].ok) << ctl->boot_reports()[0].to_string();
     // The write whose type came from the EDS reached the drive (6083h UNSIGNED32).

@@ -47,8 +47,9 @@ def test_boot_enable_and_follow_a_csp_ramp_over_ethercat(root, ecat_sim):
 def test_a_segment_without_slaves_fails_start_with_a_sentence(root):
     with codrive.sim.veth():  # nobody answers on the other end
         c = codrive.Controller.from_file(str(root / "tests/data/bus/ecat-fio.yml"))
-        with pytest.raises(codrive.Error, match="ecpy0"):
+        with pytest.raises(codrive.Error, match="ecpy0") as raised:
             c.start()
+        assert raised.value.reason == "segment_failed"
 
 
 def test_a_simulator_that_cannot_start_is_named(tmp_path):

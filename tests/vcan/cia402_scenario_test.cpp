@@ -85,7 +85,7 @@ struct Rig {
 
     explicit Rig(const std::string& bus_file) {
         auto created = controller::Controller::from_file(bus_file);
-        EXPECT_TRUE(created) << (created ? "" : created.error());
+        EXPECT_TRUE(created) << (created ? "" : created.error().detail);
         if (!created) {
             return;
         }
@@ -160,7 +160,7 @@ TEST(VcanCia402, Akd2gBothAxesAndDsBvsRunTheWholeScenario) {
     // Boot-up and PDO configuration: every node boots, its PDO step succeeds and the axes get
     // their statusword and position by PDO.
     auto started = c.start();
-    ASSERT_TRUE(started) << started.error();
+    ASSERT_TRUE(started) << started.error().detail;
     ASSERT_EQ(c.boot_reports().size(), 2U);
     for (const auto& r : c.boot_reports()) {
         EXPECT_TRUE(r.ok) << r.to_string();

@@ -64,12 +64,12 @@ void enable_move_stop(controller::Threading mode, const char* label) {
         o.realtime.fifo = true; // a warning (not an error) where it is not permitted
         std::vector<master::BusConfig> v{akd2g_bus()};
         auto created = controller::Controller::create(std::move(v), o);
-        ASSERT_TRUE(created) << created.error();
+        ASSERT_TRUE(created) << created.error().detail;
         auto& c = **created;
         std::string events;
         c.set_event_callback([&](const std::string& t) { events += t + "\n"; });
         auto started = c.start();
-        ASSERT_TRUE(started) << started.error() << events;
+        ASSERT_TRUE(started) << started.error().detail << events;
         if (mode == controller::Threading::DedicatedCyclic) {
             EXPECT_EQ(threads(), threads_before + 1) << "one cyclic thread";
         }

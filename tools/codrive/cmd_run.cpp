@@ -69,8 +69,10 @@ int run_bus(const RunArgs& a) {
     options.event_summary_interval = seconds(1); // a flood of one event must not bury the table
     auto created = controller::Controller::from_file(a.file, options);
     if (!created) {
-        fmt::print(stderr, "{}", created.error());
-        return kExitUsage;
+        fmt::print(stderr, "{}", created.error().detail);
+        // A bus file with findings is the user's input; anything else (no event loop) is not.
+        return created.error().code == controller::ControllerErrc::BusFileInvalid ? kExitUsage
+                                                                                  : kExitFailure;
     }
     auto& c = **created;
     c.stop_on_signals();
@@ -80,7 +82,7 @@ int run_bus(const RunArgs& a) {
         }
     });
     if (auto r = c.start(); !r) {
-        fmt::print(stderr, "codrive: {}\n", r.error());
+        fmt::print(stderr, "codrive: {}\n", r.error().detail);
         // A signal during the boot-up: the nodes were left pre-operational by start().
         return c.stop_signal() != 0 ? 128 + c.stop_signal() : kExitFailure;
     }

@@ -41,8 +41,9 @@ def test_boot_enable_and_move_two_akd2g_axes_in_csp(root, build_dir):
 def test_a_broken_bus_file_raises_with_its_findings(tmp_path):
     bad = tmp_path / "bus.yml"
     bad.write_text("bus:\n  interface: vcan0\nnodes:\n  - id: 300\n")
-    with pytest.raises(codrive.Error, match="bus.yml"):
+    with pytest.raises(codrive.Error, match="bus.yml") as raised:
         codrive.Controller.from_file(str(bad))
+    assert raised.value.reason == "bus_file_invalid"
 
 
 def test_profile_position_and_velocity_from_python(root, build_dir, tmp_path):

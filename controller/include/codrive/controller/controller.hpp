@@ -3,6 +3,7 @@
 // CiA 402 axes and an application callback on every SYNC out; safe shutdown on the way out.
 #pragma once
 
+#include <codrive/controller/error.hpp>
 #include <codrive/controller/ethercat_segment.hpp>
 #include <codrive/controller/realtime.hpp>
 
@@ -107,14 +108,16 @@ public:
     using CycleCallback = std::function<void(const CycleInfo&)>;
     using EventCallback = std::function<void(const std::string& text)>;
 
-    /// Loads a bus file; the error message lists every finding ("bus.yml:14: ...").
-    static tl::expected<std::unique_ptr<Controller>, std::string>
+    /// Loads a bus file. Error: ControllerErrc::BusFileInvalid, its detail lists every finding
+    /// ("bus.yml:14: ..."), one a line; or an error of create().
+    static tl::expected<std::unique_ptr<Controller>, ControllerError>
     from_file(const std::string& path, ControllerOptions options = {});
-    /// From parsed bus configurations (one per bus).
-    static tl::expected<std::unique_ptr<Controller>, std::string>
+    /// From parsed bus configurations (one per bus). Errors: InvalidConfiguration (no bus),
+    /// EventLoopFailed.
+    static tl::expected<std::unique_ptr<Controller>, ControllerError>
     create(std::vector<master::BusConfig> buses, ControllerOptions options = {});
     /// CAN buses and EtherCAT segments. Bus indexes: CAN buses first, then the segments.
-    static tl::expected<std::unique_ptr<Controller>, std::string>
+    static tl::expected<std::unique_ptr<Controller>, ControllerError>
     create(std::vector<master::BusConfig> buses, std::vector<EcatSegmentConfig> segments,
            ControllerOptions options = {});
     ~Controller();
@@ -122,9 +125,12 @@ public:
     Controller& operator=(const Controller&) = delete;
 
     /// Opens the buses, boots and configures every node (boot reports available after), maps
-    /// PDOs, binds the axes and starts SYNC. Error: a sentence naming the nodes that failed, with
-    /// their boot report lines. Warnings (real-time settings) go to the event callback.
-    tl::expected<void, std::string> start();
+    /// PDOs, binds the axes and starts SYNC. Error: its code tells the stage (AlreadyStarted,
+    /// InvalidConfiguration, BusOpenFailed, SegmentFailed, StopRequested, BootTimeout,
+    /// NodeBootFailed, SyncFailed), its detail is a sentence naming the interface, slave or the
+    /// nodes that failed with their boot report lines. Warnings (real-time settings) go to the
+    /// event callback. A controller starts once: a second call fails with AlreadyStarted.
+    tl::expected<void, ControllerError> start();
     /// Safe shutdown: every enabled axis gets quick stop then disable, every node NMT
     /// pre-operational, SYNC stops, EtherCAT segments back to PRE-OP. Returns within
     /// shutdown_timeout + about 120 ms even when drives never answer (their axes are then named
@@ -192,14 +198,14 @@ private:
     /// `key`: kind and source of the event, for the rate limiter.
     void emit(const std::string& text, const std::string& key);
     void on_sync(Bus& bus, const CycleInfo& info);
-    tl::expected<void, std::string> open_bus(Bus& b, std::size_t index);
+    tl::expected<void, ControllerError> open_bus(Bus& b, std::size_t index);
     void setup_node(Bus& b, const master::NodeEntry& entry);
     void after_boot(Bus& b, Node& n);
     class Pump;
     [[nodiscard]] bool dedicated() const {
         return options_.threading == Threading::DedicatedCyclic;
     }
-    tl::expected<void, std::string> start_cyclic_thread();
+    tl::expected<void, ControllerError> start_cyclic_thread();
     void cyclic_main();
     /// The safe stop of every axis (on the thread that owns the axes: the loop thread, or the
     /// cyclic thread in dedicated mode). Its state is a member, not a local, because the axes'
@@ -211,7 +217,7 @@ private:
     void stop_buses();
     /// start() was interrupted or failed after the buses opened: freeze the boot-up and leave
     /// every node pre-operational and every segment in PRE-OP.
-    tl::expected<void, std::string> abandon_start(std::string why);
+    tl::expected<void, ControllerError> abandon_start(std::string why);
     /// Runs the loop until pred or deadline; unlike EventLoop::run_until a stop() (a second
     /// signal) does not end it early.
     void run_loop_until(const std::function<bool()>& pred, TimePoint deadline);
@@ -254,6 +260,7 @@ private:
     /// shutdown.
     std::optional<SavedThreadSchedule> caller_schedule_;
 
+    bool start_called_ = false; ///< start() ran once (successfully or not)
     bool started_ = false;
     bool stopped_ = false;
 };

@@ -349,7 +349,7 @@ inline SoakReport run_soak(const SoakOptions& o) {
     auto created = controller::Controller::from_file(rep.bus_file, copt);
     std::filesystem::remove(rep.bus_file);
     if (!created) {
-        rep.error = "bus file: " + created.error();
+        rep.error = "bus file: " + created.error().detail;
         return rep;
     }
     controller::Controller& c = **created;
@@ -364,7 +364,7 @@ inline SoakReport run_soak(const SoakOptions& o) {
         }
     });
     if (auto r = c.start(); !r) {
-        rep.error = "start: " + r.error();
+        rep.error = "start: " + r.error().detail;
         return rep;
     }
     // The axes to drive, with their node's mode ("off": booted, never enabled).
