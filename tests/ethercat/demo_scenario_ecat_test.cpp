@@ -76,7 +76,9 @@ protected:
         return r;
     }
     /// What the CAN test asserts, on the demo's output.
-    static void expect_scenario(const std::string& out) {
+    /// `spindle_stops`: the spindle is at rest before the safe shutdown (the default scenario
+    /// resets its fault and enables it again at zero speed).
+    static void expect_scenario(const std::string& out, bool spindle_stops = true) {
         EXPECT_NE(out.find("slave 0 (AKD2G): OP, 2 axis(es)"), std::string::npos) << out;
         EXPECT_NE(out.find("slave 1 (DS-BVS): OP, 1 axis(es)"), std::string::npos) << out;
         for (const char* step :
@@ -100,8 +102,15 @@ protected:
         ASSERT_NE(stop, std::string::npos) << out;
         const std::string after = out.substr(stop, out.find("== summary") - stop);
         EXPECT_EQ(after.find("OPERATION ENABLED"), std::string::npos) << after;
-        EXPECT_NE(after.find("slave 1 axis 1 (spindle)   SWITCH ON DISABLED"), std::string::npos)
+        EXPECT_NE(after.find("slave 0 axis 1 (gantry)    SWITCH ON DISABLED"), std::string::npos)
             << after;
+        EXPECT_NE(after.find("slave 0 axis 2 (gantry)    SWITCH ON DISABLED"), std::string::npos)
+            << after;
+        if (spindle_stops) {
+            EXPECT_NE(after.find("slave 1 axis 1 (spindle)   SWITCH ON DISABLED"),
+                      std::string::npos)
+                << after;
+        }
         EXPECT_NE(out.find("demo OK: every step worked"), std::string::npos) << out;
     }
     std::string path_;
@@ -155,7 +164,10 @@ TEST_F(DemoScenarioOverEthercat, AFaultOnTheAkd2gIsDecodedWithTheAkd2gTable) {
     }
     const auto r = run_demo({"--fault-node", "0"});
     EXPECT_EQ(r.status, 0) << r.output;
-    expect_scenario(r.output);
+    // Here the spindle is never faulted: it still turns from the CSV step when the shutdown
+    // starts, and its quick stop (DS-BVS 605Ah = 6, stay in QUICK STOP ACTIVE) may outlast the
+    // 1 s shutdown budget; that case is the safe-stop tests' subject, not this one's.
+    expect_scenario(r.output, false);
     EXPECT_NE(r.output.find("slave 0 axis 1 (gantry) is in FAULT: the drive is in FAULT: error "
                             "code 0xFF07 (F2002 Output over current)"),
               std::string::npos)
