@@ -229,5 +229,28 @@ TEST_F(DemoScenarioOverEthercat, ObjectAccessReadsWritesAndNamesSlaveAndObjectOn
     c.shutdown();
 }
 
+TEST_F(DemoScenarioOverEthercat,
+       ObjectAccessToASegmentWithADedicatedCyclicThreadFailsWithASentence) {
+    if (IsSkipped() || HasFatalFailure()) {
+        return;
+    }
+    controller::ControllerOptions o;
+    o.threading = controller::Threading::DedicatedCyclic;
+    auto made = controller::Controller::from_file(write_bus_file(), o);
+    ASSERT_TRUE(made) << made.error();
+    auto& c = **made;
+    ASSERT_TRUE(c.start());
+    // The slave's mailbox rides in the cyclic frame, which the cyclic thread owns: refused
+    // with a sentence, never raced.
+    std::optional<tl::expected<drives::Bytes, std::string>> r;
+    c.read_object(0, 0, 0x1018, 1, [&](auto x) { r = std::move(x); });
+    ASSERT_TRUE(c.run_until([&] { return r.has_value(); }, 1s));
+    ASSERT_FALSE(*r);
+    EXPECT_EQ(r->error(), "read of object 1018h:01h: slave 0: object access from the loop thread "
+                          "is not available for an EtherCAT segment in Threading::DedicatedCyclic "
+                          "(its mailbox belongs to the cyclic thread)");
+    c.shutdown();
+}
+
 } // namespace
 } // namespace codrive::testing
