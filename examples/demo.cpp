@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 // codrive-demo: the README's main job. Boots a bus of simulated (or real) drives from a bus
-// file and walks through what a motion controller does: boot report, enable, homing, a
+// file (CAN or EtherCAT: the program is the same, only the file's transport section differs) and
+// walks through what a motion controller does: boot report, enable, homing, a
 // coordinated two-axis CSP move, a velocity move, an injected fault diagnosed with the vendor's
 // text and recovered, a live status table, and a summary. Exit status 0 only if every step
 // worked; on SIGINT/SIGTERM it stops where it is with the safe shutdown and exits 128 + the
@@ -8,14 +9,14 @@
 #include <codrive/controller/controller.hpp>
 #include <codrive/drives/coordinated.hpp>
 #include <codrive/drives/profile.hpp>
-#include <codrive/master/master.hpp>
-#include <codrive/sdo/client.hpp>
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <csignal>
 #include <cstring>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -75,12 +76,11 @@ struct Demo {
                    "position", "velocity", "torque", "last EMCY");
         for (const auto& ref : c.axes()) {
             const Axis& a = *ref.axis;
-            auto* node = c.master(ref.bus).node(ref.node);
+            // The last emergency's error code as the axis noted it (CAN EMCY or CoE emergency).
             std::string emcy = "-";
-            if (node != nullptr && node->last_emcy()) {
-                emcy = fmt::format("0x{:04X}", node->last_emcy()->message.error_code);
-                const std::string vendor =
-                    a.profile().fault_text(node->last_emcy()->message.error_code);
+            if (const std::uint16_t code = a.last_error_code(); code != 0) {
+                emcy = fmt::format("0x{:04X}", code);
+                const std::string vendor = a.profile().fault_text(code);
                 if (!vendor.empty()) {
                     emcy += " " + vendor;
                 }
@@ -104,17 +104,23 @@ struct Demo {
         return 128 + (c.stop_signal() != 0 ? c.stop_signal() : SIGINT);
     }
 
-    bool sdo_write_u8(NodeId node, std::uint16_t index, std::uint8_t sub, std::uint8_t v) {
+    /// Writes one byte to an object of a CAN node or EtherCAT slave (whatever the bus file's
+    /// transport), to its end.
+    bool write_u8(std::size_t bus, NodeId node, std::uint16_t index, std::uint8_t sub,
+                  std::uint8_t v) {
         auto done = std::make_shared<bool>(false); // outlives a wait ended by Ctrl-C
         auto error = std::make_shared<std::string>();
-        c.master().sdo().client(node).write<std::uint8_t>(
-            index, sub, v, [done, error](sdo::SdoResult<void> r) {
-                *done = true;
-                *error = r ? "" : r.error().to_string();
-            });
+        c.write_object(bus, node, index, sub, {v},
+                       [done, error](tl::expected<void, std::string> r) {
+                           *done = true;
+                           *error = r ? "" : r.error();
+                       });
         c.run_until([&] { return *done; }, seconds(2));
         if (!*done || !error->empty()) {
-            failures.push_back(*done ? *error : "SDO write did not finish");
+            failures.push_back(*done ? *error
+                                     : fmt::format("write of object {:04X}h:{:02X}h to node {} "
+                                                   "did not finish within 2 s",
+                                                   index, sub, node));
             return false;
         }
         return true;
@@ -128,7 +134,9 @@ int main(int argc, char** argv) {
         fmt::print(stderr, "usage: {} BUS.yml [--fault-node N]\n", argv[0]);
         return 2;
     }
-    NodeId fault_node = 2;
+    // The fault goes to axis 1 of the second device of the first bus (CAN node 2, or EtherCAT
+    // slave 1, in the demo's bus files) unless --fault-node names another.
+    std::optional<NodeId> fault_node;
     for (int i = 2; i + 1 < argc; ++i) {
         if (std::strcmp(argv[i], "--fault-node") == 0) {
             fault_node = static_cast<NodeId>(std::stoi(argv[i + 1]));
@@ -191,18 +199,13 @@ int main(int argc, char** argv) {
 
     // The first two CSP axes form the gantry; the first CSV axis is the spindle.
     std::vector<Axis*> gantry;
+    std::size_t gantry_bus = 0;
     Axis* spindle = nullptr;
     for (const auto& a : axes) {
-        std::int8_t mode = 0;
-        for (const auto& n : c.config(a.bus).nodes) {
-            for (const auto& ax : n.axes) {
-                if (n.id == a.node && ax.axis == a.number) {
-                    mode = ax.mode.value_or(0);
-                }
-            }
-        }
+        const std::int8_t mode = a.mode.value_or(0);
         if (mode == 8 && gantry.size() < 2) {
             gantry.push_back(a.axis);
+            gantry_bus = a.bus;
         } else if (mode == 9 && spindle == nullptr) {
             spindle = a.axis;
         }
@@ -235,7 +238,7 @@ int main(int argc, char** argv) {
 
     if (gantry.size() == 2) {
         d.step("coordinated two-axis CSP move (jerk-limited, one set-point per axis per SYNC)");
-        const Duration period = microseconds(c.config().sync_period_us);
+        const Duration period = c.cycle_period(gantry_bus);
         drives::CoordinatedMotion motion(gantry, period);
         c.set_cycle_callback([&](const controller::CycleInfo&) { motion.on_sync(); });
         Eigen::VectorXd end(2);
@@ -294,19 +297,41 @@ int main(int argc, char** argv) {
         return d.stop_now();
     }
 
-    d.step(fmt::format("inject an over-current fault on node {} axis 1 and recover", fault_node));
-    Axis* victim = c.axis(fault_node, 1);
+    if (!fault_node) {
+        std::vector<NodeId> devices;
+        for (const auto& a : axes) {
+            if (a.bus == axes.front().bus &&
+                std::find(devices.begin(), devices.end(), a.node) == devices.end()) {
+                devices.push_back(a.node);
+            }
+        }
+        fault_node = devices.size() > 1 ? devices[1] : devices.empty() ? NodeId{1} : devices[0];
+    }
+    Axis* victim = nullptr;
+    std::size_t victim_bus = 0;
+    for (const auto& a : axes) {
+        if (a.node == *fault_node && a.number == 1 && victim == nullptr) {
+            victim = a.axis;
+            victim_bus = a.bus;
+        }
+    }
+    d.step(fmt::format("inject an over-current fault on {} and recover",
+                       victim != nullptr ? victim->name() : fmt::format("node {}", *fault_node)));
+    // The simulators' fault injection (sim_device.hpp): object 2FF0h sub 2 = 1 raises an
+    // over-current fault on the axis, 0 removes its cause. Written by SDO on CAN, CoE on EtherCAT.
     if (victim == nullptr) {
-        d.failures.push_back(fmt::format("node {} has no axis 1", fault_node));
-    } else if (d.sdo_write_u8(fault_node, 0x2FF0, 2, 1)) {
+        d.failures.push_back(fmt::format("node {} has no axis 1", *fault_node));
+    } else if (d.write_u8(victim_bus, *fault_node, 0x2FF0, 2, 1)) {
         c.run_until([&] { return victim->state() == drives::cia402::State::Fault; }, seconds(2));
+        // The emergency that names the fault may arrive a cycle or two after the statusword.
+        c.run_until([&] { return victim->last_error_code() != 0; }, seconds(1));
         d.say(fmt::format("{} is in {}: {}", victim->name(),
                           drives::cia402::to_string(victim->state()), victim->diagnose()));
         d.table();
         if (victim->state() != drives::cia402::State::Fault) {
             d.failures.push_back("the injected fault did not bring the axis to FAULT");
         }
-        d.sdo_write_u8(fault_node, 0x2FF0, 2, 0); // the cause goes away
+        d.write_u8(victim_bus, *fault_node, 0x2FF0, 2, 0); // the cause goes away
         d.wait("fault reset", [&](Axis::Done done) { victim->fault_reset(std::move(done)); });
         d.wait("enable again", [&](Axis::Done done) { victim->enable(std::move(done)); });
         d.table();

@@ -548,7 +548,13 @@ std::vector<AxisRef> Controller::axes() const {
     for (std::size_t i = 0; i < buses_.size(); ++i) {
         for (const auto& [id, n] : buses_[i]->nodes) {
             for (const auto& a : n->axes) {
-                out.push_back(AxisRef{i, id, a->number(), a.get(), a->name()});
+                std::optional<std::int8_t> mode;
+                for (const auto& e : n->entry.axes) {
+                    if (e.axis == a->number()) {
+                        mode = e.mode;
+                    }
+                }
+                out.push_back(AxisRef{i, id, a->number(), a.get(), a->name(), mode});
             }
         }
     }

@@ -436,11 +436,26 @@ drives::Axis* EcatSegment::axis(unsigned position, unsigned number) {
     return nullptr;
 }
 
+drives::DriveTransport* EcatSegment::transport(unsigned position) {
+    for (auto& s : slaves_) {
+        if (s->index == position) {
+            return s->transport.get();
+        }
+    }
+    return nullptr;
+}
+
 void EcatSegment::collect_axes(std::vector<AxisRef>& out) const {
     for (const auto& s : slaves_) {
         for (const auto& a : s->axes) {
+            std::optional<std::int8_t> mode;
+            for (const auto& e : s->entry.axes) {
+                if (e.axis == a->number()) {
+                    mode = e.mode;
+                }
+            }
             out.push_back(AxisRef{bus_index_, static_cast<NodeId>(s->index), a->number(), a.get(),
-                                  a->name()});
+                                  a->name(), mode});
         }
     }
 }

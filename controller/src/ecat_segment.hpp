@@ -64,6 +64,9 @@ public:
     void stop();
 
     [[nodiscard]] drives::Axis* axis(unsigned position, unsigned number);
+    /// The CoE transport of the slave at `position` (used on the thread that runs cycle()), or
+    /// nullptr when the bus file has no slave there or the segment is not up.
+    [[nodiscard]] drives::DriveTransport* transport(unsigned position);
     void collect_axes(std::vector<AxisRef>& out) const;
     void for_each_axis(const std::function<void(drives::Axis&)>& fn);
     [[nodiscard]] const EcatSegmentConfig& config() const { return config_; }

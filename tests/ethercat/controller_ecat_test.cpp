@@ -449,9 +449,9 @@ TEST(EcatDemoScript, CreatesTheVethPairRunsTheDemoAndCleansUp) {
     }
     std::printf("%s", r.output.c_str());
     EXPECT_EQ(r.status, 0) << r.output;
-    EXPECT_NE(r.output.find("codrive-ecat-sim: 1 slave(s) on ecs-demo ready"), std::string::npos)
+    EXPECT_NE(r.output.find("codrive-ecat-sim: 2 slave(s) on ecs-demo ready"), std::string::npos)
         << r.output;
-    EXPECT_NE(r.output.find("demo finished: OK"), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find("demo OK: every step worked"), std::string::npos) << r.output;
     // The script removed its veth pair.
     auto link = run({"/usr/sbin/ip", "link", "show", "ecm-demo"}, 5s);
     EXPECT_NE(link.status, 0) << link.output;

@@ -76,6 +76,8 @@ struct AxisRef {
     unsigned number = 1;
     drives::Axis* axis = nullptr;
     std::string name; ///< "node 1 axis 2 (gantry)"
+    /// The operation mode the bus file gives the axis (6060h value: 8 = CSP, 9 = CSV), if any.
+    std::optional<std::int8_t> mode;
 };
 
 struct ControllerStats {
@@ -172,6 +174,26 @@ public:
     [[nodiscard]] drives::Axis* axis(NodeId node, unsigned number = 1, std::size_t bus = 0);
     [[nodiscard]] std::vector<AxisRef> axes() const;
     [[nodiscard]] master::Master& master(std::size_t bus = 0);
+
+    /// Result of read_object(): the object's bytes (little-endian, as on the wire), or a sentence
+    /// naming the node or slave, the object and the cause.
+    using ObjectRead = std::function<void(tl::expected<drives::Bytes, std::string>)>;
+    /// Result of write_object(): nothing, or a sentence as for ObjectRead.
+    using ObjectWritten = std::function<void(tl::expected<void, std::string>)>;
+    /// Reads one object of a device, whatever its transport: an SDO upload from CAN node `node`
+    /// on CAN bus `bus`, or a CoE SDO upload from the slave at position `node` of an EtherCAT
+    /// segment (bus indexes: CAN buses first, then the segments). Asynchronous: `done` runs
+    /// later on the loop thread (never inside this call), from run()/run_for()/run_until(). Call
+    /// it on the loop thread after start(). Errors (as sentences): unknown bus, node or slave;
+    /// not started; an EtherCAT segment in Threading::DedicatedCyclic (its mailbox belongs to
+    /// the cyclic thread); the transfer's own failure (abort code, timeout).
+    void read_object(std::size_t bus, NodeId node, std::uint16_t index, std::uint8_t subindex,
+                     ObjectRead done);
+    /// Writes one object (expedited, segmented or CoE as the size needs); as read_object().
+    void write_object(std::size_t bus, NodeId node, std::uint16_t index, std::uint8_t subindex,
+                      drives::Bytes data, ObjectWritten done);
+    /// The cycle period of a bus (its SYNC period; 0 without SYNC) or EtherCAT segment.
+    [[nodiscard]] Duration cycle_period(std::size_t bus = 0) const;
     /// Statistics. The cyclic figures (cycles, overruns, SYNC period error, PDO counts,
     /// EtherCAT frame errors) come from a snapshot the cycle publishes lock-free after every
     /// cycle, so any thread may read them while the cyclic thread runs (percentiles are
@@ -224,6 +246,10 @@ private:
     static void on_signal(int sig);
     void pump_acyclic();
     void for_each_axis(const std::function<void(drives::Axis&)>& fn);
+    /// The transport object accesses of read_object()/write_object() go through, or a sentence
+    /// saying why there is none.
+    tl::expected<drives::DriveTransport*, std::string> object_transport(std::size_t bus,
+                                                                        NodeId node);
     /// Cycle owner: aggregates the cyclic counters into the snapshot stats() reads.
     void publish_cyclic_stats(bool exact_percentiles);
 
