@@ -110,11 +110,10 @@ struct Demo {
                   std::uint8_t v) {
         auto done = std::make_shared<bool>(false); // outlives a wait ended by Ctrl-C
         auto error = std::make_shared<std::string>();
-        c.write_object(bus, node, index, sub, {v},
-                       [done, error](tl::expected<void, std::string> r) {
-                           *done = true;
-                           *error = r ? "" : r.error();
-                       });
+        c.write_object(bus, node, index, sub, {v}, [done, error](drives::DriveVoid r) {
+            *done = true;
+            *error = r ? "" : r.error().message;
+        });
         c.run_until([&] { return *done; }, seconds(2));
         if (!*done || !error->empty()) {
             failures.push_back(*done ? *error

@@ -30,6 +30,12 @@ public:
             return "a node failed its boot-up";
         case ControllerErrc::SyncFailed:
             return "cannot configure SYNC";
+        case ControllerErrc::NotStarted:
+            return "the controller is not started";
+        case ControllerErrc::NoSuchDevice:
+            return "no such bus, node or slave";
+        case ControllerErrc::NotAvailable:
+            return "not available in this threading mode";
         }
         return "unknown controller error";
     }
@@ -68,6 +74,12 @@ std::string_view to_string(ControllerErrc e) {
         return "node_boot_failed";
     case ControllerErrc::SyncFailed:
         return "sync_failed";
+    case ControllerErrc::NotStarted:
+        return "not_started";
+    case ControllerErrc::NoSuchDevice:
+        return "no_such_device";
+    case ControllerErrc::NotAvailable:
+        return "not_available";
     }
     return "unknown";
 }

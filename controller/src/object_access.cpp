@@ -33,38 +33,45 @@ struct Deferred {
 
 } // namespace
 
-tl::expected<drives::DriveTransport*, std::string> Controller::object_transport(std::size_t bus,
-                                                                                NodeId node) {
+drives::DriveResult<drives::DriveTransport*> Controller::object_transport(std::size_t bus,
+                                                                          NodeId node) {
+    const auto error = [](ControllerErrc code, std::string sentence) {
+        return tl::unexpected(drives::DriveError(make_error_code(code), std::move(sentence)));
+    };
     if (!started_) {
-        return tl::unexpected(std::string("the controller is not started (call start() first)"));
+        return error(ControllerErrc::NotStarted,
+                     "the controller is not started (call start() first)");
     }
     if (bus < buses_.size()) {
         auto it = buses_[bus]->nodes.find(node);
         if (it == buses_[bus]->nodes.end() || !it->second->transport) {
-            return tl::unexpected(fmt::format("node {} is not in the bus file of CAN bus {} ({})",
-                                              node, bus, buses_[bus]->config.iface));
+            return error(ControllerErrc::NoSuchDevice,
+                         fmt::format("node {} is not in the bus file of CAN bus {} ({})", node, bus,
+                                     buses_[bus]->config.iface));
         }
         // The CAN transport's SDO client lives on the loop thread in both threading modes.
         return it->second->transport.get();
     }
     const std::size_t seg = bus - buses_.size();
     if (seg >= segments_.size()) {
-        return tl::unexpected(fmt::format("there is no bus {} ({} CAN bus(es), {} EtherCAT "
-                                          "segment(s))",
-                                          bus, buses_.size(), segments_.size()));
+        return error(ControllerErrc::NoSuchDevice,
+                     fmt::format("there is no bus {} ({} CAN bus(es), {} EtherCAT segment(s))", bus,
+                                 buses_.size(), segments_.size()));
     }
     EcatSegment& s = *segments_[seg];
     drives::DriveTransport* t = s.transport(node);
     if (t == nullptr) {
-        return tl::unexpected(fmt::format(
-            "slave {} is not in the bus file's EtherCAT segment on {}", node, s.config().iface));
+        return error(ControllerErrc::NoSuchDevice,
+                     fmt::format("slave {} is not in the bus file's EtherCAT segment on {}", node,
+                                 s.config().iface));
     }
     if (dedicated()) {
         // The CoE transfers ride in the cyclic frame, which the cyclic thread owns.
-        return tl::unexpected(fmt::format(
-            "slave {}: object access from the loop thread is not available for an EtherCAT "
-            "segment in Threading::DedicatedCyclic (its mailbox belongs to the cyclic thread)",
-            node));
+        return error(ControllerErrc::NotAvailable,
+                     fmt::format("slave {}: object access from the loop thread is not available "
+                                 "for an EtherCAT segment in Threading::DedicatedCyclic (its "
+                                 "mailbox belongs to the cyclic thread)",
+                                 node));
     }
     return t;
 }
@@ -73,24 +80,16 @@ void Controller::read_object(std::size_t bus, NodeId node, std::uint16_t index,
                              std::uint8_t subindex, ObjectRead done) {
     auto t = object_transport(bus, node);
     if (!t) {
-        loop_->post([d = std::move(done), why = fmt::format("read of object {:04X}h:{:02X}h: {}",
-                                                            index, subindex, t.error())]() {
-            d(tl::unexpected(why));
-        });
+        drives::DriveError why(t.error().code, fmt::format("read of object {:04X}h:{:02X}h: {}",
+                                                           index, subindex, t.error().message));
+        loop_->post([d = std::move(done), why = std::move(why)]() { d(tl::unexpected(why)); });
         return;
     }
     auto returned = std::make_shared<bool>(false);
+    // The transport's error already names the device and the object.
     (*t)->read(index, subindex,
                Deferred<drives::DriveTransport::ReadDone, drives::DriveResult<drives::Bytes>>{
-                   loop_.get(),
-                   [d = std::move(done)](drives::DriveResult<drives::Bytes> r) {
-                       if (r) {
-                           d(std::move(*r));
-                       } else {
-                           d(tl::unexpected(r.error().message)); // names device and object
-                       }
-                   },
-                   returned});
+                   loop_.get(), std::move(done), returned});
     *returned = true;
 }
 
@@ -98,24 +97,15 @@ void Controller::write_object(std::size_t bus, NodeId node, std::uint16_t index,
                               std::uint8_t subindex, drives::Bytes data, ObjectWritten done) {
     auto t = object_transport(bus, node);
     if (!t) {
-        loop_->post([d = std::move(done), why = fmt::format("write of object {:04X}h:{:02X}h: {}",
-                                                            index, subindex, t.error())]() {
-            d(tl::unexpected(why));
-        });
+        drives::DriveError why(t.error().code, fmt::format("write of object {:04X}h:{:02X}h: {}",
+                                                           index, subindex, t.error().message));
+        loop_->post([d = std::move(done), why = std::move(why)]() { d(tl::unexpected(why)); });
         return;
     }
     auto returned = std::make_shared<bool>(false);
     (*t)->write(index, subindex, std::move(data),
                 Deferred<drives::DriveTransport::WriteDone, drives::DriveVoid>{
-                    loop_.get(),
-                    [d = std::move(done)](drives::DriveVoid r) {
-                        if (r) {
-                            d({});
-                        } else {
-                            d(tl::unexpected(r.error().message)); // names device and object
-                        }
-                    },
-                    returned});
+                    loop_.get(), std::move(done), returned});
     *returned = true;
 }
 

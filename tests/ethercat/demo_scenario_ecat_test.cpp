@@ -179,53 +179,57 @@ TEST_F(DemoScenarioOverEthercat, ObjectAccessReadsWritesAndNamesSlaveAndObjectOn
         return;
     }
     auto made = controller::Controller::from_file(write_bus_file());
-    ASSERT_TRUE(made) << made.error();
+    ASSERT_TRUE(made) << made.error().detail;
     auto& c = **made;
     ASSERT_TRUE(c.start());
     const std::size_t bus = 0; // the only segment (no CAN bus in the file)
 
     // 1018h:01 vendor id of the AKD2G (Kollmorgen 0000006Ah).
-    std::optional<tl::expected<drives::Bytes, std::string>> vendor;
+    std::optional<drives::DriveResult<drives::Bytes>> vendor;
     c.read_object(bus, 0, 0x1018, 1, [&](auto r) { vendor = std::move(r); });
     EXPECT_FALSE(vendor.has_value()) << "completed inside the call";
     ASSERT_TRUE(c.run_until([&] { return vendor.has_value(); }, 2s));
-    ASSERT_TRUE(*vendor) << vendor->error();
+    ASSERT_TRUE(*vendor) << vendor->error().message;
     ASSERT_EQ((*vendor)->size(), 4U);
     EXPECT_EQ((**vendor)[0], 0x6A);
 
     // A write the drive acts on: the fault injection brings slave 1's axis to FAULT.
     drives::Axis* spindle = c.axis(1, 1, bus);
     ASSERT_NE(spindle, nullptr);
-    std::optional<tl::expected<void, std::string>> wrote;
+    std::optional<drives::DriveVoid> wrote;
     c.write_object(bus, 1, 0x2FF0, 2, {1}, [&](auto r) { wrote = r; });
     ASSERT_TRUE(c.run_until([&] { return wrote.has_value(); }, 2s));
-    ASSERT_TRUE(*wrote) << wrote->error();
+    ASSERT_TRUE(*wrote) << wrote->error().message;
     EXPECT_TRUE(c.run_until([&] { return spindle->state() == drives::cia402::State::Fault; }, 2s));
 
     // Failures as sentences naming the slave and the object.
-    std::optional<tl::expected<drives::Bytes, std::string>> missing;
+    std::optional<drives::DriveResult<drives::Bytes>> missing;
     c.read_object(bus, 0, 0x5FFF, 3, [&](auto r) { missing = std::move(r); });
     ASSERT_TRUE(c.run_until([&] { return missing.has_value(); }, 2s));
     ASSERT_FALSE(*missing);
-    std::printf("absent object: %s\n", missing->error().c_str());
-    EXPECT_NE(missing->error().find("slave 0"), std::string::npos) << missing->error();
-    EXPECT_NE(missing->error().find("5FFF"), std::string::npos) << missing->error();
+    std::printf("absent object: %s\n", missing->error().message.c_str());
+    EXPECT_NE(missing->error().message.find("slave 0"), std::string::npos)
+        << missing->error().message;
+    EXPECT_NE(missing->error().message.find("5FFF"), std::string::npos) << missing->error().message;
 
-    std::optional<tl::expected<void, std::string>> nobody;
+    std::optional<drives::DriveVoid> nobody;
     c.write_object(bus, 7, 0x2FF0, 2, {0}, [&](auto r) { nobody = r; });
     ASSERT_TRUE(c.run_until([&] { return nobody.has_value(); }, 1s));
     ASSERT_FALSE(*nobody);
-    std::printf("absent slave: %s\n", nobody->error().c_str());
-    EXPECT_EQ(nobody->error(), "write of object 2FF0h:02h: slave 7 is not in the bus file's "
-                               "EtherCAT segment on " +
-                                   veth_->master_if());
+    std::printf("absent slave: %s\n", nobody->error().message.c_str());
+    EXPECT_EQ(nobody->error().message,
+              "write of object 2FF0h:02h: slave 7 is not in the bus file's "
+              "EtherCAT segment on " +
+                  veth_->master_if());
 
-    std::optional<tl::expected<void, std::string>> no_bus;
+    std::optional<drives::DriveVoid> no_bus;
     c.write_object(3, 1, 0x2FF0, 2, {0}, [&](auto r) { no_bus = r; });
     ASSERT_TRUE(c.run_until([&] { return no_bus.has_value(); }, 1s));
     ASSERT_FALSE(*no_bus);
-    EXPECT_EQ(no_bus->error(), "write of object 2FF0h:02h: there is no bus 3 (0 CAN bus(es), 1 "
-                               "EtherCAT segment(s))");
+    EXPECT_EQ(no_bus->error().code, controller::ControllerErrc::NoSuchDevice);
+    EXPECT_EQ(no_bus->error().message,
+              "write of object 2FF0h:02h: there is no bus 3 (0 CAN bus(es), 1 "
+              "EtherCAT segment(s))");
     c.shutdown();
 }
 
@@ -237,18 +241,20 @@ TEST_F(DemoScenarioOverEthercat,
     controller::ControllerOptions o;
     o.threading = controller::Threading::DedicatedCyclic;
     auto made = controller::Controller::from_file(write_bus_file(), o);
-    ASSERT_TRUE(made) << made.error();
+    ASSERT_TRUE(made) << made.error().detail;
     auto& c = **made;
     ASSERT_TRUE(c.start());
     // The slave's mailbox rides in the cyclic frame, which the cyclic thread owns: refused
     // with a sentence, never raced.
-    std::optional<tl::expected<drives::Bytes, std::string>> r;
+    std::optional<drives::DriveResult<drives::Bytes>> r;
     c.read_object(0, 0, 0x1018, 1, [&](auto x) { r = std::move(x); });
     ASSERT_TRUE(c.run_until([&] { return r.has_value(); }, 1s));
     ASSERT_FALSE(*r);
-    EXPECT_EQ(r->error(), "read of object 1018h:01h: slave 0: object access from the loop thread "
-                          "is not available for an EtherCAT segment in Threading::DedicatedCyclic "
-                          "(its mailbox belongs to the cyclic thread)");
+    EXPECT_EQ(r->error().code, controller::ControllerErrc::NotAvailable);
+    EXPECT_EQ(r->error().message,
+              "read of object 1018h:01h: slave 0: object access from the loop thread "
+              "is not available for an EtherCAT segment in Threading::DedicatedCyclic "
+              "(its mailbox belongs to the cyclic thread)");
     c.shutdown();
 }
 

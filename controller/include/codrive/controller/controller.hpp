@@ -175,11 +175,13 @@ public:
     [[nodiscard]] std::vector<AxisRef> axes() const;
     [[nodiscard]] master::Master& master(std::size_t bus = 0);
 
-    /// Result of read_object(): the object's bytes (little-endian, as on the wire), or a sentence
-    /// naming the node or slave, the object and the cause.
-    using ObjectRead = std::function<void(tl::expected<drives::Bytes, std::string>)>;
-    /// Result of write_object(): nothing, or a sentence as for ObjectRead.
-    using ObjectWritten = std::function<void(tl::expected<void, std::string>)>;
+    /// Result of read_object(): the object's bytes (little-endian, as on the wire), or a
+    /// drives::DriveError: `code` to branch on (the transfer's own: an SDO abort code, a
+    /// timeout; or ControllerErrc::NotStarted, NoSuchDevice, NotAvailable) and `message`, a
+    /// sentence naming the node or slave, the object and the cause.
+    using ObjectRead = std::function<void(drives::DriveResult<drives::Bytes>)>;
+    /// Result of write_object(): nothing, or a drives::DriveError as for ObjectRead.
+    using ObjectWritten = std::function<void(drives::DriveVoid)>;
     /// Reads one object of a device, whatever its transport: an SDO upload from CAN node `node`
     /// on CAN bus `bus`, or a CoE SDO upload from the slave at position `node` of an EtherCAT
     /// segment (bus indexes: CAN buses first, then the segments). Asynchronous: `done` runs
@@ -246,10 +248,9 @@ private:
     static void on_signal(int sig);
     void pump_acyclic();
     void for_each_axis(const std::function<void(drives::Axis&)>& fn);
-    /// The transport object accesses of read_object()/write_object() go through, or a sentence
+    /// The transport object accesses of read_object()/write_object() go through, or the error
     /// saying why there is none.
-    tl::expected<drives::DriveTransport*, std::string> object_transport(std::size_t bus,
-                                                                        NodeId node);
+    drives::DriveResult<drives::DriveTransport*> object_transport(std::size_t bus, NodeId node);
     /// Cycle owner: aggregates the cyclic counters into the snapshot stats() reads.
     void publish_cyclic_stats(bool exact_percentiles);
 

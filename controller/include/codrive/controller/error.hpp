@@ -23,6 +23,9 @@ enum class ControllerErrc {
     BootTimeout,          ///< the boot-up did not finish within boot_timeout
     NodeBootFailed,       ///< at least one node failed its boot-up (see boot_reports())
     SyncFailed,           ///< the SYNC producer could not be configured
+    NotStarted,           ///< read_object()/write_object() before start()
+    NoSuchDevice,         ///< read_object()/write_object(): no such bus, node or slave
+    NotAvailable, ///< read_object()/write_object() on a segment whose mailbox another thread owns
 };
 
 const std::error_category& controller_category();
