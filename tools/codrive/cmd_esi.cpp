@@ -30,7 +30,7 @@ std::string pdo_text(const ethercat::EsiEntry& e) {
     return e.tx_mappable ? "T" : (e.rx_mappable ? "R" : "-");
 }
 
-void print_pdos(const std::vector<ethercat::EsiPdo>& pdos) {
+void print_pdos(const ethercat::EsiDevice& d, const std::vector<ethercat::EsiPdo>& pdos) {
     for (const auto& p : pdos) {
         std::string flags;
         if (p.sm) {
@@ -41,8 +41,13 @@ void print_pdos(const std::vector<ethercat::EsiPdo>& pdos) {
         }
         fmt::print("  {} {:04X}h {}{}\n", p.rx ? "RxPDO" : "TxPDO", p.index, p.name, flags);
         for (const auto& e : p.entries) {
-            fmt::print("    {:04X}:{:02X} {:>2} bit  {}\n", e.index, e.subindex, e.bit_len,
-                       e.index == 0 ? std::string("(gap)") : e.name);
+            // An entry without a Name of its own is named by the dictionary.
+            const ethercat::EsiEntry* od = d.entry(e.index, e.subindex);
+            const std::string name = e.index == 0      ? std::string("(gap)")
+                                     : !e.name.empty() ? e.name
+                                     : od != nullptr   ? od->name
+                                                       : std::string("(not in the dictionary)");
+            fmt::print("    {:04X}:{:02X} {:>2} bit  {}\n", e.index, e.subindex, e.bit_len, name);
         }
     }
 }
@@ -59,8 +64,8 @@ void print_device(const ethercat::EsiDevice& d) {
                                    d.sdo_info ? "yes" : "no", d.pdo_assign ? "yes" : "no",
                                    d.pdo_config ? "yes" : "no")
                      : std::string("no CoE"));
-    print_pdos(d.rx_pdos);
-    print_pdos(d.tx_pdos);
+    print_pdos(d, d.rx_pdos);
+    print_pdos(d, d.tx_pdos);
 }
 
 // One object's entries, as `codrive eds show` prints them: index:sub, name, type, access, PDO,
