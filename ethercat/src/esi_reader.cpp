@@ -327,19 +327,33 @@ private:
 
 } // namespace
 
+namespace {
+// ETG.2000 §5.4.3 (Table 42) base data types and their CiA 301 types; where two names share a
+// type, the first is the one written (BOOL, USINT, UINT, UDINT).
+constexpr std::pair<std::string_view, DataType> kEsiBaseTypes[] = {
+    {"BOOL", DataType::Boolean},     {"BIT", DataType::Boolean},
+    {"SINT", DataType::Integer8},    {"INT", DataType::Integer16},
+    {"INT24", DataType::Integer24},  {"DINT", DataType::Integer32},
+    {"LINT", DataType::Integer64},   {"USINT", DataType::Unsigned8},
+    {"BYTE", DataType::Unsigned8},   {"UINT", DataType::Unsigned16},
+    {"WORD", DataType::Unsigned16},  {"UINT24", DataType::Unsigned24},
+    {"UDINT", DataType::Unsigned32}, {"DWORD", DataType::Unsigned32},
+    {"ULINT", DataType::Unsigned64}, {"REAL", DataType::Real32},
+    {"LREAL", DataType::Real64},
+};
+} // namespace
+
+std::string_view esi_base_type_name(DataType type) {
+    for (const auto& [n, t] : kEsiBaseTypes) {
+        if (t == type) {
+            return n;
+        }
+    }
+    return {};
+}
+
 std::optional<DataType> esi_base_type(std::string_view name) {
-    static const std::pair<std::string_view, DataType> kTypes[] = {
-        {"BOOL", DataType::Boolean},     {"BIT", DataType::Boolean},
-        {"SINT", DataType::Integer8},    {"INT", DataType::Integer16},
-        {"INT24", DataType::Integer24},  {"DINT", DataType::Integer32},
-        {"LINT", DataType::Integer64},   {"USINT", DataType::Unsigned8},
-        {"BYTE", DataType::Unsigned8},   {"UINT", DataType::Unsigned16},
-        {"WORD", DataType::Unsigned16},  {"UINT24", DataType::Unsigned24},
-        {"UDINT", DataType::Unsigned32}, {"DWORD", DataType::Unsigned32},
-        {"ULINT", DataType::Unsigned64}, {"REAL", DataType::Real32},
-        {"LREAL", DataType::Real64},
-    };
-    for (const auto& [n, t] : kTypes) {
+    for (const auto& [n, t] : kEsiBaseTypes) {
         if (n == name) {
             return t;
         }

@@ -111,6 +111,9 @@ struct EsiFile {
 /// The CiA 301 type of an ESI base type name (ETG.2000 §5.4.3 Table 42: BOOL, SINT, UINT,
 /// UDINT, REAL, STRING(n), ...); none for a name that is not a base type.
 [[nodiscard]] std::optional<DataType> esi_base_type(std::string_view name);
+/// The ESI name of a fixed-size CiA 301 type ("UDINT" for UNSIGNED32); empty for strings,
+/// domains and types ETG.2000 has no base type for. esi_base_type() reads it back.
+[[nodiscard]] std::string_view esi_base_type_name(DataType type);
 
 /// Reads ESI XML text. Errors are one sentence "file:line: ..." naming what is wrong (not XML,
 /// no EtherCATInfo/Vendor/Id, a device without ProductCode, an object without Index, a number
