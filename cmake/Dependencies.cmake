@@ -13,12 +13,9 @@ if(CODRIVE_BUILD_TOOLS OR CODRIVE_FUZZ)
     # codrive-dump reads Vector BLF files, whose containers are zlib streams (zlib1g-dev).
     find_package(ZLIB REQUIRED)
 endif()
-# `codrive eds|esi export` and the devices/ and conformance tests write and read ESI XML
-# (ETG.2000) with Debian's libpugixml-dev; only the tools and tests link it, so the installed
-# libraries do not need it.
-if(CODRIVE_BUILD_TOOLS OR CODRIVE_BUILD_TESTS)
-    find_package(pugixml REQUIRED)
-endif()
+# The EtherCAT master reads ESI XML files (ETG.2000: bus-file `esi:`, `codrive esi show`) and
+# `codrive esi export` writes them, with Debian's libpugixml-dev.
+find_package(pugixml REQUIRED)
 if(CODRIVE_BUILD_TESTS)
     find_package(GTest REQUIRED)
 endif()

@@ -8,6 +8,7 @@
 
 #include <codrive/ethercat/drive_layout.hpp>
 #include <codrive/ethercat/error.hpp>
+#include <codrive/ethercat/esi_pdos.hpp>
 
 #include <fmt/format.h>
 
@@ -68,6 +69,16 @@ tl::expected<void, ControllerError> EcatSegment::bring_up(ethercat::IEcatLink* l
                 "vendor 0x{:08X} product 0x{:08X}",
                 where, master_->slave_label(e.position), s->profile->title, id.vendor_id,
                 id.product_code, sii.vendor_id, sii.product_code));
+        }
+        if (e.esi) {
+            // The ESI device is the one whose identity the slave's SII states (ETG.2000
+            // §5.3.1 Type: ProductCode, RevisionNo under the file's Vendor/Id).
+            s->esi_device = e.esi->match(sii.vendor_id, sii.product_code, sii.revision);
+            if (s->esi_device == nullptr) {
+                return segment_failed(fmt::format(
+                    "{}:{}: {}: {}", config_.file, e.line, master_->slave_label(e.position),
+                    e.esi->mismatch(sii.vendor_id, sii.product_code, sii.revision)));
+            }
         }
         slaves_.push_back(std::move(s));
     }
@@ -133,10 +144,27 @@ tl::expected<void, ControllerError> EcatSegment::bring_up(ethercat::IEcatLink* l
 }
 
 tl::expected<void, ControllerError> EcatSegment::configure_slave(Slave& s) {
-    if (s.entry.axes.empty()) {
-        return {}; // keep the slave's own PDO assignment
-    }
     const std::string who = master_->slave_label(s.index);
+    if (s.entry.axes.empty()) {
+        if (s.esi_device == nullptr) {
+            return {}; // keep the slave's own PDO assignment
+        }
+        // The default layout the vendor's ESI states (the PDOs with an Sm attribute).
+        const auto pdos = ethercat::esi_default_pdos(*s.esi_device);
+        if (!pdos) {
+            emit_(fmt::format("{}: {} states no PDO assignment (CoE PdoAssign); keeping the "
+                              "slave's own",
+                              who, s.entry.esi->file));
+            return {};
+        }
+        if (!master_->configure_pdos(s.index, pdos->rx, pdos->tx)) {
+            return segment_failed(fmt::format("{}: the default PDO assignment of {} failed: {}",
+                                              who, s.entry.esi->file, master_->last_error()));
+        }
+        emit_(fmt::format("{}: default PDO assignment of {} ({} RxPDO, {} TxPDO)", who,
+                          s.entry.esi->file, pdos->rx.size(), pdos->tx.size()));
+        return {};
+    }
     // The profile's layouts put axis n into RxPDO/TxPDO n (AKD2G manual §3.11.2: 1600h/1A00h
     // axis 1, 1601h/1A01h axis 2), so the modes go in axis order and the axes must be 1..n.
     std::vector<EcatAxisEntry> axes = s.entry.axes;

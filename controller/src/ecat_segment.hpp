@@ -81,6 +81,9 @@ private:
         EcatSlaveEntry entry;
         std::size_t index = 0; ///< position on the segment
         const drives::Profile* profile = nullptr;
+        /// The device of the slave's ESI file its SII identity matched (in entry.esi); nullptr
+        /// without `esi:`.
+        const ethercat::EsiDevice* esi_device = nullptr;
         std::shared_ptr<const emcy::IEmcyTextProvider> emcy_text; ///< the profile's EMCY texts
         std::unique_ptr<ethercat::CoeTransport> transport;
         std::vector<std::unique_ptr<drives::Axis>> axes;

@@ -9,6 +9,7 @@
 #include <fmt/ranges.h>
 
 #include <algorithm>
+#include <filesystem>
 #include <set>
 #include <sstream>
 #include <yaml-cpp/yaml.h>
@@ -36,9 +37,10 @@ public:
             error(key_line, "`ethercat` must be a map with `interface`, `cycle_us` and `slaves`");
             return std::nullopt;
         }
-        check_keys(s,
-                   {"interface", "cycle_us", "lost_frames_event", "dc", "sync0_shift_us", "slaves"},
-                   "`ethercat`");
+        check_keys(
+            s,
+            {"interface", "cycle_us", "lost_frames_event", "dc", "sync0_shift_us", "esi", "slaves"},
+            "`ethercat`");
         if (s["interface"] && s["interface"].IsScalar()) {
             c.iface = s["interface"].as<std::string>();
         } else {
@@ -78,6 +80,9 @@ public:
         if (shift_line && dc_readable && !c.dc) {
             error(*shift_line, "`ethercat.sync0_shift_us` needs `dc: true` (SYNC0 exists only "
                                "with distributed clocks)");
+        }
+        if (s["esi"]) {
+            c.esi = esi(s["esi"], "`ethercat.esi`");
         }
         const YAML::Node slaves = s["slaves"];
         if (!slaves || !slaves.IsSequence()) {
@@ -194,7 +199,7 @@ private:
             error(e.line, "an EtherCAT slave must be a map with `position` and `profile`");
             return std::nullopt;
         }
-        check_keys(n, {"position", "name", "profile", "axes", "dc", "sync0_shift_us"},
+        check_keys(n, {"position", "name", "profile", "axes", "dc", "sync0_shift_us", "esi"},
                    "an EtherCAT slave");
         const auto pos = n["position"] ? number(n["position"]) : std::nullopt;
         if (!pos || *pos < 0 || *pos > 65535) {
@@ -236,6 +241,7 @@ private:
                                   e.position));
             }
         }
+        e.esi = n["esi"] ? esi(n["esi"], fmt::format("slave {}: `esi`", e.position)) : seg.esi;
         if (n["axes"]) {
             if (!n["axes"].IsSequence()) {
                 error(line_of(n["axes"]), fmt::format("slave {}: `axes` must be a list of "
@@ -311,6 +317,25 @@ private:
             }
         }
         e.axes.push_back(ax);
+    }
+
+    // `esi: path.xml`, relative to the bus file: read now, so a bad file is a finding of
+    // `codrive run --check` and not a surprise at start.
+    std::shared_ptr<const ethercat::EsiFile> esi(const YAML::Node& n, const std::string& what) {
+        const auto path = text(n, what);
+        if (!path) {
+            return nullptr;
+        }
+        std::filesystem::path p(*path);
+        if (p.is_relative()) {
+            p = std::filesystem::path(file_).parent_path() / p;
+        }
+        auto loaded = ethercat::load_esi(p.lexically_normal().string());
+        if (!loaded) {
+            error(line_of(n), fmt::format("{}: {}", what, loaded.error()));
+            return nullptr;
+        }
+        return std::make_shared<const ethercat::EsiFile>(std::move(*loaded));
     }
 
     std::string file_;

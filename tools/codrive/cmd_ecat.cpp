@@ -6,6 +6,7 @@
 
 #include <codrive/core/data_type.hpp>
 #include <codrive/core/value.hpp>
+#include <codrive/ethercat/esi.hpp>
 
 #include <fmt/format.h>
 
@@ -24,8 +25,49 @@ struct EcatOptions {
     std::string value;
     std::string type;
     std::string state;
+    std::string esi; ///< --esi: names and types of the objects from this ESI file
     bool complete_access = false;
 };
+
+/// With --esi: the ESI entry of INDEX:SUB on the device the slave's SII identity matches. Sets
+/// `refused` (after printing the sentence) when the file cannot be read or describes another
+/// device; nullptr without --esi or when the dictionary has no such entry.
+struct EsiLookup {
+    std::optional<ethercat::EsiFile> file;
+    const ethercat::EsiEntry* entry = nullptr;
+    bool refused = false;
+};
+
+EsiLookup esi_entry(const EcatOptions& o, const Master& m, std::uint16_t index, std::uint8_t sub) {
+    EsiLookup out;
+    if (o.esi.empty()) {
+        return out;
+    }
+    auto esi = ethercat::load_esi(o.esi);
+    if (!esi) {
+        fmt::print(stderr, "codrive: {}\n", esi.error());
+        out.refused = true;
+        return out;
+    }
+    out.file = std::move(*esi);
+    const auto& sii = m.slaves().at(o.position).sii;
+    const ethercat::EsiDevice* d = out.file->match(sii.vendor_id, sii.product_code, sii.revision);
+    if (d == nullptr) {
+        fmt::print(stderr, "codrive: {}: {}\n", m.slave_label(o.position),
+                   out.file->mismatch(sii.vendor_id, sii.product_code, sii.revision));
+        out.refused = true;
+        return out;
+    }
+    out.entry = d->entry(index, sub);
+    if (out.entry == nullptr) {
+        fmt::print(stderr, "codrive: {} has no object 0x{:04X}:{:02X} for {}\n", o.esi, index, sub,
+                   d->describe());
+    } else if (!out.entry->type) {
+        fmt::print(stderr, "codrive: {}: 0x{:04X}:{:02X} is of type {}, not a base type\n", o.esi,
+                   index, sub, out.entry->type_name);
+    }
+    return out;
+}
 
 int run_scan(const EcatOptions& o) {
     auto s = open_segment(o.iface);
@@ -78,12 +120,19 @@ int run_sdo_read(const EcatOptions& o) {
     if (!to_preop(*s->master, o.position)) {
         return kExitFailure;
     }
+    const EsiLookup esi = esi_entry(o, *s->master, obj->first, obj->second);
+    if (esi.refused) {
+        return kExitFailure;
+    }
     auto data = s->master->sdo_upload(o.position, obj->first, obj->second, o.complete_access);
     if (!data) {
         fmt::print(stderr, "codrive: {}\n", s->master->last_error());
         return kExitFailure;
     }
-    if (type) {
+    if (!type && esi.entry != nullptr && esi.entry->type) {
+        // Typed and named from the ESI (ETG.2000 Object Name/Type).
+        fmt::print("{}: {}\n", esi.entry->name, Value(*esi.entry->type, *data).to_string());
+    } else if (type) {
         fmt::print("{}\n", Value(*type, *data).to_string());
     } else if (!data->empty() && data->size() <= 4) {
         const auto v = get_le_n(data->data(), data->size());
@@ -99,13 +148,15 @@ int run_sdo_write(const EcatOptions& o) {
     if (!obj) {
         return kExitUsage;
     }
-    const auto type = data_type_from_name(o.type.empty() ? "u32" : o.type);
-    if (!type) {
+    std::optional<DataType> type;
+    if (!o.type.empty() && !(type = data_type_from_name(o.type))) {
         fmt::print(stderr, "codrive: unknown type '{}'\n", o.type);
         return kExitUsage;
     }
-    auto value = Value::parse(*type, o.value);
-    if (!value) {
+    if (!type && o.esi.empty()) {
+        type = DataType::Unsigned32;
+    }
+    if (type && !Value::parse(*type, o.value)) { // a usage error before the segment is opened
         fmt::print(stderr, "codrive: cannot read '{}' as {}\n", o.value, to_string(*type));
         return kExitUsage;
     }
@@ -115,6 +166,18 @@ int run_sdo_write(const EcatOptions& o) {
     }
     if (!to_preop(*s->master, o.position)) {
         return kExitFailure;
+    }
+    const EsiLookup esi = esi_entry(o, *s->master, obj->first, obj->second);
+    if (esi.refused) {
+        return kExitFailure;
+    }
+    if (!type) { // the ESI's type, else UNSIGNED32
+        type = esi.entry != nullptr && esi.entry->type ? *esi.entry->type : DataType::Unsigned32;
+    }
+    auto value = Value::parse(*type, o.value);
+    if (!value) {
+        fmt::print(stderr, "codrive: cannot read '{}' as {}\n", o.value, to_string(*type));
+        return kExitUsage;
     }
     if (!s->master->sdo_download(o.position, obj->first, obj->second, value->bytes(),
                                  o.complete_access)) {
@@ -162,6 +225,8 @@ void install_ecat(CLI::App& app, int& exit_code) {
         c->add_option("subindex", opts->subindex, "sub-index");
         c->add_option("-t,--type", opts->type, "data type: u8, u16, u32, i32, str, ...");
         c->add_flag("--complete-access", opts->complete_access, "CoE complete access");
+        c->add_option("--esi", opts->esi,
+                      "ESI file: the object's name and type (the slave's identity must match)");
     }
     write->add_option("value", opts->value, "value to write")->required();
     read->callback([opts, &exit_code] { exit_code = run_sdo_read(*opts); });

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 // A drive profile's object dictionary as an EtherCAT slave information file (ETG.2000 ESI XML).
 #include <codrive/devices/device_files.hpp>
+#include <codrive/ethercat/esi.hpp>
 
 #include <fmt/format.h>
 #include <pugixml.hpp>
@@ -26,35 +27,13 @@ std::size_t bit_size(const SubObject& s) {
     return 8 * (bytes != 0 ? bytes : s.value.size());
 }
 
-// ETG.2000 §5.4.3 (Table 42) base data type names for the CiA 301 types.
+// ETG.2000 §5.4.3 (Table 42) type names: the base types from the ESI reader's table (one truth
+// for both directions), strings and octet strings sized by the value.
 std::string esi_type(const SubObject& s) {
+    if (const std::string_view base = ethercat::esi_base_type_name(s.type); !base.empty()) {
+        return std::string(base);
+    }
     switch (s.type) {
-    case DataType::Boolean:
-        return "BOOL";
-    case DataType::Integer8:
-        return "SINT";
-    case DataType::Integer16:
-        return "INT";
-    case DataType::Integer24:
-        return "INT24";
-    case DataType::Integer32:
-        return "DINT";
-    case DataType::Integer64:
-        return "LINT";
-    case DataType::Unsigned8:
-        return "USINT";
-    case DataType::Unsigned16:
-        return "UINT";
-    case DataType::Unsigned24:
-        return "UINT24";
-    case DataType::Unsigned32:
-        return "UDINT";
-    case DataType::Unsigned64:
-        return "ULINT";
-    case DataType::Real32:
-        return "REAL";
-    case DataType::Real64:
-        return "LREAL";
     case DataType::VisibleString:
         return fmt::format("STRING({})", s.value.size());
     case DataType::OctetString:

@@ -3,7 +3,10 @@
 // drive profiles and axes) that a Controller runs next to its CAN buses.
 #pragma once
 
+#include <codrive/ethercat/esi.hpp>
+
 #include <cstdint>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -24,6 +27,10 @@ struct EcatSlaveEntry {
     std::vector<EcatAxisEntry> axes;
     std::optional<bool> dc;                      ///< overrides the segment's `dc`
     std::optional<std::uint32_t> sync0_shift_us; ///< overrides the segment's `sync0_shift_us`
+    /// The slave's ESI file (`esi:`, else the segment's), read when the bus file is parsed: the
+    /// SII identity must match one of its devices, and without `axes` its default PDO
+    /// assignment (the PDOs with an `Sm`) is written. nullptr: none.
+    std::shared_ptr<const ethercat::EsiFile> esi;
     int line = 0;
 };
 
@@ -41,6 +48,8 @@ struct EcatSegmentConfig {
     bool dc = false;
     /// SYNC0 start after the cycle's time grid, µs (0..cycle_us − 1; only with `dc`).
     std::uint32_t sync0_shift_us = 0;
+    /// The segment's `esi:` (every slave's that has none of its own); nullptr: none.
+    std::shared_ptr<const ethercat::EsiFile> esi;
     std::vector<EcatSlaveEntry> slaves;
 };
 
@@ -61,7 +70,8 @@ struct BusFileSections {
 /// Splits a bus file's text: the `ethercat:` block is parsed here (every finding reported, with
 /// line numbers), the rest is left for master::parse_bus_config() with the same line numbers.
 /// Errors (in `errors`): unknown keys, missing interface, bad cycle, duplicate positions, unknown
-/// profiles or modes, no section at all.
+/// profiles or modes, an `esi:` file that cannot be read (its own `file:line:` sentence follows
+/// the bus file's line), no section at all. `esi:` paths are relative to `file`'s directory.
 [[nodiscard]] BusFileSections split_bus_file(const std::string& text, const std::string& file);
 
 } // namespace codrive::controller
