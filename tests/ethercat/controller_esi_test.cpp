@@ -43,13 +43,13 @@ protected:
     std::string run(const std::string& path) {
         auto c = controller::Controller::from_file(path, {});
         if (!c) {
-            return "from_file failed: " + c.error();
+            return "from_file failed: " + c.error().detail;
         }
         std::string events;
         (*c)->set_event_callback([&events](const std::string& t) { events += t + "\n"; });
         auto started = (*c)->start();
         if (!started) {
-            return "start failed: " + started.error();
+            return "start failed: " + started.error().detail;
         }
         c->reset(); // shuts the segment down before the next run opens it
         return events;
