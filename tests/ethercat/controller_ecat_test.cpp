@@ -377,8 +377,15 @@ TEST_F(ControllerOverEthercat, DedicatedCyclicThreadEnablesMovesAndStopsWithinOn
                     stats.to_string().c_str(), ms);
         EXPECT_LT(ms, 1000.0);
         EXPECT_EQ(axis->state(), drives::cia402::State::SwitchOnDisabled) << events;
-        // A loaded CI host may delay the simulator past a frame timeout now and then.
-        EXPECT_LE(stats.ecat_frame_errors, stats.cycles / 100) << events;
+        // A loaded CI host may delay the simulator past a frame timeout now and then: 1 % of
+        // the cycles; under ThreadSanitizer, which slows the simulator several times over too,
+        // 5 % (seen: one 6 ms stall losing 3 frames in a row twice, 7 of 666 cycles).
+#if defined(__SANITIZE_THREAD__)
+        constexpr std::uint64_t kLostPerCycles = 20;
+#else
+        constexpr std::uint64_t kLostPerCycles = 100;
+#endif
+        EXPECT_LE(stats.ecat_frame_errors, stats.cycles / kLostPerCycles) << events;
 #if !defined(__SANITIZE_THREAD__) // ThreadSanitizer slows the cycle several times over
         // One slave on a private veth pair, nothing acyclic going on: once the axis follows the
         // ramp the cyclic thread keeps its 2 ms slots. A busy host (or its hypervisor) may hold
