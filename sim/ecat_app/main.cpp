@@ -217,23 +217,27 @@ int main(int argc, char** argv) {
     if (!leave_op_on_signal.empty()) {
         const auto a = leave_op_on_signal.find(':');
         const auto b = a == std::string::npos ? a : leave_op_on_signal.find(':', a + 1);
-        const auto pos = parse_uint(leave_op_on_signal.substr(0, a));
-        const auto code = a == std::string::npos
-                              ? std::nullopt
-                              : parse_uint(leave_op_on_signal.substr(a + 1, b - a - 1));
-        const auto n = b == std::string::npos ? std::optional<std::uint64_t>(0)
-                                              : parse_uint(leave_op_on_signal.substr(b + 1));
-        if (!pos || !code || !n || *pos >= segment.size() || *code == 0 || *code > 0xFFFF ||
-            *n > 1000) {
+        // Plain values, not optionals: an invalid part becomes a value the check below refuses
+        // (GCC's -O3 flow analysis misreads an optional built in a conditional expression).
+        const std::uint64_t pos =
+            parse_uint(leave_op_on_signal.substr(0, a)).value_or(segment.size());
+        const std::uint64_t code =
+            a == std::string::npos
+                ? 0
+                : parse_uint(leave_op_on_signal.substr(a + 1, b - a - 1)).value_or(0);
+        const std::uint64_t n = b == std::string::npos
+                                    ? 0
+                                    : parse_uint(leave_op_on_signal.substr(b + 1)).value_or(1001);
+        if (pos >= segment.size() || code == 0 || code > 0xFFFF || n > 1000) {
             std::fprintf(stderr,
                          "codrive-ecat-sim: bad --leave-op-on-signal '%s' (POS:CODE[:N], e.g. "
                          "0:0x001A:2; POS a configured slave, CODE 1..0xFFFF, N 0..1000)\n",
                          leave_op_on_signal.c_str());
             return 2;
         }
-        leave_op_slave = static_cast<std::size_t>(*pos);
-        leave_op_code = static_cast<std::uint16_t>(*code);
-        leave_op_refusals = static_cast<unsigned>(*n);
+        leave_op_slave = static_cast<std::size_t>(pos);
+        leave_op_code = static_cast<std::uint16_t>(code);
+        leave_op_refusals = static_cast<unsigned>(n);
     }
     auto link = RawSocketLink::open(iface);
     if (!link) {
