@@ -51,9 +51,9 @@ set(CPACK_PACKAGE_NAME "codrive")
 set(CPACK_PACKAGE_VENDOR "codrive")
 set(CPACK_PACKAGE_CONTACT "codrive developers <codrive@localhost>")
 set(CPACK_PACKAGE_DESCRIPTION_SUMMARY "CANopen and EtherCAT master stack for CiA 402 drives")
-set(CPACK_DEBIAN_PACKAGE_DEPENDS
-    "libsocketcan-dev, libfmt-dev, libexpected-dev, libyaml-cpp-dev, libeigen3-dev, "
-    "libpugixml-dev")
+# One string: two quoted arguments would make a CMake list, and the ';' would reach dpkg.
+set(CPACK_DEBIAN_PACKAGE_DEPENDS "libsocketcan-dev, libfmt-dev, libexpected-dev, \
+libyaml-cpp-dev, libeigen3-dev, libpugixml-dev")
 if(CODRIVE_BUILD_PYTHON)
     # The `codrive` module in /usr/lib/python3/dist-packages is built for this Python version.
     string(APPEND CPACK_DEBIAN_PACKAGE_DEPENDS
