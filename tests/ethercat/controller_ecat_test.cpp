@@ -75,18 +75,9 @@ protected:
         std::vector<std::string> args{"--slave", "fio", "--mute-on-signal", "0"}; // SIGUSR1
         const auto extra = sim_options(); // silences the FIO
         args.insert(args.end(), extra.begin(), extra.end());
-        start(args);
-        if (sim_) {
-            // A cycle waits for its frame until the next one is due, never longer: slaves answer
-            // in microseconds, so the simulator runs at real-time priority as a slave's ESC
-            // would, and a loaded host does not turn its late answers into lost frames.
-            sched_param rt{};
-            rt.sched_priority = 50;
-            EXPECT_EQ(::sched_setscheduler(sim_->pid(), SCHED_FIFO, &rt), 0);
-        }
-        // The controller opens its own socket; the fixture's master stays out of the way.
-        master_.reset();
-        link_.reset();
+        // A cycle waits for its frame until the next one is due, never longer: slaves answer
+        // in microseconds, so the simulator runs at real-time priority.
+        start_for_controller(args);
     }
     std::unique_ptr<controller::Controller>
     make(std::string& events, controller::Threading mode = controller::Threading::Single) {

@@ -21,21 +21,7 @@ using namespace std::chrono_literals;
 
 class ControllerRecovery : public EcatVethTest {
 protected:
-    void SetUp() override {
-        start({"--slave", "fio"});
-        realtime_sim();
-    }
-    /// The simulator at real-time priority, as a slave's ESC would answer (a loaded host then
-    /// does not turn its late answers into lost frames).
-    void realtime_sim() {
-        master_.reset();
-        link_.reset();
-        if (sim_) {
-            sched_param rt{};
-            rt.sched_priority = 50;
-            EXPECT_EQ(::sched_setscheduler(sim_->pid(), SCHED_FIFO, &rt), 0);
-        }
-    }
+    void SetUp() override { start_for_controller({"--slave", "fio"}); }
     void TearDown() override {
         if (!path_.empty()) {
             std::remove(path_.c_str());
@@ -101,8 +87,7 @@ TEST_F(ControllerRecovery, ASlaveThatLeftOpIsReportedOnceAndBroughtBack) {
 class ControllerRecoveryBackoff : public ControllerRecovery {
 protected:
     void SetUp() override {
-        start({"--slave", "fio", "--leave-op-on-signal", "0:0x001A:2"});
-        realtime_sim();
+        start_for_controller({"--slave", "fio", "--leave-op-on-signal", "0:0x001A:2"});
     }
 };
 

@@ -32,17 +32,7 @@ std::string read_text(const std::string& path) {
 
 class DemoScenarioOverEthercat : public EcatVethTest {
 protected:
-    void SetUp() override {
-        start({"--slave", "akd2g", "--slave", "ds-bvs"});
-        if (sim_) {
-            // As in ControllerOverEthercat: the simulated ESC answers at real-time priority.
-            sched_param rt{};
-            rt.sched_priority = 50;
-            EXPECT_EQ(::sched_setscheduler(sim_->pid(), SCHED_FIFO, &rt), 0);
-        }
-        master_.reset(); // the controller (or the demo) opens its own socket
-        link_.reset();
-    }
+    void SetUp() override { start_for_controller({"--slave", "akd2g", "--slave", "ds-bvs"}); }
     void TearDown() override {
         if (!path_.empty()) {
             std::remove(path_.c_str());

@@ -26,15 +26,7 @@ class DualAxisAkd2gOverEthercat : public EcatVethTest {
 protected:
     void SetUp() override {
         // SIGRTMIN injects an over-current on slave 0's axis 2 (2FF1h:02 in the simulator).
-        start({"--slave", "akd2g", "--fault-on-signal", "0:2"});
-        if (sim_) {
-            // As in ControllerOverEthercat: the simulated ESC answers at real-time priority.
-            sched_param rt{};
-            rt.sched_priority = 50;
-            EXPECT_EQ(::sched_setscheduler(sim_->pid(), SCHED_FIFO, &rt), 0);
-        }
-        master_.reset(); // the controller opens its own socket
-        link_.reset();
+        start_for_controller({"--slave", "akd2g", "--fault-on-signal", "0:2"});
     }
     void TearDown() override {
         if (!path_.empty()) {

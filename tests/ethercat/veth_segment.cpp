@@ -6,6 +6,7 @@
 
 #include <atomic>
 #include <cstdlib>
+#include <sched.h>
 #include <unistd.h>
 
 namespace codrive::testing {
@@ -87,6 +88,17 @@ void EcatVethTest::start(const std::vector<std::string>& sim_args, const std::st
     ethercat::MasterConfig cfg;
     cfg.frame_timeout = std::chrono::milliseconds(50); // sanitizer builds are slow
     master_ = std::make_unique<ethercat::Master>(*link_, RealClock::instance(), cfg);
+}
+
+void EcatVethTest::start_for_controller(const std::vector<std::string>& sim_args) {
+    start(sim_args);
+    master_.reset();
+    link_.reset();
+    if (sim_) {
+        sched_param rt{};
+        rt.sched_priority = 50;
+        EXPECT_EQ(::sched_setscheduler(sim_->pid(), SCHED_FIFO, &rt), 0);
+    }
 }
 
 void EcatVethTest::TearDown() {

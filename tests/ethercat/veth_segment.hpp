@@ -53,6 +53,10 @@ protected:
     /// `program` is codrive-ecat-sim, or codrive-sim, which hands `--ethercat` over to it.
     void start(const std::vector<std::string>& sim_args,
                const std::string& program = ecat_sim_path());
+    /// start(), then for a test whose controller (or program) opens its own socket: the
+    /// fixture's master and link closed, and the simulator at real-time priority, as a slave's
+    /// ESC answers (a loaded host then does not turn its late answers into lost frames).
+    void start_for_controller(const std::vector<std::string>& sim_args);
     void TearDown() override;
 
     std::unique_ptr<VethPair> veth_;
