@@ -210,6 +210,12 @@ Frame PdoMaster::frame_of(const detail::PdoChannel& p) {
     return f;
 }
 
+void PdoMaster::leaving(detail::PdoChannel& p, TimePoint now) {
+    p.dirty = false;
+    p.last_tx = now;
+    p.sent_once = true;
+}
+
 void PdoMaster::sent(detail::PdoChannel& p) {
     ++p.tx_count;
     ++stats_.rpdos_sent;
@@ -217,9 +223,7 @@ void PdoMaster::sent(detail::PdoChannel& p) {
 
 void PdoMaster::send(detail::PdoChannel& p, TimePoint now) {
     const Frame f = frame_of(p);
-    p.dirty = false;
-    p.last_tx = now;
-    p.sent_once = true;
+    leaving(p, now);
     if (auto ok = bus_.send(f); !ok) {
         ++p.send_errors;
         ++stats_.send_errors;
@@ -244,9 +248,7 @@ void PdoMaster::queue_send(detail::PdoChannel& p, TimePoint now) {
     batch_[batch_size_] = frame_of(p);
     batch_channels_[batch_size_] = &p;
     ++batch_size_;
-    p.dirty = false;
-    p.last_tx = now;
-    p.sent_once = true;
+    leaving(p, now);
 }
 
 void PdoMaster::flush_sends(TimePoint now) {

@@ -132,6 +132,9 @@ private:
     void queue_send(detail::PdoChannel& p, TimePoint now);
     void flush_sends(TimePoint now);
     static Frame frame_of(const detail::PdoChannel& p);
+    /// A PDO handed to the bus at `now` (whether or not the bus takes it).
+    static void leaving(detail::PdoChannel& p, TimePoint now);
+    /// A PDO the bus took: counted.
     void sent(detail::PdoChannel& p);
     void emit(const PdoEvent& e);
     void check_window(detail::PdoChannel& p, std::uint64_t cycle, TimePoint now);
