@@ -61,11 +61,7 @@ public:
             device_type_ = profile.drive->identity.device_type;
         }
         build(serial);
-        if (profile.has_error_history_1003) {
-            od_.insert(error_history_object(0x1003, "Pre-defined error field", "Number of errors",
-                                            "Standard error field", DataType::Unsigned32,
-                                            profile.drive->error_history_depth));
-        }
+        add_error_objects(od_, profile);
         install_store(*profile.drive);
     }
 
@@ -168,7 +164,8 @@ private:
                 active_.push_back({e.axis, e.code.emcy, e.code.error_register});
             }
             update_error_register();
-            push_error_history(od_, 0x1003, profile_.error_history_entry(e.code));
+            record_error_history(od_, profile_, e.code,
+                                 od_.get<std::uint8_t>(0x1001, 0).value_or(0));
             emcy::EmcyMessage m;
             m.error_code = e.code.emcy;
             m.error_register = od_.get<std::uint8_t>(0x1001, 0).value_or(e.code.error_register);

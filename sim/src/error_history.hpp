@@ -1,9 +1,11 @@
 // SPDX-License-Identifier: Apache-2.0
-// The pre-defined error field (CiA 301 1003h) and vendor history arrays like DS-BVS 4080h:
-// the newest entry at sub 1, older ones shift down, sub 0 counts them (the drive's depth).
+// The error objects of a simulated drive, one set for the CAN and the EtherCAT simulator: the
+// pre-defined error field (CiA 301 1003h), vendor history arrays like DS-BVS 4080h (the newest
+// entry at sub 1, older ones shift down, sub 0 counts them) and error behaviour 1029h.
 #pragma once
 
 #include <codrive/core/object_dictionary.hpp>
+#include <codrive/sim/profile.hpp>
 
 #include <algorithm>
 #include <cstdint>
@@ -38,6 +40,7 @@ inline Object error_history_object(std::uint16_t index, std::string name, std::s
     auto count = SubObject::make(0, std::move(count_name), DataType::Unsigned8, Access::Rw,
                                  value(DataType::Unsigned8, 0));
     if (limit_count) {
+        count.low_limit = value(DataType::Unsigned8, 0);
         count.high_limit = value(DataType::Unsigned8, depth);
     }
     o.subs.emplace(0, std::move(count));
@@ -62,6 +65,55 @@ void push_error_history(ObjectDictionary& od, std::uint16_t index, T value) {
     od.set(index, 1, value);
     const auto n = od.get<std::uint8_t>(index, 0).value_or(0);
     od.set<std::uint8_t>(index, 0, std::min<std::uint8_t>(depth, static_cast<std::uint8_t>(n + 1)));
+}
+
+/// Writing sub 0 of a history array: only 0 is accepted, and it clears the history
+/// (CiA 301 §7.5.2.4; DS-BVS §6.2.44.1; FIO §7.13.3 "setting this object to 0 starts a new count").
+inline tl::expected<void, SdoAbort> clear_error_history(std::uint16_t, std::uint8_t sub,
+                                                        std::span<const std::uint8_t> d) {
+    if (sub == 0 && (d.empty() || d[0] != 0)) {
+        return tl::unexpected(SdoAbort::InvalidValue);
+    }
+    return {};
+}
+
+/// The drive's error objects as its manual lists them, on either transport: 1003h (AKD2G, FIO),
+/// 4080h (DS-BVS §6.2.44) with their clear-on-0 hooks, and 1029h (DS-BVS §6.2.12: communication
+/// and application error behaviour, both 1 = no state change by default).
+inline void add_error_objects(ObjectDictionary& od, const SimProfile& p) {
+    if (p.has_error_history_1003) {
+        od.insert(error_history_object(0x1003, "Pre-defined error field", "Number of errors",
+                                       "Standard error field", DataType::Unsigned32,
+                                       p.drive->error_history_depth));
+        od.on_write(0x1003, clear_error_history);
+    }
+    if (p.has_error_behaviour_1029) {
+        Object o;
+        o.index = 0x1029;
+        o.name = "Error behaviour";
+        o.code = ObjectCode::Array;
+        o.subs.emplace(0, SubObject::make(0, "Highest sub-index supported", DataType::Unsigned8,
+                                          Access::Ro, Value(DataType::Unsigned8, {2})));
+        o.subs.emplace(1, SubObject::make(1, "Communication error", DataType::Unsigned8, Access::Rw,
+                                          Value(DataType::Unsigned8, {1})));
+        o.subs.emplace(2, SubObject::make(2, "Application error", DataType::Unsigned8, Access::Rw,
+                                          Value(DataType::Unsigned8, {1})));
+        od.insert(std::move(o));
+    }
+    if (p.has_error_history_4080) {
+        od.insert(error_history_object(0x4080, "Error history", "Number of entries", "Error code",
+                                       DataType::Unsigned16, p.drive->error_history_depth, true));
+        od.on_write(0x4080, clear_error_history);
+    }
+}
+
+/// Records a fault in every history the drive keeps: 1003h in the drive's own layout
+/// (SimProfile::error_history_entry) and DS-BVS 4080h (the EMCY code). `reg` is 1001h with the
+/// fault already in it.
+inline void record_error_history(ObjectDictionary& od, const SimProfile& p, const FaultCode& code,
+                                 std::uint8_t reg) {
+    push_error_history(od, 0x1003, p.error_history_entry(code, reg));
+    push_error_history(od, 0x4080, code.emcy);
 }
 
 } // namespace codrive::sim

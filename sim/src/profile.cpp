@@ -129,7 +129,10 @@ FaultCode SimProfile::fault(std::uint16_t code) const {
     return f;
 }
 
-std::uint32_t SimProfile::error_history_entry(const FaultCode& code) const {
+std::uint32_t SimProfile::error_history_entry(const FaultCode& code, std::uint8_t reg) const {
+    if (drive->error_numbers.empty()) {
+        return code.emcy | (static_cast<std::uint32_t>(reg) << 16);
+    }
     // The error number comes from the drive profile's table (FIO manual §7.13.3, 1003h), the
     // one the master decodes with: the first number the profile pairs with this error code.
     std::uint8_t number = 0;

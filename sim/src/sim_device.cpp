@@ -227,19 +227,6 @@ void SimDevice::install_hooks() {
             return {};
         },
         nullptr);
-    const auto clear_history = [](std::uint16_t, std::uint8_t sub,
-                                  std::span<const std::uint8_t> d) -> WriteResult {
-        if (sub == 0 && (d.empty() || d[0] != 0)) {
-            return tl::unexpected(SdoAbort::InvalidValue); // only 0 clears (CiA 301 §7.5.2.4)
-        }
-        return {};
-    };
-    if (p.has_error_history_1003) {
-        od_.on_write(0x1003, clear_history);
-    }
-    if (p.has_error_history_4080) {
-        od_.on_write(0x4080, clear_history);
-    }
     for (unsigned a = 0; a < axes_.size(); ++a) {
         const auto index = static_cast<std::uint16_t>(kControlObject + a);
         od_.on_write(index,
@@ -573,14 +560,12 @@ void SimDevice::raise_error(const FaultCode& code, int axis, bool warning) {
         errors_.push_back({code.emcy, code.error_register, axis, warning});
     }
     update_error_register();
-    // History: AKD2G 1003h keeps the first four EMCY bytes (AMB-7), DS-BVS 4080h the code.
-    // The manufacturer bytes are zero: no manual says an EMCY names the axis (the AKD2G names
-    // it in 5004h/5104h AXIS#.FAULT#, §5.3.84).
+    // History: AKD2G 1003h keeps the first four EMCY bytes (AMB-7), FIO its error number,
+    // class and code (§7.13.3), DS-BVS 4080h the code. The manufacturer bytes are zero: no
+    // manual says an EMCY names the axis (the AKD2G names it in 5004h/5104h AXIS#.FAULT#,
+    // §5.3.84).
     const std::uint8_t reg = od_.get<std::uint8_t>(0x1001, 0).value_or(0);
-    push_error_history(
-        od_, 0x1003,
-        static_cast<std::uint32_t>(code.emcy | (static_cast<std::uint32_t>(reg) << 16)));
-    push_error_history(od_, 0x4080, code.emcy);
+    record_error_history(od_, *config_.profile, code, reg);
     log(fmt::format("node {}: {} 0x{:04X} {}{}", config_.node, warning ? "warning" : "fault",
                     code.emcy, code.text,
                     axis < 0 ? std::string() : fmt::format(" (axis {})", axis + 1)));

@@ -56,11 +56,7 @@ void SimDevice::build_objects() {
     od_.add_var(0x1000, "Device type", DT::Unsigned32, Access::Ro,
                 u(DT::Unsigned32, p.device_type()));
     od_.add_var(0x1001, "Error register", DT::Unsigned8, Access::Ro, u(DT::Unsigned8, 0), true);
-    if (p.has_error_history_1003) {
-        od_.insert(error_history_object(0x1003, "Pre-defined error field", "Number of errors",
-                                        "Standard error field", DT::Unsigned32,
-                                        p.drive->error_history_depth));
-    }
+    add_error_objects(od_, p); // 1003h, 1029h, 4080h as the manual lists them
     if (p.has_sync_objects) {
         od_.add_var(0x1005, "COB-ID SYNC", DT::Unsigned32, Access::Rw,
                     u(DT::Unsigned32, cob::kSync));
@@ -93,20 +89,11 @@ void SimDevice::build_objects() {
                        sub(2, "Product code", DT::Unsigned32, Access::Ro, product),
                        sub(3, "Revision number", DT::Unsigned32, Access::Ro, p.revision),
                        sub(4, "Serial number", DT::Unsigned32, Access::Ro, 0x00510000U + node)}));
-    if (p.has_error_behaviour_1029) {
-        od_.insert(record(0x1029, "Error behaviour", ObjectCode::Array,
-                          {sub(1, "Communication error", DT::Unsigned8, Access::Rw, 1),
-                           sub(2, "Application error", DT::Unsigned8, Access::Rw, 1)}));
-    }
     if (p.akd2g_objects) {
         od_.insert(record(
             0x1200, "SDO server parameter", ObjectCode::Record,
             {sub(1, "COB-ID client to server", DT::Unsigned32, Access::Ro, cob::sdo_rx(node)),
              sub(2, "COB-ID server to client", DT::Unsigned32, Access::Ro, cob::sdo_tx(node))}));
-    }
-    if (p.has_error_history_4080) {
-        od_.insert(error_history_object(0x4080, "Error history", "Number of entries", "Error code",
-                                        DT::Unsigned16, p.drive->error_history_depth, true));
     }
 
     // PDO communication and mapping objects, shaped by the profile's PDO quirks.

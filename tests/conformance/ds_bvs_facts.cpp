@@ -457,32 +457,18 @@ const std::array kFacts{
 
 // Facts the simulator gets wrong where the fix belongs to another part (docs/conformance.md).
 // clang-format off
-const std::array<KnownDivergence, 23> kKnown{{
-    {0x1029, 1, "CoE: the EtherCAT simulator has no 1029h (the CAN one has)"},
-    {0x1029, 2, "CoE: the EtherCAT simulator has no 1029h (the CAN one has)"},
+const std::array<KnownDivergence, 9> kKnown{{
     {0x1604, 1, "CoE: §6.2.15 lists 3 entries but gives only the first; map not simulated"},
     {0x1604, 2, "CoE: §6.2.15 lists 3 entries but gives only the first; map not simulated"},
     {0x1604, 3, "CoE: §6.2.15 lists 3 entries but gives only the first; map not simulated"},
     {0x1C12, 0, "CoE: range 1..1 would refuse the ETG.1020 assignment procedure (sub 0 = 0 first)"},
     {0x1C13, 0, "CoE: range 1..1 would refuse the ETG.1020 assignment procedure (sub 0 = 0 first)"},
-    {0x4080, 0, "CoE: the EtherCAT simulator has no 4080h error history (the CAN one has)"},
-    {0x4080, 1, "CoE: the EtherCAT simulator has no 4080h error history (the CAN one has)"},
-    {0x4080, 2, "CoE: the EtherCAT simulator has no 4080h error history (the CAN one has)"},
-    {0x4080, 3, "CoE: the EtherCAT simulator has no 4080h error history (the CAN one has)"},
-    {0x4080, 4, "CoE: the EtherCAT simulator has no 4080h error history (the CAN one has)"},
-    {0x4080, 5, "CoE: the EtherCAT simulator has no 4080h error history (the CAN one has)"},
-    {0x4080, 6, "CoE: the EtherCAT simulator has no 4080h error history (the CAN one has)"},
-    {0x4080, 7, "CoE: the EtherCAT simulator has no 4080h error history (the CAN one has)"},
-    {0x4080, 8, "CoE: the EtherCAT simulator has no 4080h error history (the CAN one has)"},
-    {0x4080, 9, "CoE: the EtherCAT simulator has no 4080h error history (the CAN one has)"},
-    {0x4080, 10, "CoE: the EtherCAT simulator has no 4080h error history (the CAN one has)"},
     // Only in devices/ds-bvs.eds and devices/ds-bvs.xml, which take their communication objects
     // from the simulators' stacks (devices::stack_objects) and so show the same gaps.
     {0x1600, 0, "device files: the CAN PDO layer (pdo::add_pdo_objects) checks the number of mapped objects when it is written, not by limits on sub 0, so ds-bvs.eds states no 0..10 range", In::DeviceFile, 0x1603},
     {0x1604, 0, "device files: ds-bvs.xml takes its objects from the CoE slave of codrive-ecat-sim, which does not simulate the fixed map 1604h (the CoE divergence of 1604h)", In::DeviceFile, 0x1604},
     {0x1A00, 0, "device files: the CAN PDO layer (pdo::add_pdo_objects) checks the number of mapped objects when it is written, not by limits on sub 0, so ds-bvs.eds states no 0..10 range", In::DeviceFile, 0x1A03},
     {0x1C12, 0, "device files: ds-bvs.xml states sub 0 as the CoE slave has it, without the 1..1 range that would refuse the ETG.1020 assignment procedure (the CoE divergence of 1C12h/1C13h)", In::DeviceFile, 0x1C13},
-    {0x4080, 0, "device files: ds-bvs.xml takes its objects from the CoE slave of codrive-ecat-sim, which has no 4080h error history (the CoE divergence of 4080h); ds-bvs.eds has it", In::DeviceFile, 0x4080},
 }};
 // clang-format on
 

@@ -117,9 +117,10 @@ struct SimProfile {
     bool error_register_generic_only = false; ///< AKD2G: only 1001h bit 0 is used
     bool has_error_history_1003 = true;
     bool has_error_history_4080 = false; ///< DS-BVS
-    /// The 1003h entry this drive records over EtherCAT for an error: the error number from the
-    /// drive profile's table in bits 31..24 (FIO), the error class, the code.
-    [[nodiscard]] std::uint32_t error_history_entry(const FaultCode& code) const;
+    /// The 1003h entry this drive records for an error, on CAN and EtherCAT alike: with an
+    /// error-number table (FIO §7.13.3) the number in bits 31..24, the error class in 23..16 and
+    /// the code; otherwise the first four EMCY bytes, code and 1001h `reg` (AKD2G, AMB-7).
+    [[nodiscard]] std::uint32_t error_history_entry(const FaultCode& code, std::uint8_t reg) const;
 
     // Communication (CAN) defaults of the simulated unit.
     bool tpdo_no_rtr_bit = false; ///< DS-BVS: TPDO COB-IDs carry bit 30
