@@ -168,6 +168,31 @@ TEST_F(EcatDrivePdo, UnknownCia402SlavesRunFromTheirOwnOrTheGenericLayout) {
     EXPECT_TRUE(has(disable.output, "SWITCH")) << disable.output;
 }
 
+TEST_F(EcatDrivePdo, AVendorsEsiGivesAnUnknownDriveItsDefaultLayout) {
+    start_with({"generic-nopdo", "fio"});
+    if (IsSkipped() || HasFatalFailure()) {
+        return;
+    }
+    const std::string esi =
+        std::string(CODRIVE_SOURCE_DIR) + "/tests/data/esi/generic-402-drive.xml";
+    // Slave 1 assigns nothing itself; the ESI's default assignment (1601h/1A01h, Sm attributes)
+    // maps 6040h/6041h: it is configured instead of the generic layout, then removed again.
+    auto r =
+        codrive({"drive", "--ethercat", iface_, "-n", "1", "--esi", esi, "move", "--pp", "3000"});
+    ASSERT_EQ(r.status, 0) << r.output;
+    EXPECT_TRUE(has(r.output, "OP, PDO layout from the ESI's default assignment, 7 output / 7 "
+                              "input bytes"))
+        << r.output;
+    EXPECT_TRUE(has(r.output, "position 3000")) << r.output;
+    EXPECT_EQ(value_of(sdo_read("1", "0x1C12:0", "u8")), "0") << "assignment not restored";
+    // The file describes another slave than slave 2: refused before anything is written.
+    auto other = codrive({"drive", "--ethercat", iface_, "-n", "2", "--esi", esi, "enable"});
+    EXPECT_EQ(other.status, 1) << other.output;
+    EXPECT_TRUE(has(other.output, "generic-402-drive.xml describes vendor 0x00000F0E"))
+        << other.output;
+    EXPECT_FALSE(has(other.output, "PDO layout from")) << other.output;
+}
+
 TEST_F(EcatDrivePdo, TheDocumentedTranscriptRuns) {
     // docs/ethercat.md, "Driving an axis from process data": the simulator started as written.
     start_with({"fio", "akd2g", "generic"});

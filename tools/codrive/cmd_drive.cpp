@@ -13,6 +13,7 @@
 #include <codrive/drives/safe_stop.hpp>
 #include <codrive/ethercat/coe_transport.hpp>
 #include <codrive/ethercat/drive_layout.hpp>
+#include <codrive/ethercat/esi.hpp>
 #include <codrive/master/master.hpp>
 
 #include <fmt/format.h>
@@ -66,6 +67,7 @@ struct DriveArgs {
     int timeout_ms = 10000;
     unsigned cycle_us = 1000; ///< EtherCAT cycle
     bool dc = false;          ///< EtherCAT: DC SYNC0 instead of free run
+    std::string esi;          ///< EtherCAT: the vendor's ESI file of the slave
 };
 
 /// What the operations need from a wire: the device's DriveTransport, how messages name the
@@ -408,14 +410,33 @@ int run_drive_ecat(const DriveArgs& a) {
     if (profile == nullptr) {
         return stop_requested() ? 128 + g_signal.load() : kExitFailure;
     }
+    // --esi: the vendor's file must describe this slave (vendor, product; exact revision
+    // first); its default PDO assignment is the layout of a drive codrive has no profile for.
+    std::optional<ethercat::EsiDefaultPdos> esi_pdos;
+    if (!a.esi.empty()) {
+        auto esi = ethercat::load_esi(a.esi);
+        if (!esi) {
+            fmt::print(stderr, "codrive: {}\n", esi.error());
+            return kExitFailure;
+        }
+        const auto& sii = m.slaves()[*slave].sii;
+        const ethercat::EsiDevice* device =
+            esi->match(sii.vendor_id, sii.product_code, sii.revision);
+        if (device == nullptr) {
+            fmt::print(stderr, "codrive: {}: {}\n", m.slave_label(*slave),
+                       esi->mismatch(sii.vendor_id, sii.product_code, sii.revision));
+            return kExitFailure;
+        }
+        esi_pdos = ethercat::esi_default_pdos(*device);
+    }
     auto current = m.read_pdo_assignment(*slave);
     if (!current) {
         fmt::print(stderr, "codrive: reading the PDO assignment (0x1C12/0x1C13): {}\n",
                    m.last_error());
         return kExitFailure;
     }
-    auto layout =
-        ethercat::choose_layout(*profile, a.axis, layout_mode(a), current->first, current->second);
+    auto layout = ethercat::choose_layout(*profile, a.axis, layout_mode(a), current->first,
+                                          current->second, esi_pdos ? &*esi_pdos : nullptr);
     if (!layout) {
         fmt::print(stderr, "codrive: {}: {}\n", m.slave_label(*slave), layout.error());
         return kExitFailure;
@@ -515,8 +536,9 @@ void install_drive(CLI::App& app, int& exit_code) {
     auto* cmd = app.add_subcommand(
         "drive", "Operate one CiA 402 axis (CAN: SDO; EtherCAT: process data in OP)");
     auto* can = cmd->add_option("-i,--iface", a->iface, "CAN interface");
-    cmd->add_option("--ethercat", a->ethercat, "EtherCAT: network interface of the segment")
-        ->excludes(can);
+    auto* ecat =
+        cmd->add_option("--ethercat", a->ethercat, "EtherCAT: network interface of the segment")
+            ->excludes(can);
     cmd->add_option("-n,--node", a->node, "Node id (EtherCAT: slave position from 1)")->required();
     cmd->add_option("--axis", a->axis, "Axis of a multi-axis drive (AKD2G: 1 or 2)")
         ->capture_default_str();
@@ -534,6 +556,10 @@ void install_drive(CLI::App& app, int& exit_code) {
     cmd->add_option("--cycle", a->cycle_us, "EtherCAT: process data cycle in µs")
         ->capture_default_str();
     cmd->add_flag("--dc", a->dc, "EtherCAT: synchronise the slave to DC SYNC0 (else free run)");
+    cmd->add_option("--esi", a->esi,
+                    "EtherCAT: the slave's ESI file (checked against its identity; a drive "
+                    "without a codrive profile runs from the file's default PDO assignment)")
+        ->needs(ecat);
     cmd->add_option("--timeout", a->timeout_ms, "Operation timeout in ms")->capture_default_str();
     cmd->callback([a, &exit_code] { exit_code = run_drive(*a); });
 }

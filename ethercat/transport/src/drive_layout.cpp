@@ -76,6 +76,8 @@ const char* to_string(LayoutSource s) {
         return "the drive's profile";
     case LayoutSource::SlaveAssignment:
         return "the slave's own assignment";
+    case LayoutSource::Esi:
+        return "the ESI's default assignment";
     case LayoutSource::Generic:
         return "the generic CiA 402 layout";
     }
@@ -91,9 +93,15 @@ bool holds_controlword_statusword(const std::vector<PdoMapping>& rx,
 tl::expected<DriveLayout, std::string> choose_layout(const drives::Profile& profile, unsigned axis,
                                                      drives::cia402::Mode mode,
                                                      const std::vector<PdoMapping>& current_rx,
-                                                     const std::vector<PdoMapping>& current_tx) {
+                                                     const std::vector<PdoMapping>& current_tx,
+                                                     const EsiDefaultPdos* esi) {
     if (profile.identity.vendor_id != 0) {
         return profile_layout(profile, axis, mode, LayoutSource::Profile);
+    }
+    if (esi != nullptr &&
+        holds_controlword_statusword(esi->rx, esi->tx, profile.axis_index(0x6040, axis),
+                                     profile.axis_index(0x6041, axis))) {
+        return DriveLayout{LayoutSource::Esi, esi->rx, esi->tx};
     }
     if (holds_controlword_statusword(current_rx, current_tx, profile.axis_index(0x6040, axis),
                                      profile.axis_index(0x6041, axis))) {

@@ -92,6 +92,31 @@ TEST_F(DriveLayoutTest, AnUnknownSlaveWithoutControlwordGetsTheGenericLayoutThat
     EXPECT_GE(master_.slaves()[3].input_bytes, 6U);
 }
 
+TEST_F(DriveLayoutTest, AnUnknownSlavesEsiDefaultComesBeforeItsOwnAssignment) {
+    const auto own = assignment(2);
+    EsiDefaultPdos esi;
+    esi.rx = {{0x1601, {{0x6040, 0, 16}, {0x607A, 0, 32}}}};
+    esi.tx = {{0x1A01, {{0x6041, 0, 16}, {0x6064, 0, 32}}}};
+    auto l = choose_layout(drives::generic_profile(), 1, Mode::ProfilePosition, own.first,
+                           own.second, &esi);
+    ASSERT_TRUE(l) << l.error();
+    EXPECT_EQ(l->source, LayoutSource::Esi);
+    ASSERT_EQ(l->rx.size(), 1U);
+    EXPECT_EQ(l->rx[0].index, 0x1601);
+    EXPECT_EQ(l->tx[0].index, 0x1A01);
+    // An ESI default without the statusword is not a CiA 402 layout: the slave's own is kept.
+    esi.tx = {{0x1A01, {{0x6064, 0, 32}}}};
+    l = choose_layout(drives::generic_profile(), 1, Mode::ProfilePosition, own.first, own.second,
+                      &esi);
+    ASSERT_TRUE(l) << l.error();
+    EXPECT_EQ(l->source, LayoutSource::SlaveAssignment);
+    // A drive codrive knows keeps its profile's layout, whatever the file says.
+    esi.tx = {{0x1A01, {{0x6041, 0, 16}}}};
+    l = choose_layout(drives::fio_profile(), 1, Mode::ProfilePosition, own.first, own.second, &esi);
+    ASSERT_TRUE(l) << l.error();
+    EXPECT_EQ(l->source, LayoutSource::Profile);
+}
+
 SyncSettings sync_at(Duration cycle, bool dc, std::string name = {}) {
     SyncSettings s;
     s.cycle = cycle;

@@ -5,6 +5,7 @@
 
 #include <codrive/drives/cia402.hpp>
 #include <codrive/drives/profile.hpp>
+#include <codrive/ethercat/esi_pdos.hpp>
 #include <codrive/ethercat/master.hpp>
 #include <codrive/pdo/types.hpp>
 
@@ -24,10 +25,12 @@ void to_ecat_pdos(const std::vector<pdo::PdoConfig>& configs, std::vector<PdoMap
 enum class LayoutSource {
     Profile,         ///< the known drive's profile layout for the mode
     SlaveAssignment, ///< the slave's own 1C12h/1C13h assignment (kept, nothing written)
+    Esi,             ///< the default assignment of the vendor's ESI file (configured)
     Generic,         ///< the generic CiA 402 layout for the mode (configured)
 };
 
-/// "the drive's profile", "the slave's own assignment", "the generic CiA 402 layout".
+/// "the drive's profile", "the slave's own assignment", "the ESI's default assignment", "the
+/// generic CiA 402 layout".
 [[nodiscard]] const char* to_string(LayoutSource s);
 
 /// The layout chosen for one axis: the mappings to write (empty for SlaveAssignment).
@@ -45,12 +48,15 @@ struct DriveLayout {
                                                 std::uint16_t statusword);
 
 /// Picks the layout: a known drive (profile with a vendor id) uses its profile's layout for
-/// `mode`; a slave codrive does not know keeps its own assignment (`current`, read from
-/// 1C12h/1C13h) when that holds 6040h/6041h, else gets the generic profile's layout for `mode`.
-/// Error: a sentence when neither the profile nor the generic profile has a layout for `mode`.
+/// `mode`; a slave codrive does not know takes the default assignment of its vendor's ESI
+/// (`esi`, ETG.2000 §5.4.4) when that maps 6040h/6041h, else keeps its own assignment
+/// (`current`, read from 1C12h/1C13h) when that does, else gets the generic profile's layout for
+/// `mode`. Error: a sentence when neither the profile nor the generic profile has a layout for
+/// `mode`.
 [[nodiscard]] tl::expected<DriveLayout, std::string>
 choose_layout(const drives::Profile& profile, unsigned axis, drives::cia402::Mode mode,
-              const std::vector<PdoMapping>& current_rx, const std::vector<PdoMapping>& current_tx);
+              const std::vector<PdoMapping>& current_rx, const std::vector<PdoMapping>& current_tx,
+              const EsiDefaultPdos* esi = nullptr);
 
 /// How the slave synchronises to the cycle (ETG.1020 §21.1.3, 1C32h:01/1C33h:01).
 struct SyncSettings {
