@@ -7,6 +7,7 @@
 #include "error_history.hpp"
 #include "parameter_store.hpp"
 
+#include <codrive/sim/active_errors.hpp>
 #include <codrive/sim/drive_core.hpp>
 #include <codrive/sim/profile.hpp>
 #include <codrive/sim/sim_device.hpp>
@@ -76,8 +77,7 @@ public:
         for (auto& a : axes_) {
             a->power_on();
         }
-        active_.clear();
-        update_error_register();
+        errors_.reset();
         return true;
     }
 
@@ -146,48 +146,12 @@ public:
     }
 
 private:
-    struct ActiveFault {
-        unsigned axis = 0;
-        std::uint16_t code = 0;
-        std::uint8_t reg = 0;
-    };
-
-    /// Faults as on CAN (SimDevice::raise_error/clear_errors): 1001h, 1003h and an emergency
-    /// per fault; EMCY 0000h once no axis has a fault left (CiA 301 §7.2.7.1). The message does
-    /// not name the axis (no manual says it does); the axis in FAULT shows it in its statusword.
+    /// Faults and warnings as on CAN (one ActiveErrors for both simulators): 1001h, 1003h/4080h
+    /// and an emergency per change, EMCY 0000h once nothing is active (CiA 301 §7.2.7.1).
     void on_axis_event(const AxisEvent& e) {
-        if (e.kind == AxisEvent::Kind::FaultRaised) {
-            const bool known = std::any_of(active_.begin(), active_.end(), [&](const auto& f) {
-                return f.axis == e.axis && f.code == e.code.emcy;
-            });
-            if (!known) {
-                active_.push_back({e.axis, e.code.emcy, e.code.error_register});
-            }
-            update_error_register();
-            record_error_history(od_, profile_, e.code,
-                                 od_.get<std::uint8_t>(0x1001, 0).value_or(0));
-            emcy::EmcyMessage m;
-            m.error_code = e.code.emcy;
-            m.error_register = od_.get<std::uint8_t>(0x1001, 0).value_or(e.code.error_register);
-            emergencies_.push_back(m);
-        } else if (e.kind == AxisEvent::Kind::FaultsCleared) {
-            std::erase_if(active_, [&](const ActiveFault& f) { return f.axis == e.axis; });
-            update_error_register();
-            if (active_.empty()) {
-                emergencies_.push_back(emcy::EmcyMessage{}); // 0000h: error reset
-            }
+        if (const auto m = errors_.on_axis_event(e)) {
+            emergencies_.push_back(*m);
         }
-    }
-
-    void update_error_register() {
-        std::uint8_t reg = 0;
-        for (const auto& f : active_) {
-            reg = static_cast<std::uint8_t>(reg | f.reg | 0x01);
-        }
-        if (profile_.error_register_generic_only) {
-            reg = reg != 0 ? 0x01 : 0x00; // AKD2G: only bit 0 is used
-        }
-        od_.set<std::uint8_t>(0x1001, 0, reg);
     }
 
     void add_pdo(const PdoDef& p, bool rx) {
@@ -506,8 +470,8 @@ private:
     DriveDef def_;
     const SimProfile& profile_;
     ObjectDictionary od_;
+    ActiveErrors errors_{od_, profile_};
     std::vector<std::unique_ptr<DriveCore>> axes_;
-    std::vector<ActiveFault> active_;
     TimePoint last_{};
     double pending_ = 0;                     ///< seconds not yet stepped
     std::uint32_t device_type_ = 0x00020192; ///< CiA 402 drive

@@ -111,8 +111,7 @@ void SimDevice::install_hooks() {
             for (auto& a : axes_) {
                 a->power_on();
             }
-            errors_.clear();
-            update_error_register();
+            errors_.reset();
         }
         start(now_);
     });
@@ -479,10 +478,10 @@ void SimDevice::restart_as(NodeId node, TimePoint now) {
     server_.reset();
     axes_.clear();
     od_ = ObjectDictionary{};
-    errors_.clear();
     consumer_node_ = 0;
     config_.node = node;
     assemble();
+    errors_.reset();
     store_->adopt(saved);
     store_->load(false);
     start(now);
@@ -516,7 +515,9 @@ void SimDevice::heartbeat_lost() {
         return;
     }
     // DS-BVS: EMCY 8130h with 1001h bit 4, NMT reaction 1029h:01, drive reaction 6007h.
-    raise_error(p.code_for(FaultKind::HeartbeatLoss), -1, false);
+    const FaultCode lost = p.code_for(FaultKind::HeartbeatLoss);
+    log(fmt::format("node {}: fault 0x{:04X} {}", config_.node, lost.emcy, lost.text));
+    send_emcy(errors_.raise(lost, -1, false));
     const auto behaviour = od_.get<std::uint8_t>(0x1029, 1).value_or(1);
     if (behaviour == 0 && nmt_->state() == nmt::NmtState::Operational) {
         nmt_->enter(nmt::NmtState::PreOperational);
@@ -531,83 +532,30 @@ void SimDevice::heartbeat_lost() {
 
 void SimDevice::heartbeat_recovered() {
     if (!config_.profile->heartbeat_loss_is_fault) {
-        clear_errors(-1, false, config_.profile->heartbeat_loss_code);
+        if (const auto m = errors_.clear(-1, false, config_.profile->heartbeat_loss_code)) {
+            send_emcy(*m);
+        }
     }
 }
 
 void SimDevice::on_axis_event(const AxisEvent& e) {
-    switch (e.kind) {
-    case AxisEvent::Kind::FaultRaised:
-        raise_error(e.code, static_cast<int>(e.axis), false);
-        break;
-    case AxisEvent::Kind::WarningRaised:
-        raise_error(e.code, static_cast<int>(e.axis), true);
-        break;
-    case AxisEvent::Kind::WarningCleared:
-        clear_errors(static_cast<int>(e.axis), true, e.code.emcy);
-        break;
-    case AxisEvent::Kind::FaultsCleared:
-        clear_errors(static_cast<int>(e.axis), false, 0);
-        break;
+    const bool raised =
+        e.kind == AxisEvent::Kind::FaultRaised || e.kind == AxisEvent::Kind::WarningRaised;
+    if (raised) {
+        log(fmt::format("node {}: {} 0x{:04X} {} (axis {})", config_.node,
+                        e.kind == AxisEvent::Kind::WarningRaised ? "warning" : "fault", e.code.emcy,
+                        e.code.text, e.axis + 1));
+    }
+    if (const auto m = errors_.on_axis_event(e)) {
+        send_emcy(*m);
     }
 }
 
-void SimDevice::raise_error(const FaultCode& code, int axis, bool warning) {
-    const bool known = std::any_of(errors_.begin(), errors_.end(), [&](const ActiveError& x) {
-        return x.code == code.emcy && x.axis == axis;
-    });
-    if (!known) {
-        errors_.push_back({code.emcy, code.error_register, axis, warning});
-    }
-    update_error_register();
-    // History: AKD2G 1003h keeps the first four EMCY bytes (AMB-7), FIO its error number,
-    // class and code (§7.13.3), DS-BVS 4080h the code. The manufacturer bytes are zero: no
-    // manual says an EMCY names the axis (the AKD2G names it in 5004h/5104h AXIS#.FAULT#,
-    // §5.3.84).
-    const std::uint8_t reg = od_.get<std::uint8_t>(0x1001, 0).value_or(0);
-    record_error_history(od_, *config_.profile, code, reg);
-    log(fmt::format("node {}: {} 0x{:04X} {}{}", config_.node, warning ? "warning" : "fault",
-                    code.emcy, code.text,
-                    axis < 0 ? std::string() : fmt::format(" (axis {})", axis + 1)));
-    send_emcy(code.emcy, reg, axis);
-}
-
-void SimDevice::clear_errors(int axis, bool warnings_only, std::uint16_t code) {
-    const auto before = errors_.size();
-    std::erase_if(errors_, [&](const ActiveError& e) {
-        if (e.axis != axis) {
-            return false;
-        }
-        if (code != 0) {
-            return e.code == code;
-        }
-        return warnings_only ? e.warning : !e.warning;
-    });
-    update_error_register();
-    if (before != 0 && errors_.empty()) {
-        // All faults and warnings gone: EMCY 0000h (akd2g.md §2.5, CiA 301 §7.2.7.1).
-        send_emcy(0x0000, od_.get<std::uint8_t>(0x1001, 0).value_or(0), axis);
-    }
-}
-
-void SimDevice::update_error_register() {
-    std::uint8_t reg = 0;
-    for (const auto& e : errors_) {
-        reg = static_cast<std::uint8_t>(reg | e.reg | 0x01);
-    }
-    if (config_.profile->error_register_generic_only) {
-        reg = reg != 0 ? 0x01 : 0x00; // AKD2G: only bit 0 is used
-    }
-    od_.set<std::uint8_t>(0x1001, 0, reg);
-}
-
-void SimDevice::send_emcy(std::uint16_t code, std::uint8_t reg, int axis) {
+void SimDevice::send_emcy(const emcy::EmcyMessage& m) {
     if (!started_ || !emcy_enabled_ || !nmt_->sync_emcy_allowed()) {
         return;
     }
-    (void)axis;                              // not in the message: see raise_error()
-    const std::array<std::uint8_t, 5> mfr{}; // manufacturer bytes: none documented
-    if (emcy_->send(code, reg, mfr, now_)) {
+    if (emcy_->send(m.error_code, m.error_register, m.manufacturer, now_)) {
         ++stats_.emcy_sent;
     }
 }

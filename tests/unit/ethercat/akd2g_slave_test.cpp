@@ -7,6 +7,7 @@
 #include <codrive/ethercat/registers.hpp>
 #include <codrive/sim/ecat/drive_profiles.hpp>
 #include <codrive/sim/ecat/segment.hpp>
+#include <codrive/sim/sim_device.hpp>
 
 #include <codrive/core/sdo_abort.hpp>
 
@@ -114,6 +115,35 @@ TEST_F(Akd2gSlave, ReportsOnlyTheAlStatusCodesOfItsManual) {
     // Bootstrap from PRE-OP: 0x0011 (§3.1 lists P -> B), not 0x0013.
     ASSERT_FALSE(master_.request_state(0, AlState::Boot));
     EXPECT_NE(master_.last_error().find("0x0011"), std::string::npos) << master_.last_error();
+}
+
+TEST_F(Akd2gSlave, AWarningIsAnEmergencyOverCoeAsOnCan) {
+    // STO while disabled: warning W9000 (EMCY FF0Ch, §2.5 table) on axis 2, then the reset
+    // message 0000h when it goes; the same emergencies codrive-sim sends on CAN.
+    std::vector<std::pair<std::size_t, emcy::EmcyMessage>> seen;
+    master_.on_emergency(
+        [&](std::size_t slave, const emcy::EmcyMessage& m) { seen.emplace_back(slave, m); });
+    to_preop();
+    ASSERT_TRUE(master_.sdo_write<std::uint8_t>(0, sim::kControlObject + 1, sim::kControlSto, 1))
+        << master_.last_error();
+    for (int i = 0; i < 50 && seen.empty(); ++i) {
+        clock_.advance(std::chrono::milliseconds(10));
+        ASSERT_TRUE(master_.run_mailbox_cycle()) << master_.last_error();
+    }
+    ASSERT_EQ(seen.size(), 1U);
+    EXPECT_EQ(seen[0].first, 0U);
+    EXPECT_EQ(seen[0].second.error_code, 0xFF0C);
+    EXPECT_EQ(seen[0].second.error_register, 0x01); // AKD2G: only bit 0 (generic)
+    EXPECT_EQ(master_.sdo_read<std::uint8_t>(0, 0x1001, 0).value_or(0), 0x01);
+    ASSERT_TRUE(master_.sdo_write<std::uint8_t>(0, sim::kControlObject + 1, sim::kControlSto, 0))
+        << master_.last_error();
+    for (int i = 0; i < 50 && seen.size() < 2; ++i) {
+        clock_.advance(std::chrono::milliseconds(10));
+        ASSERT_TRUE(master_.run_mailbox_cycle()) << master_.last_error();
+    }
+    ASSERT_EQ(seen.size(), 2U);
+    EXPECT_TRUE(seen[1].second.is_reset());
+    EXPECT_EQ(master_.sdo_read<std::uint8_t>(0, 0x1001, 0).value_or(0xFF), 0x00);
 }
 
 } // namespace

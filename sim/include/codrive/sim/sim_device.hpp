@@ -8,6 +8,7 @@
 #include <codrive/core/event_loop.hpp>
 #include <codrive/core/object_dictionary.hpp>
 #include <codrive/nmt/state.hpp>
+#include <codrive/sim/active_errors.hpp>
 #include <codrive/sim/drive_core.hpp>
 #include <codrive/sim/profile.hpp>
 
@@ -121,13 +122,6 @@ public:
     [[nodiscard]] DeviceDescription describe() const;
 
 private:
-    struct ActiveError {
-        std::uint16_t code = 0;
-        std::uint8_t reg = 0;
-        int axis = -1; ///< -1 for communication errors
-        bool warning = false;
-    };
-
     void assemble();
     void build_objects();
     void install_hooks();
@@ -136,10 +130,7 @@ private:
     void restart_as(NodeId node, TimePoint now);
     void apply_comm_parameters(TimePoint now);
     void on_axis_event(const AxisEvent& e);
-    void raise_error(const FaultCode& code, int axis, bool warning);
-    void clear_errors(int axis, bool warnings_only, std::uint16_t code);
-    void update_error_register();
-    void send_emcy(std::uint16_t code, std::uint8_t reg, int axis);
+    void send_emcy(const emcy::EmcyMessage& m);
     void heartbeat_lost();
     void heartbeat_recovered();
     void log(const std::string& text);
@@ -156,8 +147,8 @@ private:
     std::unique_ptr<sync::SyncConsumer> sync_;
     std::unique_ptr<emcy::EmcyProducer> emcy_;
     std::unique_ptr<pdo::DevicePdo> pdo_;
-    std::unique_ptr<ParameterStore> store_; ///< 1010h/1011h: what reset node restores
-    std::vector<ActiveError> errors_;
+    std::unique_ptr<ParameterStore> store_;      ///< 1010h/1011h: what reset node restores
+    ActiveErrors errors_{od_, *config_.profile}; ///< 1001h, histories, EMCY per change
     std::uint8_t consumer_node_ = 0;
     std::optional<NodeId> restart_as_; ///< the node-ID to boot as at the next tick
     std::uint8_t bit_rate_code_ = 0;   ///< DS-BVS 5002h in effect
