@@ -110,10 +110,24 @@
   const histSeries = (key) => D.nodes.filter((n) => n[key] && n[key].counts.some((c) => c > 0))
     .map((n) => ({ label: "node " + n.id, data: n[key].counts,
                    opts: { points: { show: true, size: 4 } } }));
+  // Only the bins from the first to the last filled one (and two either side) are drawn.
+  function trimmed(series) {
+    const xs = D.log_bins_us || [];
+    let lo = xs.length, hi = -1;
+    for (const s of series) {
+      s.data.forEach((c, i) => { if (c > 0) { lo = Math.min(lo, i); hi = Math.max(hi, i); } });
+    }
+    if (hi < 0) return { xs: xs, series: series };
+    lo = Math.max(0, lo - 2);
+    hi = Math.min(xs.length - 1, hi + 2);
+    return { xs: xs.slice(lo, hi + 1),
+             series: series.map((s) => Object.assign({}, s, { data: s.data.slice(lo, hi + 1) })) };
+  }
+  const sdo = trimmed(histSeries("sdo_hist"));
   chart("chart-sdo", "SDO round-trip time (request to the response that completes it)", "µs",
-        "transfers", D.log_bins_us || [], histSeries("sdo_hist"), logOpts);
-  chart("chart-latency", "SYNC → TPDO latency", "µs", "TPDOs", D.log_bins_us || [],
-        histSeries("latency_hist"), logOpts);
+        "transfers", sdo.xs, sdo.series, logOpts);
+  const lat = trimmed(histSeries("latency_hist"));
+  chart("chart-latency", "SYNC → TPDO latency", "µs", "TPDOs", lat.xs, lat.series, logOpts);
   // PDO rates.
   const pdo = [];
   for (const n of D.nodes) {
