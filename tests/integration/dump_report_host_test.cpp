@@ -95,7 +95,7 @@ TEST(DumpReportHost, DocumentedReportOpensInChromiumWithEveryChartFilled) {
     std::filesystem::create_directories(artefacts);
     const auto png = artefacts / "codrive-dump-report.png";
     std::filesystem::remove(png);
-    (void)chromium(scratch, "--hide-scrollbars --window-size=1000,3800 --screenshot=" +
+    (void)chromium(scratch, "--hide-scrollbars --window-size=1200,3800 --screenshot=" +
                                 png.string() + " file://" + page_path);
     ASSERT_TRUE(std::filesystem::exists(png));
     EXPECT_GT(std::filesystem::file_size(png), 50'000U) << "a blank page?";

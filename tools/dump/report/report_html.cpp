@@ -56,7 +56,7 @@ std::string report_html(const Stats& stats, const ReportInfo& info) {
            "(function () { var ce = console.error; console.error = function () { "
            "window.codriveErrors.push(Array.prototype.join.call(arguments, ' ')); "
            "ce.apply(console, arguments); }; })();\n</script>\n"
-           "<h2>Nodes</h2>\n<table id=\"nodes\"></table>\n"
+           "<h2>Nodes</h2>\n<div class=\"wide\"><table id=\"nodes\"></table></div>\n"
            "<p class=\"note\">Rows are the nodes that sent something. Identity from 1018h uploads "
            "in the trace or an EDS; jitter is the standard deviation of the heartbeat "
            "interval; SDO times run from the request to the response that completes the "
