@@ -10,6 +10,7 @@ packages=(
     can-utils iproute2 kmod user-mode-linux tshark
     clang-14 clang-format-14 libclang-rt-14-dev valgrind python3
     python3-dev pybind11-dev python3-pytest
+    nodejs npm chromium
 )
 # Fuzz stage: clang-14 compiles with -fsanitize=fuzzer; libFuzzer itself
 # (libclang_rt.fuzzer-x86_64.a) and the ASan/UBSan runtimes for clang come from
@@ -17,6 +18,8 @@ packages=(
 # ESI XML files (devices/*.xml, `codrive esi export`): libpugixml-dev.
 # Vector BLF traces (codrive-dump): zlib1g-dev, the containers are zlib streams.
 # The Python module (python/, docs/python.md): python3-dev, pybind11-dev; its tests: python3-pytest.
+# codrive-dump --report: npm (with nodejs) fetches uPlot at build time (tools/dump/report,
+# `npm ci` on the committed package-lock.json); the report test loads the page in chromium.
 
 missing=()
 for p in "${packages[@]}"; do

@@ -1,9 +1,11 @@
 // SPDX-License-Identifier: Apache-2.0
 // Fuzzes the conversation decoder directly with binary frames (no text parsing in between), so
-// the fuzzer reaches deep SDO block/segment and PDO mapping states quickly.
+// the fuzzer reaches deep SDO block/segment and PDO mapping states quickly; the statistics of
+// --stats and --report (buckets, histograms, JSON) follow every frame.
 #include "fuzz_input.hpp"
 
 #include <codrive/dump/decoder.hpp>
+#include <codrive/dump/report_data.hpp>
 
 #include <cstddef>
 #include <cstdint>
@@ -14,6 +16,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     using namespace codrive::dump;
     fuzz::Input in(data, size);
     Stats stats(250000);
+    stats.enable_report(); // the report's buckets and histograms see every frame too
     DecoderOptions o;
     o.sdo_timeout_ns = 5'000'000;
     Decoder decoder(o, &stats);
@@ -39,9 +42,15 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
         r.frame = f;
         r.ts_ns = ts;
         decoder.decode(r, out, notes);
+        if (out.severity >= Severity::Warning) {
+            stats.on_event(ts, out.node, out.service == Service::Emcy, to_string(out.severity),
+                           to_string(out.service),
+                           std::string_view(out.text.data(), out.text.size()));
+        }
         notes.clear();
     }
     decoder.finish(notes);
     (void)stats.table();
+    (void)report_json(stats, ReportInfo{"fuzz", "fuzz"});
     return 0;
 }

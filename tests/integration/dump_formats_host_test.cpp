@@ -2,6 +2,8 @@
 // codrive-dump on the trace formats engineers bring, as a user runs it: the commands that
 // docs/codrive-dump.md shows (run as written, from a scratch directory), and every sample format
 // converted with -w to pcap and pcapng that tshark reads and dissects as CANopen.
+#include "dump_scratch.hpp"
+
 #include <codrive/testing/process.hpp>
 
 #include <gtest/gtest.h>
@@ -17,58 +19,11 @@ namespace ct = codrive::testing;
 
 namespace {
 
-const std::string kSource = CODRIVE_SOURCE_DIR;
+using ct::dump::kSource;
+using ct::dump::Scratch;
 
-// A scratch directory with `tests` linked to the source tree's, so the documented relative
-// paths work and written files land here.
-class Scratch {
-public:
-    explicit Scratch(const std::string& name) {
-        dir_ = std::filesystem::temp_directory_path() /
-               ("codrive-dump-" + std::to_string(::getpid()) + "-" + name);
-        std::filesystem::create_directories(dir_);
-        std::filesystem::create_directory_symlink(kSource + "/tests", dir_ / "tests");
-    }
-    ~Scratch() {
-        std::error_code ec;
-        std::filesystem::remove_all(dir_, ec);
-    }
-    Scratch(const Scratch&) = delete;
-    Scratch& operator=(const Scratch&) = delete;
-    [[nodiscard]] std::string path() const { return dir_.string(); }
-
-    // Runs a command line with the built tools first on PATH, in this directory.
-    [[nodiscard]] ct::RunResult shell(const std::string& command) const {
-        const auto tools = std::filesystem::path(ct::tool_path("codrive-dump")).parent_path();
-        return ct::run({"/bin/sh", "-c",
-                        "PATH='" + tools.string() + "':$PATH; cd '" + path() + "' && " + command},
-                       60s);
-    }
-
-private:
-    std::filesystem::path dir_;
-};
-
-// The fenced block after the marker comment in docs/codrive-dump.md, one command per line.
 std::vector<std::string> documented_trace_commands() {
-    std::ifstream in(kSource + "/docs/codrive-dump.md");
-    std::string line;
-    bool marked = false;
-    bool inside = false;
-    std::vector<std::string> commands;
-    while (std::getline(in, line)) {
-        if (line.find("run by tests/integration/dump_formats_host_test.cpp") != std::string::npos) {
-            marked = true;
-        } else if (marked && line.rfind("```", 0) == 0) {
-            if (inside) {
-                break;
-            }
-            inside = true;
-        } else if (inside && !line.empty()) {
-            commands.push_back(line);
-        }
-    }
-    return commands;
+    return ct::dump::documented_commands("tests/integration/dump_formats_host_test.cpp");
 }
 
 std::size_t lines_of(const std::string& s) {

@@ -6,6 +6,8 @@
 #include <gtest/gtest.h>
 
 #include <cstdio>
+#include <fstream>
+#include <sstream>
 #include <string>
 
 using namespace std::chrono_literals;
@@ -97,4 +99,29 @@ TEST(VcanDump, WritesAPcapThatReadsBackTheSame) {
     EXPECT_NE(r.output.find("SYNC"), std::string::npos) << r.output;
     EXPECT_NE(r.output.find("node 4: EMCY 0x2310 continuous over-current"), std::string::npos)
         << r.output;
+}
+
+TEST(VcanDump, WritesTheHtmlReportOfALiveCapture) {
+    CODRIVE_REQUIRE_VCAN("vcan0");
+    const std::string html = ::testing::TempDir() + "/vcan_dump_report.html";
+    Process dump({tool_path("codrive-dump"), "vcan0", "-q", "-n", "7", "--report", html});
+    ASSERT_TRUE(dump.wait_for_output("listening on vcan0", 10s)) << dump.output();
+    send({"704#05", "080#", "184#3706", "080#", "184#3706", "704#05", "084#1023030001020304"});
+    const auto status = dump.wait(10s);
+    ASSERT_TRUE(status) << "codrive-dump did not stop after 7 frames: " << dump.output();
+    EXPECT_EQ(*status, 0) << dump.output();
+    EXPECT_NE(dump.output().find("report written to " + html), std::string::npos) << dump.output();
+    std::ifstream in(html);
+    std::stringstream page;
+    page << in.rdbuf();
+    const auto p = page.str();
+    // The page's data: the interface as the source, the frames, node 4 with its heartbeat state,
+    // two SYNCs, a TPDO after each, the EMCY as an event with its decoded text.
+    EXPECT_NE(p.find("\"source\":\"vcan0\""), std::string::npos);
+    EXPECT_NE(p.find("\"frames\":7,"), std::string::npos);
+    EXPECT_NE(p.find("\"id\":4,\"state\":\"operational\""), std::string::npos);
+    EXPECT_NE(p.find("\"sync\":{\"n\":1,"), std::string::npos);
+    EXPECT_NE(p.find("\"tpdo\":2,"), std::string::npos);
+    EXPECT_NE(p.find("EMCY 0x2310 continuous over-current"), std::string::npos);
+    EXPECT_NE(p.find("uPlot"), std::string::npos);
 }

@@ -6,6 +6,9 @@
 #include <codrive/dump/drive_profiles.hpp>
 #include <codrive/dump/dumper.hpp>
 #include <codrive/dump/live.hpp>
+#ifdef CODRIVE_DUMP_HAS_REPORT
+#include <codrive/dump/report_html.hpp>
+#endif
 
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
@@ -14,6 +17,7 @@
 #include <cerrno>
 #include <csignal>
 #include <cstdio>
+#include <cstring>
 #include <unistd.h>
 
 namespace {
@@ -61,6 +65,28 @@ bool split_node_arg(const std::string& arg, NodeId& node, std::string& rest) {
     return !rest.empty();
 }
 
+// Writes the HTML report to a file opened before the trace was read; false after telling why.
+bool write_report(std::FILE* file, const std::string& path, const Dumper& dumper,
+                  const std::string& source) {
+#ifdef CODRIVE_DUMP_HAS_REPORT
+    const std::string html =
+        report_html(dumper.stats(), ReportInfo{source, "codrive-dump " CODRIVE_VERSION});
+    const bool ok = std::fwrite(html.data(), 1, html.size(), file) == html.size();
+    if (std::fclose(file) != 0 || !ok) {
+        diag(fmt::format("--report: cannot write {}: {}", path, std::strerror(errno)));
+        return false;
+    }
+    diag(fmt::format("report written to {} ({} bytes)", path, html.size()));
+    return true;
+#else
+    (void)file;
+    (void)path;
+    (void)dumper;
+    (void)source;
+    return false;
+#endif
+}
+
 } // namespace
 
 int main(int argc, char** argv) {
@@ -84,6 +110,7 @@ int main(int argc, char** argv) {
     std::uint32_t bitrate = 500000;
     unsigned sdo_timeout_ms = 1000;
     std::uint64_t count = 0;
+    std::string report_file;
 
     app.add_option("interfaces", ifaces,
                    "SocketCAN interfaces to capture, with optional candump filters "
@@ -109,6 +136,9 @@ int main(int argc, char** argv) {
     app.add_option("--profile", profile_args, "NODE=NAME: use a drive profile for a node");
     app.add_flag("--stats", stats, "Print a per-node statistics table at the end");
     app.add_flag("-q,--quiet", quiet, "No per-frame lines: with --stats only the table at the end");
+    app.add_option("--report", report_file,
+                   "Write an HTML report at the end: bus load, heartbeats, SYNC, SDO and PDO "
+                   "timing, EMCY/anomaly timeline, node table (one self-contained file)");
     app.add_flag("--top", top, "Live: show the statistics table, refreshed every second");
     app.add_option("--bitrate", bitrate, "Bit rate for the bus load figure")->capture_default_str();
     app.add_option("--sdo-timeout", sdo_timeout_ms,
@@ -164,6 +194,21 @@ int main(int argc, char** argv) {
     if (read_file.empty() == ifaces.empty()) {
         diag("give either interfaces to capture or -r FILE");
         return 2;
+    }
+    opts.report = !report_file.empty();
+    std::FILE* report_out = nullptr;
+    if (opts.report) {
+#ifndef CODRIVE_DUMP_HAS_REPORT
+        diag("--report: this codrive-dump was built without the HTML report (configured with "
+             "CODRIVE_DUMP_REPORT=OFF, or npm was not found: see docs/codrive-dump.md)");
+        return 2;
+#endif
+        // Opened now, so a path that cannot be written fails before a long trace is read.
+        report_out = std::fopen(report_file.c_str(), "wb");
+        if (report_out == nullptr) {
+            diag(fmt::format("--report: cannot write {}: {}", report_file, std::strerror(errno)));
+            return 2;
+        }
     }
 
     Dumper dumper(
@@ -232,6 +277,10 @@ int main(int argc, char** argv) {
             diag(fmt::format("{}: {} of {} entries could not be parsed and were skipped", read_file,
                              sum.malformed, sum.malformed + sum.frames));
         }
+        if (report_out != nullptr && !write_report(report_out, report_file, dumper,
+                                                   read_file == "-" ? "stdin" : read_file)) {
+            return 2;
+        }
         return sum.fatal ? 1 : 0;
     }
 
@@ -278,5 +327,14 @@ int main(int argc, char** argv) {
         return 2;
     }
     dumper.finish();
+    if (report_out != nullptr) {
+        std::string names;
+        for (const auto& sp : specs) {
+            names += names.empty() ? sp.iface : ", " + sp.iface;
+        }
+        if (!write_report(report_out, report_file, dumper, names)) {
+            return 2;
+        }
+    }
     return 0;
 }

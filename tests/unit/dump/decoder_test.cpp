@@ -212,7 +212,7 @@ TEST(DumpStats, NodeGuardingIsCountedApartFromHeartbeat) {
     feed(rtr);                        // the previous request got no reply
     feed(Frame::make(0x70F, {0x85})); // toggle 1 again: toggle error
     const auto& n = stats.node(15);
-    EXPECT_EQ(n.hb_intervals, 0U) << "guarding replies are no heartbeat period";
+    EXPECT_EQ(n.hb.n, 0U) << "guarding replies are no heartbeat period";
     EXPECT_EQ(n.heartbeats, 0U);
     EXPECT_EQ(n.guard_requests, 4U);
     EXPECT_EQ(n.guard_replies, 3U);

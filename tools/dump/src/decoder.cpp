@@ -83,6 +83,9 @@ void Decoder::set_profile(NodeId node, const IDumpProfile* profile) {
 void Decoder::learn_identity(NodeId node, std::uint8_t sub, std::uint32_t value) {
     NodeState& n = nodes_[node];
     (sub == 1 ? n.vendor : n.product) = value;
+    if (stats_ != nullptr) {
+        stats_->on_identity(node, sub, value);
+    }
     if (!n.profile_pinned && registry_ != nullptr && n.vendor && n.product) {
         n.profile = registry_->match(*n.vendor, *n.product);
     }
@@ -147,6 +150,9 @@ void Decoder::decode(const TraceRecord& r, Decoded& out, std::vector<Note>& note
         return;
     case CobType::Sync:
         decode_sync(f, out);
+        if (stats_ != nullptr && r.has_ts && out.severity == Severity::Info) {
+            stats_->on_sync(r.ts_ns);
+        }
         return;
     case CobType::Time:
         decode_time(f, out);
@@ -404,6 +410,14 @@ void Decoder::decode_sdo(const Frame& f, NodeId node, bool client, std::int64_t 
         (void)pdo_.learn(node, o.index, o.subindex, o.data);
         if (o.index == 0x1018 && (o.subindex == 1 || o.subindex == 2) && o.data.size() >= 4) {
             learn_identity(node, o.subindex, get_le<std::uint32_t>(o.data.data()));
+        }
+        if (stats_ != nullptr && o.index == 0x1018 && (o.subindex == 3 || o.subindex == 4) &&
+            o.data.size() >= 4) {
+            stats_->on_identity(node, o.subindex, get_le<std::uint32_t>(o.data.data()));
+        }
+        if (stats_ != nullptr && o.index == 0x1008 && o.subindex == 0) {
+            std::string_view name(reinterpret_cast<const char*>(o.data.data()), o.data.size());
+            stats_->on_device_name(node, name.substr(0, name.find('\0')));
         }
         return;
     case SdoOutcome::Kind::Aborted:

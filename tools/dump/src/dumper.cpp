@@ -11,7 +11,11 @@ constexpr std::size_t kFlushAt = 256 * 1024;
 
 Dumper::Dumper(DumpOptions options, Sink out, Sink diag)
     : options_(std::move(options)), out_(std::move(out)), diag_(std::move(diag)),
-      stats_(options_.bitrate), decoder_(options_.decoder, &stats_), lines_(options_.line) {}
+      stats_(options_.bitrate), decoder_(options_.decoder, &stats_), lines_(options_.line) {
+    if (options_.report) {
+        stats_.enable_report();
+    }
+}
 
 Dumper::~Dumper() {
     flush();
@@ -28,8 +32,18 @@ bool Dumper::wanted(Service s, NodeId node) const {
     return (node == 0 && s == Service::Nmt) || (node <= kMaxNodeId && options_.nodes.test(node));
 }
 
+// Warnings, errors and EMCYs go to the report's timeline with their decoded text.
+void Dumper::record_event(std::int64_t ts_ns, NodeId node, Service service, Severity severity,
+                          std::string_view text) {
+    if (options_.report && (severity >= Severity::Warning || service == Service::Emcy)) {
+        stats_.on_event(ts_ns, node, service == Service::Emcy, to_string(severity),
+                        to_string(service), text);
+    }
+}
+
 void Dumper::emit_notes() {
     for (const auto& n : notes_) {
+        record_event(n.ts_ns, n.node, n.service, n.severity, n.text);
         if (options_.print && wanted(n.service, n.node)) {
             lines_.note(buf_, n);
         }
@@ -40,8 +54,10 @@ void Dumper::emit_notes() {
 void Dumper::on_record(const TraceRecord& r) {
     decoder_.decode(r, decoded_, notes_);
     if (!notes_.empty()) {
-        emit_notes();
+        emit_notes(); // they happened before this frame
     }
+    record_event(r.ts_ns, decoded_.node, decoded_.service, decoded_.severity,
+                 std::string_view(decoded_.text.data(), decoded_.text.size()));
     if (pcap_) {
         pcap_->write(r);
     }

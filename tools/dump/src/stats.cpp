@@ -13,12 +13,27 @@
 
 namespace codrive::dump {
 
-std::uint32_t frame_bits_worst_case(const Frame& f) {
-    const std::uint32_t data_bits = f.rtr() ? 0U : 8U * f.len;
-    if (f.extended()) {
-        return 67U + data_bits + (54U + data_bits - 1U) / 4U;
+void Stats::Running::add(std::int64_t ns) {
+    ++n;
+    const double x = static_cast<double>(ns);
+    const double delta = x - mean_ns;
+    mean_ns += delta / static_cast<double>(n);
+    m2 += delta * (x - mean_ns);
+    min_ns = n == 1 ? ns : std::min(min_ns, ns);
+    max_ns = n == 1 ? ns : std::max(max_ns, ns);
+}
+
+double Stats::Running::stddev_ns() const {
+    return n > 1 ? std::sqrt(m2 / static_cast<double>(n - 1)) : 0.0;
+}
+
+Stats::~Stats() = default;
+
+void Stats::enable_report() {
+    if (!detail_) {
+        detail_ = std::make_unique<Detail>();
+        detail_->events.reserve(Detail::kMaxEvents);
     }
-    return 47U + data_bits + (34U + data_bits - 1U) / 4U;
 }
 
 void Stats::on_frame(const Frame& f, std::int64_t ts, bool timed) {
@@ -37,9 +52,14 @@ void Stats::on_frame(const Frame& f, std::int64_t ts, bool timed) {
     if (f.error()) {
         return;
     }
-    const auto bits = frame_bits_worst_case(f);
+    const auto bits = frame_bits_exact(f);
     bits_ += bits;
     last_ns_ = std::max(last_ns_, ts);
+    if (detail_) {
+        auto& b = detail_->timeline.bus(detail_->timeline.bucket(ts));
+        b.bits += bits;
+        ++b.frames;
+    }
     constexpr std::int64_t kWindow = 1'000'000'000;
     if (ts - window_start_ns_ >= kWindow) {
         const double load = 100.0 * static_cast<double>(window_bits_) / bitrate_;
@@ -61,13 +81,13 @@ void Stats::on_heartbeat(NodeId node, std::uint8_t state, std::int64_t ts) {
     }
     if (n.last_hb_ns != 0 && ts > n.last_hb_ns) {
         const auto d = ts - n.last_hb_ns;
-        ++n.hb_intervals;
-        const double x = static_cast<double>(d);
-        const double delta = x - n.hb_mean_ns;
-        n.hb_mean_ns += delta / static_cast<double>(n.hb_intervals);
-        n.hb_m2 += delta * (x - n.hb_mean_ns);
-        n.hb_min_ns = n.hb_intervals == 1 ? d : std::min(n.hb_min_ns, d);
-        n.hb_max_ns = n.hb_intervals == 1 ? d : std::max(n.hb_max_ns, d);
+        n.hb.add(d);
+        if (detail_) {
+            auto& b = detail_->timeline.node(node, detail_->timeline.bucket(ts));
+            ++b.hb;
+            b.hb_sum_ns += static_cast<double>(d);
+            b.hb_max_ns = std::max(b.hb_max_ns, d);
+        }
     }
     n.last_hb_ns = ts;
     ++n.heartbeats;
@@ -117,6 +137,10 @@ void Stats::on_sdo_done(NodeId node, std::int64_t d) {
     nodes_[node].seen = true;
     ++nodes_[node].sdo_done;
     nodes_[node].sdo_rtt_sum_ns += static_cast<double>(std::max<std::int64_t>(d, 0));
+    nodes_[node].sdo_rtt_max_ns = std::max(nodes_[node].sdo_rtt_max_ns, d);
+    if (detail_) {
+        detail_->sdo_rtt[node].add(static_cast<double>(d));
+    }
 }
 void Stats::on_sdo_abort(NodeId node) {
     nodes_[node].seen = true;
@@ -146,6 +170,60 @@ void Stats::on_pdo(NodeId node, bool tpdo, std::int64_t ts_ns) {
         n.rpdo_slots[i] = 0;
     }
     ++(tpdo ? n.tpdo_slots[i] : n.rpdo_slots[i]);
+    // A TPDO belongs to the SYNC before it if it comes within one SYNC period (twice the mean,
+    // for jitter); with SYNC gone silent, latencies would only measure the silence.
+    const auto lat = ts_ns - last_sync_ns_;
+    const bool synced =
+        tpdo && syncs_ > 0 && lat >= 0 &&
+        (sync_period_.n == 0 || static_cast<double>(lat) < 2 * sync_period_.mean_ns);
+    if (synced) {
+        n.sync_latency.add(lat);
+    }
+    if (detail_) {
+        auto& b = detail_->timeline.node(node, detail_->timeline.bucket(ts_ns));
+        ++(tpdo ? b.tpdo : b.rpdo);
+        if (synced) {
+            detail_->sync_latency[node].add(static_cast<double>(lat));
+        }
+    }
+}
+
+void Stats::on_sync(std::int64_t ts) {
+    if (syncs_ > 0 && ts > last_sync_ns_) {
+        sync_period_.add(ts - last_sync_ns_);
+        if (detail_) {
+            detail_->sync_period.add(ts - last_sync_ns_);
+        }
+    }
+    ++syncs_;
+    last_sync_ns_ = ts;
+    if (detail_) {
+        ++detail_->timeline.bus(detail_->timeline.bucket(ts)).sync;
+    }
+}
+
+void Stats::on_identity(NodeId node, std::uint8_t sub, std::uint32_t value) {
+    if (sub >= 1 && sub <= 4) {
+        nodes_[node].identity[sub - 1U] = value;
+        nodes_[node].identity_known =
+            static_cast<std::uint8_t>(nodes_[node].identity_known | (1U << (sub - 1U)));
+    }
+}
+
+void Stats::on_device_name(NodeId node, std::string_view name) {
+    nodes_[node].device_name.assign(name.substr(0, 64));
+}
+
+void Stats::on_event(std::int64_t ts, NodeId node, bool emcy, std::string_view severity,
+                     std::string_view service, std::string_view text) {
+    if (!detail_) {
+        return;
+    }
+    auto& b = detail_->timeline.bus(detail_->timeline.bucket(ts));
+    ++(emcy ? b.emcy : b.anomalies);
+    if (detail_->events_total++ < Detail::kMaxEvents) {
+        detail_->events.push_back(Event{ts, node, emcy, severity, service, std::string(text)});
+    }
 }
 
 namespace {
@@ -189,6 +267,21 @@ double Stats::bus_load() const {
            (static_cast<double>(bitrate_) * 1e-9 * static_cast<double>(span));
 }
 
+double Stats::peak_load_so_far() const {
+    // The window still open counts if it is long enough to say something.
+    double peak = peak_load_;
+    const auto open_ns = last_ns_ - window_start_ns_;
+    if (open_ns >= 100'000'000 && bitrate_ != 0) {
+        peak = std::max(peak,
+                        100.0 * static_cast<double>(window_bits_) /
+                            (static_cast<double>(bitrate_) * 1e-9 * static_cast<double>(open_ns)));
+    }
+    if (static_cast<double>(last_ns_ - first_ns_) / 1e9 < 1.0) {
+        peak = std::max(peak, bus_load());
+    }
+    return peak;
+}
+
 std::string Stats::table(std::optional<std::int64_t> now_ns) const {
     fmt::memory_buffer b;
     auto it = std::back_inserter(b);
@@ -207,13 +300,9 @@ std::string Stats::table(std::optional<std::int64_t> now_ns) const {
             const auto s = nmt::state_from_byte(n.nmt_state);
             state = s ? nmt::to_string(*s) : std::string_view("invalid");
         }
-        const std::string period =
-            n.hb_intervals > 0 ? fmt::format("{:.1f} ms", n.hb_mean_ns / 1e6) : "-";
+        const std::string period = n.hb.n > 0 ? fmt::format("{:.1f} ms", n.hb.mean_ns / 1e6) : "-";
         const std::string jitter =
-            n.hb_intervals > 1
-                ? fmt::format("{:.2f} ms",
-                              std::sqrt(n.hb_m2 / static_cast<double>(n.hb_intervals - 1)) / 1e6)
-                : "-";
+            n.hb.n > 1 ? fmt::format("{:.2f} ms", n.hb.stddev_ns() / 1e6) : "-";
         const std::string rtt =
             n.sdo_done > 0
                 ? fmt::format("{:.1f} ms", n.sdo_rtt_sum_ns / static_cast<double>(n.sdo_done) / 1e6)
@@ -263,17 +352,7 @@ std::string Stats::table(std::optional<std::int64_t> now_ns) const {
                            n.guard_toggle_errors);
         }
     }
-    // The window still open counts if it is long enough to say something.
-    double peak = peak_load_;
-    const auto open_ns = last_ns_ - window_start_ns_;
-    if (open_ns >= 100'000'000 && bitrate_ != 0) {
-        peak = std::max(peak,
-                        100.0 * static_cast<double>(window_bits_) /
-                            (static_cast<double>(bitrate_) * 1e-9 * static_cast<double>(open_ns)));
-    }
-    if (secs < 1.0) {
-        peak = std::max(peak, bus_load());
-    }
+    const double peak = peak_load_so_far();
     if (timed_frames_ == 0) {
         fmt::format_to(it,
                        "{} frames ({} error frames) without timestamps: no PDO rates and no bus "
@@ -283,7 +362,7 @@ std::string Stats::table(std::optional<std::int64_t> now_ns) const {
     }
     fmt::format_to(it,
                    "{} frames ({} error frames) in {:.3f} s; bus load at {} kbit/s: {:.1f} % mean, "
-                   "{:.1f} % peak (1 s windows, worst-case bit stuffing)\n",
+                   "{:.1f} % peak (1 s windows, exact bit stuffing)\n",
                    frames_, error_frames_, secs, bitrate_ / 1000, bus_load(), peak);
     return {b.data(), b.size()};
 }

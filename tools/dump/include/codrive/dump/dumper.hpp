@@ -24,6 +24,7 @@ struct DumpOptions {
     std::uint32_t only = kAllServices; ///< services printed (`--only`)
     std::bitset<kMaxNodeId + 1> nodes; ///< nodes printed (`--node`); none set = all
     bool stats = false;                ///< print the statistics table at the end
+    bool report = false;               ///< keep the report's series, histograms and events
     std::uint32_t bitrate = 500000;    ///< for bus load
     DecoderOptions decoder;
 };
@@ -39,6 +40,7 @@ public:
 
     [[nodiscard]] Decoder& decoder() { return decoder_; }
     [[nodiscard]] Stats& stats() { return stats_; }
+    [[nodiscard]] const Stats& stats() const { return stats_; }
     [[nodiscard]] const DumpOptions& options() const { return options_; }
     /// Also writes every record to this pcap file.
     void set_pcap(std::unique_ptr<PcapWriter> writer) { pcap_ = std::move(writer); }
@@ -53,6 +55,8 @@ public:
 private:
     [[nodiscard]] bool wanted(Service s, NodeId node) const;
     void emit_notes();
+    void record_event(std::int64_t ts_ns, NodeId node, Service service, Severity severity,
+                      std::string_view text);
 
     DumpOptions options_;
     Sink out_;

@@ -4,34 +4,40 @@
 
 #include <codrive/core/cob_id.hpp>
 #include <codrive/core/frame.hpp>
+#include <codrive/dump/frame_bits.hpp>
+#include <codrive/dump/timeline.hpp>
 
 #include <array>
 #include <cstdint>
+#include <memory>
 #include <optional>
 #include <string>
+#include <string_view>
+#include <vector>
 
 namespace codrive::dump {
 
-/// Bits a frame occupies on the bus in the worst case of bit stuffing, including the 3-bit
-/// interframe space: classic 11-bit 47 + 8n + ⌊(34 + 8n − 1)/4⌋, 29-bit 67 + 8n + ⌊(54 + 8n −
-/// 1)/4⌋ (Davis et al., "Controller Area Network (CAN) schedulability analysis", 2007). CAN FD
-/// frames are counted at the arbitration rate (an upper bound).
-[[nodiscard]] std::uint32_t frame_bits_worst_case(const Frame& f);
-
-/// Counters per node and for the whole bus. Fixed size: no growth with trace length.
+/// Counters per node and for the whole bus, for `--stats`, `--top` and `--report`. Fixed size:
+/// no growth with trace length.
 class Stats {
 public:
+    /// Welford running mean and variance of a duration, with its extremes.
+    struct Running {
+        std::uint64_t n = 0;
+        double mean_ns = 0;
+        double m2 = 0;
+        std::int64_t min_ns = 0;
+        std::int64_t max_ns = 0;
+        void add(std::int64_t ns);
+        /// Sample standard deviation in ns (0 with fewer than two values).
+        [[nodiscard]] double stddev_ns() const;
+    };
     struct Node {
         bool seen = false;
         std::uint8_t nmt_state = 0xFF; ///< last heartbeat state byte, 0xFF = none
         std::uint64_t heartbeats = 0;
         std::int64_t last_hb_ns = 0;
-        // Welford running mean / variance of the heartbeat interval.
-        std::uint64_t hb_intervals = 0;
-        double hb_mean_ns = 0;
-        double hb_m2 = 0;
-        std::int64_t hb_min_ns = 0;
-        std::int64_t hb_max_ns = 0;
+        Running hb; ///< heartbeat intervals (a boot-up restarts the measurement)
         std::uint64_t emcy = 0;
         std::uint16_t last_emcy_code = 0;
         std::string last_emcy_text;
@@ -39,6 +45,15 @@ public:
         std::uint64_t sdo_aborts = 0;
         std::uint64_t sdo_timeouts = 0;
         double sdo_rtt_sum_ns = 0; // double: out-of-order traces must not overflow a sum
+        std::int64_t sdo_rtt_max_ns = 0;
+        /// Time from the last SYNC to each TPDO of this node (CiA 301 §7.2.2.2: synchronous
+        /// TPDOs follow the SYNC), counted while SYNCs are seen.
+        Running sync_latency;
+        /// Identity object 1018h sub-indices 1..4 seen in SDO traffic or an EDS (bit i-1 of
+        /// `identity_known` set when `identity[i-1]` is known).
+        std::array<std::uint32_t, 4> identity{};
+        std::uint8_t identity_known = 0;
+        std::string device_name; ///< 1008h, when uploaded in the trace
         std::uint64_t tpdo = 0;
         std::uint64_t rpdo = 0;
         /// PDOs per 100 ms slot of the last second (ring indexed by slot number), for `--top`.
@@ -54,7 +69,35 @@ public:
         bool guard_toggle = false; ///< toggle bit of the last reply
     };
 
+    /// A warning, error or EMCY for the report's timeline, with the decoded text.
+    struct Event {
+        std::int64_t ts_ns = 0;
+        NodeId node = 0;
+        bool emcy = false;
+        std::string_view severity; ///< a static name: "warning", "error", ...
+        std::string_view service;  ///< a static name: "sdo", "emcy", ...
+        std::string text;
+    };
+    /// What only the report needs: time buckets, histograms and the first events (fixed size).
+    struct Detail {
+        static constexpr std::size_t kMaxEvents = 2000;
+        Timeline timeline;
+        PeriodHistogram sync_period;
+        std::array<LogHistogram, kMaxNodeId + 1> sdo_rtt{};
+        std::array<LogHistogram, kMaxNodeId + 1> sync_latency{};
+        std::vector<Event> events; ///< the first kMaxEvents, in trace order
+        std::uint64_t events_total = 0;
+    };
+
     explicit Stats(std::uint32_t bitrate = 500000) : bitrate_(bitrate) {}
+    ~Stats();
+    Stats(const Stats&) = delete;
+    Stats& operator=(const Stats&) = delete;
+
+    /// Also keeps the time series and histograms of `--report` (about 2.5 MiB, allocated once).
+    void enable_report();
+    /// The report's data; null unless enable_report() was called.
+    [[nodiscard]] const Detail* detail() const { return detail_.get(); }
 
     /// Counts a frame; a frame without a timestamp (`timed` false: candump screen output without
     /// `-t`) is counted but says nothing about time, so with no timed frame at all the table
@@ -70,6 +113,15 @@ public:
     void on_sdo_abort(NodeId node);
     void on_sdo_timeout(NodeId node);
     void on_pdo(NodeId node, bool tpdo, std::int64_t ts_ns = 0);
+    /// A SYNC (080h) at `ts_ns`: its period, and the reference for SYNC→TPDO latencies.
+    void on_sync(std::int64_t ts_ns);
+    /// 1018h sub-index 1..4 of a node (from an upload in the trace or an EDS).
+    void on_identity(NodeId node, std::uint8_t sub, std::uint32_t value);
+    /// 1008h of a node (the first 64 bytes are kept).
+    void on_device_name(NodeId node, std::string_view name);
+    /// A warning, error or EMCY with its decoded text (kept for the report only).
+    void on_event(std::int64_t ts_ns, NodeId node, bool emcy, std::string_view severity,
+                  std::string_view service, std::string_view text);
 
     /// The table: one row per node that sent something, then the nodes that were addressed but
     /// never answered, totals and bus load (mean over the trace, peak over one-second windows).
@@ -81,6 +133,16 @@ public:
     /// Mean bus load in percent over the trace so far.
     [[nodiscard]] double bus_load() const;
     [[nodiscard]] double peak_load() const { return peak_load_; }
+    /// Peak load including the window still open, as the table prints it.
+    [[nodiscard]] double peak_load_so_far() const;
+    [[nodiscard]] std::uint32_t bitrate() const { return bitrate_; }
+    [[nodiscard]] std::uint64_t error_frames() const { return error_frames_; }
+    [[nodiscard]] std::uint64_t timed_frames() const { return timed_frames_; }
+    [[nodiscard]] std::int64_t first_ns() const { return first_ns_; }
+    [[nodiscard]] std::int64_t last_ns() const { return last_ns_; }
+    /// SYNC intervals over the trace.
+    [[nodiscard]] const Running& sync_period() const { return sync_period_; }
+    [[nodiscard]] std::uint64_t syncs() const { return syncs_; }
 
 private:
     std::uint32_t bitrate_;
@@ -94,6 +156,10 @@ private:
     std::int64_t window_start_ns_ = 0;
     std::uint64_t window_bits_ = 0;
     double peak_load_ = 0;
+    std::uint64_t syncs_ = 0;
+    std::int64_t last_sync_ns_ = 0;
+    Running sync_period_;
+    std::unique_ptr<Detail> detail_;
 };
 
 } // namespace codrive::dump
