@@ -23,7 +23,8 @@ void NetworkScan::start(Done done) {
     rows_.clear();
     const unsigned first = std::max<unsigned>(1, options_.first);
     const unsigned last = std::min<unsigned>(kMaxNodeId, options_.last);
-    left_ = last >= first ? last - first + 1 : 0;
+    probes_left_ = last >= first ? last - first + 1 : 0;
+    left_ = probes_left_;
     if (left_ == 0) {
         if (done_) {
             done_({});
@@ -42,26 +43,38 @@ void NetworkScan::start(Done done) {
                 if (!*alive) {
                     return;
                 }
-                if (!r) {
-                    // A node that aborts the read exists all the same (1000h is mandatory, but
-                    // a broken node should still be listed).
-                    if (r.error().abort_code() && r.error().origin == sdo::AbortOrigin::Server) {
-                        ScanRow row;
-                        row.node = node;
-                        rows_.push_back(row);
-                        probe_details(rows_.size() - 1);
-                        return;
-                    }
-                    node_done();
-                    return;
+                // A node that aborts the read exists all the same (1000h is mandatory, but a
+                // broken node should still be listed).
+                if (r || (r.error().abort_code() && r.error().origin == sdo::AbortOrigin::Server)) {
+                    ScanRow row;
+                    row.node = node;
+                    row.device_type = r ? *r : 0;
+                    rows_.push_back(row);
                 }
-                ScanRow row;
-                row.node = node;
-                row.device_type = *r;
-                rows_.push_back(row);
-                probe_details(rows_.size() - 1);
+                probe_done();
             },
             o);
+    }
+}
+
+void NetworkScan::probe_done() {
+    if (probes_left_ == 0 || --probes_left_ > 0) {
+        return;
+    }
+    // The details are read only once every probe has ended. Found early, a node's 1018h request
+    // would queue behind the probes (and the timeout aborts) of up to 126 absent nodes still
+    // waiting in the transmit queue, and its timeout runs from the moment it is queued: on a
+    // slow bus (or a loaded vcan, where CANopenNode's demo device answered in 1 ms) the answer
+    // came after the client had given up and the scan showed its vendor-ID as "-".
+    left_ = rows_.size();
+    if (left_ == 0) {
+        node_done_all();
+        return;
+    }
+    // probe_details() may finish a node synchronously (a send refused at once): iterate over a
+    // count fixed now.
+    for (std::size_t i = 0; i < rows_.size(); ++i) {
+        probe_details(i);
     }
 }
 
@@ -70,6 +83,7 @@ void NetworkScan::probe_details(std::size_t row) {
     auto& client = sdo_.client(node);
     sdo::TransferOptions o;
     o.timeout = options_.timeout;
+    o.retries = options_.detail_retries;
     for (std::uint8_t sub = 1; sub <= 4; ++sub) {
         client.read<std::uint32_t>(
             0x1018, sub,
@@ -105,19 +119,23 @@ void NetworkScan::node_done() {
         return;
     }
     if (--left_ == 0) {
-        std::sort(rows_.begin(), rows_.end(),
-                  [](const ScanRow& a, const ScanRow& b) { return a.node < b.node; });
-        if (states_ != nullptr) {
-            for (auto& r : rows_) {
-                // A node whose last message was its boot-up is pre-operational (CiA 301
-                // §7.3.2.1: initialisation ends in pre-operational on its own).
-                const nmt::NmtState s = states_->state(r.node);
-                r.state = s == nmt::NmtState::BootUp ? nmt::NmtState::PreOperational : s;
-            }
+        node_done_all();
+    }
+}
+
+void NetworkScan::node_done_all() {
+    std::sort(rows_.begin(), rows_.end(),
+              [](const ScanRow& a, const ScanRow& b) { return a.node < b.node; });
+    if (states_ != nullptr) {
+        for (auto& r : rows_) {
+            // A node whose last message was its boot-up is pre-operational (CiA 301
+            // §7.3.2.1: initialisation ends in pre-operational on its own).
+            const nmt::NmtState s = states_->state(r.node);
+            r.state = s == nmt::NmtState::BootUp ? nmt::NmtState::PreOperational : s;
         }
-        if (done_) {
-            done_(rows_);
-        }
+    }
+    if (done_) {
+        done_(rows_);
     }
 }
 

@@ -291,7 +291,8 @@ void send_flow(Ctx& c, const Payload& p, bool waiting) {
     auto& s = c.s;
     s.flow_frame = p;
     (void)c.send(p);
-    s.flow_sent = waiting && c.config.block_size > 1 ? c.now : kNever;
+    s.flow_sent =
+        waiting && c.config.repeat_block_responses && c.config.block_size > 1 ? c.now : kNever;
     if (s.flow_sent != kNever) {
         s.deadline = std::min(s.deadline, c.now + c.config.block_gap_timeout);
     }
@@ -544,9 +545,12 @@ bool SdoServer::on_frame(const Frame& frame, TimePoint now) {
         s.state = State::BlockDownloadData;
         s.flow_frame = make_block_download_initiate_response(s.index, s.sub, s.crc, s.block_size);
         (void)c.send(s.flow_frame);
-        // A client that got it ignores a repeat (an initiate response in mid-transfer is late).
-        s.flow_sent = now;
-        s.deadline = std::min(s.deadline, now + config_.block_gap_timeout);
+        // Repeated only on request (ServerConfig::repeat_block_responses): codrive's client
+        // ignores a late initiate response in mid-transfer, but other clients do not.
+        if (config_.repeat_block_responses) {
+            s.flow_sent = now;
+            s.deadline = std::min(s.deadline, now + config_.block_gap_timeout);
+        }
         c.arm();
         return true;
     }

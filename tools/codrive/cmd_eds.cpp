@@ -55,6 +55,15 @@ std::string pdo_text(const SubObject& s) {
 }
 
 std::string value_text(const SubObject& s) {
+    // A number without DefaultValue (or with an empty one) and without ParameterValue has no
+    // default (CiA 306 §4.6.3: DefaultValue is optional): print that, not the zero the model
+    // holds. python-canopen reads such entries as "no default" too; `eds show` printed
+    // 0x00000000 for CANopenDemo's 1003h:01..10h and lely's 1016h:00.
+    if (!s.default_value && s.parameter_text.empty() && s.type != DataType::VisibleString &&
+        s.type != DataType::UnicodeString && s.type != DataType::OctetString &&
+        s.type != DataType::Domain) {
+        return "(no default)";
+    }
     std::string v = eds_value_text(s.value);
     if (v.size() > 48) {
         v = v.substr(0, 45) + "...";

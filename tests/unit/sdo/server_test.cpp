@@ -2,6 +2,7 @@
 // SDO server: dictionary checks give the CiA 301 abort codes; protocol errors are rejected.
 #include "sdo_harness.hpp"
 
+#include <codrive/sdo/crc16.hpp>
 #include <codrive/sdo/protocol.hpp>
 
 #include <gtest/gtest.h>
@@ -90,7 +91,7 @@ TEST(SdoServer, AccessHookRefusesInThePresentState) {
 
 /// Raw frames to the server from a scripted client endpoint.
 struct RawClient {
-    RawClient() : raw(h.net.endpoint("raw")) {
+    explicit RawClient(ServerConfig config = {}) : h(config), raw(h.net.endpoint("raw")) {
         raw.set_frame_handler([this](const Frame& f, TimePoint) {
             if (f.id == 0x584) {
                 responses.push_back(f);
@@ -105,6 +106,8 @@ struct RawClient {
         (void)raw.send(Frame::make(0x604, p));
         h.net.run_until(h.clock, h.clock.now() + std::chrono::milliseconds(1), {&h.server});
     }
+    /// A client that takes its time (python-canopen in a loaded guest: over 100 ms).
+    void wait(Duration d) { h.net.run_until(h.clock, h.clock.now() + d, {&h.server}); }
     [[nodiscard]] std::uint32_t last_abort() const {
         if (responses.empty() || responses.back().data[0] != 0x80) {
             return 0;
@@ -228,6 +231,51 @@ TEST(SdoServer, ClientAbortEndsTransferQuietly) {
     c.send(make_abort(0x2100, 0, 0x08000000));
     EXPECT_EQ(c.responses.size(), before);
     EXPECT_FALSE(c.h.server.busy());
+}
+
+// python-canopen against codrive-sim: a block download whose client sent its first segment 117 ms
+// after the initiate response got the response twice (the server repeated it after 100 ms), took
+// the copy for the sub-block acknowledgement and aborted with 05040001h, 3 times in 40 transfers.
+// CiA 301 §7.2.4.3.9-10: one response per step, whatever the client's pace.
+TEST(SdoServer, SlowBlockDownloadClientGetsEachResponseOnce) {
+    ServerConfig config;
+    config.block_size = 2; // two sub-blocks for 21 bytes: an acknowledgement to wait after too
+    RawClient c(config);
+    c.send(make_block_download_initiate(0x2100, 0, true, 21));
+    ASSERT_EQ(c.responses.size(), 1U);
+    EXPECT_EQ(c.responses[0].data[0], 0xA4); // CRC supported
+    c.wait(std::chrono::milliseconds(300));
+    EXPECT_EQ(c.responses.size(), 1U) << "the initiate response was sent again";
+    const Bytes data = pattern(21);
+    const std::span<const std::uint8_t> all(data);
+    c.send(make_block_segment(1, false, all.subspan(0, 7)));
+    c.send(make_block_segment(2, false, all.subspan(7, 7)));
+    ASSERT_EQ(c.responses.size(), 2U);
+    EXPECT_EQ(c.responses[1].data[0], 0xA2);
+    EXPECT_EQ(c.responses[1].data[1], 2);
+    c.wait(std::chrono::milliseconds(300));
+    EXPECT_EQ(c.responses.size(), 2U) << "the sub-block acknowledgement was sent again";
+    c.send(make_block_segment(1, true, all.subspan(14, 7)));
+    ASSERT_EQ(c.responses.size(), 3U);
+    EXPECT_EQ(c.responses[2].data[0], 0xA2);
+    EXPECT_EQ(c.responses[2].data[1], 1);
+    c.send(make_block_download_end(0, crc16_ccitt(all)));
+    ASSERT_EQ(c.responses.size(), 4U);
+    EXPECT_EQ(c.responses[3].data[0], 0xA1);
+    const auto stored = c.h.od.read(0x2100, 0);
+    ASSERT_TRUE(stored);
+    EXPECT_EQ(Bytes(stored->begin(), stored->end()), data);
+    EXPECT_FALSE(c.h.server.busy());
+}
+
+TEST(SdoServer, BlockResponsesAreRepeatedOnlyWhenAskedFor) {
+    ServerConfig config;
+    config.repeat_block_responses = true; // lossy links where a response itself may vanish
+    RawClient c(config);
+    c.send(make_block_download_initiate(0x2100, 0, true, 14));
+    c.wait(std::chrono::milliseconds(150));
+    ASSERT_EQ(c.responses.size(), 2U);
+    EXPECT_EQ(c.responses[1].data, c.responses[0].data);
 }
 
 TEST(SdoServer, IgnoresFramesForOtherChannels) {

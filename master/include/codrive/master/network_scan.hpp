@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: Apache-2.0
-// Finds the nodes on a bus: probes 1000h of nodes 1..127 in parallel, then reads identity and
-// name of those that answered.
+// Finds the nodes on a bus: probes 1000h of nodes 1..127 in parallel, then, once every probe has
+// ended, reads identity and name of those that answered.
 #pragma once
 
 #include <codrive/core/cob_id.hpp>
@@ -37,6 +37,10 @@ struct ScanOptions {
     NodeId first = 1;
     NodeId last = kMaxNodeId;
     milliseconds timeout{300}; ///< per SDO request
+    /// Repeats of an identity or name read that timed out (the 1000h probe is never repeated: an
+    /// absent node must not cost more than one timeout). A node that answered 1000h exists, so
+    /// a lost 1018h/1008h answer is worth asking again.
+    int detail_retries = 2;
 };
 
 /// Runs one scan. The SDO clients of the probed nodes get the scan's timeout for its requests.
@@ -50,14 +54,17 @@ public:
     [[nodiscard]] bool finished() const { return left_ == 0; }
 
 private:
+    void probe_done();
     void probe_details(std::size_t row);
     void node_done();
+    void node_done_all();
 
     sdo::SdoClientManager& sdo_;
     const nmt::NodeStateTable* states_;
     ScanOptions options_;
     std::vector<ScanRow> rows_;
-    std::size_t left_ = 0;
+    std::size_t probes_left_ = 0; ///< 1000h probes still running (first phase)
+    std::size_t left_ = 0;        ///< probes plus found nodes whose details are still being read
     Done done_;
     std::shared_ptr<bool> alive_;
 };

@@ -37,6 +37,13 @@ struct ServerConfig {
     bool expedited_upload = true;
     /// Block download: acknowledge early when a sub-block stalls (its last segment was lost).
     Duration block_gap_timeout = std::chrono::milliseconds(100);
+    /// Block download: send the initiate or sub-block response again when nothing of the
+    /// sub-block it asks for arrives within `block_gap_timeout`. Off by default: CiA 301
+    /// §7.2.4.3.9-10 has one response per step, and a CAN frame reaches every node or none, so
+    /// the copy reaches a client that already has the original. python-canopen, slower than
+    /// 100 ms to send its first segment, took the copy for its next answer and aborted with
+    /// 05040001h. Only for lossy links where the response itself may vanish (fault injection).
+    bool repeat_block_responses = false;
 };
 
 /// Streams a large DOMAIN upload without the data sitting in the dictionary.
