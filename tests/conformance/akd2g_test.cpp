@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 // Kollmorgen AKD2G conformance (manual 000_*.txt, chapter 5): the object table and the
-// behaviours fixed for issue 15, checked on the CAN simulator over SDO and on the master's
-// profile.
+// behaviours fixed for issue 15, checked on both simulators (SDO over CAN, CoE over EtherCAT),
+// on the device files and on the master's profile.
 #include "conformance.hpp"
 
 #include <array>
@@ -10,9 +10,11 @@ namespace codrive::conformance {
 namespace {
 
 TEST(Akd2gConformance, ObjectTableMatchesTheManual) {
-    // CAN only: the EtherCAT AKD2G simulator is single-axis and being reworked (branch dual).
+    // Both simulators: SDO on the virtual CAN bus and CoE on the in-process EtherCAT link (the
+    // dual-axis slave, the same DriveCore per axis).
     CanProbe can("akd2g");
-    check_facts("akd2g", drives::akd2g_profile(), &can, nullptr, DeviceFiles::of("akd2g"),
+    EcatProbe ecat("akd2g");
+    check_facts("akd2g", drives::akd2g_profile(), &can, &ecat, DeviceFiles::of("akd2g"),
                 akd2g_facts(), akd2g_known());
 }
 
