@@ -1,14 +1,15 @@
 // SPDX-License-Identifier: Apache-2.0
 // CoE SDO upload/download and SDO information as step machines. The SDO command bytes are the
-// CiA 301 SDO frame (ETG.1000.6 §5.6.2.1: "the CoE SDO payload is the CANopen SDO frame"), so
-// they are built and parsed with sdo/'s codec; only what CoE adds (complete access, data past
-// the 8 bytes in normal transfers and long segments) is handled here.
+// CiA 301 SDO frame (ETG.1000.6 §5.6.2.1: "the CoE SDO payload is the CANopen SDO frame"), so an
+// SDO transfer is sdo/'s client machine (the CAN client's) behind a CoE header; only the framing
+// CoE adds (complete access, data past the 8 bytes) is configured here.
 #include "coe_transfer.hpp"
 
 #include <codrive/ethercat/error.hpp>
 
 #include <codrive/core/endian.hpp>
 #include <codrive/core/sdo_abort.hpp>
+#include <codrive/sdo/client_machine.hpp>
 #include <codrive/sdo/protocol.hpp>
 
 #include <fmt/format.h>
@@ -20,195 +21,136 @@ namespace {
 
 constexpr std::size_t kSdoFrame = kCoeHeaderSize + sdo::kFrameLen; // CoE header + 8 bytes
 
-void put_request(std::vector<std::uint8_t>& out, CoeService service, const sdo::Payload& p) {
-    out.assign(kCoeHeaderSize, 0);
-    put_le<std::uint16_t>(out.data(), coe_header(service));
-    out.insert(out.end(), p.begin(), p.end());
-}
-
 std::error_code abort_error(std::uint32_t code) {
     return {static_cast<int>(code), sdo_abort_category()};
 }
 
-/// The SDO frame inside a CoE SDO reply, parsed with the CAN codec; Invalid if too short.
-sdo::FrameInfo parse_reply(std::span<const std::uint8_t> coe) {
-    if (coe.size() < kSdoFrame) {
-        return {};
-    }
-    return sdo::parse_frame(coe.subspan(kCoeHeaderSize, sdo::kFrameLen), sdo::Sender::Server);
-}
-
-class SdoUpload final : public CoeTransfer {
+/// A CoE SDO upload or download: a thin adapter that runs sdo::SdoClientMachine (the CAN
+/// client's machine, with its checks) over the mailbox. CoE only changes the framing: a CoE
+/// header before the CiA 301 frame, data after it (normal transfer, long segments) and complete
+/// access (ETG.1000.6 §5.6.2). The mailbox channel does the timing and repeats.
+class CoeSdo final : public CoeTransfer, public sdo::ISdoData {
 public:
-    SdoUpload(std::uint16_t index, std::uint8_t subindex, bool ca)
-        : index_(index), subindex_(subindex), ca_(ca) {}
+    /// Upload.
+    CoeSdo(std::uint16_t index, std::uint8_t subindex, bool ca)
+        : upload_(true),
+          machine_(*this, sdo::SdoFraming{sdo::kSegmentData, 0, ca}, index, subindex) {}
+    /// Download; `mailbox_out`: the slave's SM0 size, which bounds every request.
+    CoeSdo(std::uint16_t index, std::uint8_t subindex, std::vector<std::uint8_t> data, bool ca,
+           std::size_t mailbox_out)
+        : upload_(false), data_(std::move(data)),
+          machine_(*this, download_framing(mailbox_out, ca), index, subindex) {}
+
     [[nodiscard]] CoeService service() const override { return CoeService::SdoResponse; }
     void first(std::vector<std::uint8_t>& request) override {
-        auto p = sdo::make_initiate_upload(index_, subindex_);
-        if (ca_) {
-            p[0] = static_cast<std::uint8_t>(p[0] | sdo_cmd::kCompleteAccess);
-        }
-        put_request(request, CoeService::SdoRequest, p);
-    }
-    Step on_reply(std::span<const std::uint8_t> coe, std::vector<std::uint8_t>& request) override {
-        const sdo::FrameInfo f = parse_reply(coe);
-        if (f.kind == sdo::FrameKind::Invalid) {
-            return failed(make_error_code(EcatErrc::ProtocolError), "the CoE answer is too short");
-        }
-        if (f.kind == sdo::FrameKind::Abort) {
-            return aborted(f.abort_code);
-        }
-        if (!segmented_) {
-            // CiA 301 client check: the answer names the object asked for (complete access
-            // answers with the sub-index it starts from).
-            if (f.kind != sdo::FrameKind::InitiateUploadResponse || f.index != index_ ||
-                (!ca_ && f.subindex != subindex_)) {
-                return failed(make_error_code(EcatErrc::ProtocolError),
-                              "the answer does not match the request");
-            }
-            if (f.expedited) {
-                const std::size_t n = f.size_indicated ? f.data_len : sdo::kExpeditedMax;
-                outcome.data.assign(f.data.begin(), f.data.begin() + static_cast<long>(n));
-                return Step::Done;
-            }
-            if (coe.size() < kSdoFrame) {
-                return failed(make_error_code(EcatErrc::ProtocolError), "the answer has no size");
-            }
-            size_ = get_le<std::uint32_t>(coe.data() + kCoeHeaderSize + 4);
-            outcome.data.assign(coe.begin() + kSdoFrame, coe.end());
-            if (outcome.data.size() >= size_) {
-                outcome.data.resize(size_); // the rest of the mailbox is padding
-                return Step::Done;
-            }
-            segmented_ = true;
-            put_request(request, CoeService::SdoRequest, sdo::make_upload_segment_request(false));
-            return Step::Send;
-        }
-        // Upload segments (CiA 301 §7.2.4.3.6), CoE allows more than 7 data bytes each.
-        if (f.kind != sdo::FrameKind::UploadSegmentResponse) {
-            return failed(make_error_code(EcatErrc::ProtocolError), "expected an upload segment");
-        }
-        if (f.toggle != toggle_) {
-            return failed(make_error_code(EcatErrc::ProtocolError),
-                          "the segment toggle bit is wrong");
-        }
-        const std::size_t header = kCoeHeaderSize + 1;
-        const std::size_t n = coe.size() == kSdoFrame ? f.data_len : coe.size() - header;
-        if (n == 0 && !f.last) {
-            // Progress guard: an empty segment that is not the last would loop forever.
-            return failed(make_error_code(EcatErrc::ProtocolError),
-                          "a zero-length segment that is not the last one");
-        }
-        outcome.data.insert(outcome.data.end(), coe.begin() + static_cast<long>(header),
-                            coe.begin() + static_cast<long>(header + n));
-        if (outcome.data.size() > size_ || (f.last && outcome.data.size() != size_)) {
-            return failed(make_error_code(EcatErrc::ProtocolError),
-                          "the segments do not add up to the announced size");
-        }
-        if (f.last) {
-            return Step::Done;
-        }
-        toggle_ = !toggle_;
-        put_request(request, CoeService::SdoRequest, sdo::make_upload_segment_request(toggle_));
-        return Step::Send;
-    }
-
-private:
-    Step aborted(std::uint32_t code) {
-        outcome.error = abort_error(code);
-        outcome.sentence = fmt::format("{}: {} aborted 0x{:08X} ({})", label, what, code,
-                                       sdo_abort_describe(code));
-        return Step::Failed;
-    }
-    std::uint16_t index_;
-    std::uint8_t subindex_;
-    bool ca_;
-    bool segmented_ = false;
-    bool toggle_ = false;
-    std::uint32_t size_ = 0;
-};
-
-class SdoDownload final : public CoeTransfer {
-public:
-    SdoDownload(std::uint16_t index, std::uint8_t subindex, std::vector<std::uint8_t> data, bool ca,
-                std::size_t mailbox_out)
-        : index_(index), subindex_(subindex), data_(std::move(data)), ca_(ca),
-          mailbox_out_(mailbox_out) {}
-    [[nodiscard]] CoeService service() const override { return CoeService::SdoResponse; }
-    void first(std::vector<std::uint8_t>& request) override {
-        const std::uint8_t ca = ca_ ? sdo_cmd::kCompleteAccess : 0;
-        if (!data_.empty() && data_.size() <= sdo::kExpeditedMax) {
-            auto p = sdo::make_initiate_download_expedited(index_, subindex_, data_);
-            p[0] = static_cast<std::uint8_t>(p[0] | ca);
-            put_request(request, CoeService::SdoRequest, p);
-            sent_ = data_.size();
+        const auto step =
+            upload_ ? machine_.begin_upload() : machine_.begin_download(data_.size(), true);
+        if (step == Step_::Failed) {
+            (void)fail_with(machine_.failure()); // nothing was sent: no abort to send
             return;
         }
-        // Normal transfer (ETG.1000.6 §5.6.2.4): size in the 4 data bytes, data after them.
-        auto p = sdo::make_initiate_download_segmented(index_, subindex_,
-                                                       static_cast<std::uint32_t>(data_.size()));
-        p[0] = static_cast<std::uint8_t>(p[0] | ca);
-        put_request(request, CoeService::SdoRequest, p);
-        const std::size_t room = mailbox_out_ > kMailboxHeaderSize + kSdoFrame
-                                     ? mailbox_out_ - kMailboxHeaderSize - kSdoFrame
-                                     : 0;
-        sent_ = std::min(room, data_.size());
-        request.insert(request.end(), data_.begin(), data_.begin() + static_cast<long>(sent_));
+        put_request(request);
     }
     Step on_reply(std::span<const std::uint8_t> coe, std::vector<std::uint8_t>& request) override {
-        const sdo::FrameInfo f = parse_reply(coe);
-        if (f.kind == sdo::FrameKind::Invalid) {
-            return failed(make_error_code(EcatErrc::ProtocolError), "the CoE answer is too short");
+        // The CiA 301 frame after the CoE header; a shorter answer parses as no valid frame
+        // and fails the transfer like any unexpected frame.
+        sdo::FrameInfo reply;
+        std::span<const std::uint8_t> extra;
+        if (coe.size() >= kSdoFrame) {
+            reply =
+                sdo::parse_frame(coe.subspan(kCoeHeaderSize, sdo::kFrameLen), sdo::Sender::Server);
+            extra = coe.subspan(kSdoFrame);
         }
-        if (f.kind == sdo::FrameKind::Abort) {
-            outcome.error = abort_error(f.abort_code);
-            outcome.sentence = fmt::format("{}: {} aborted 0x{:08X} ({})", label, what,
-                                           f.abort_code, sdo_abort_describe(f.abort_code));
-            return Step::Failed;
-        }
-        if (!initiated_) {
-            if (f.kind != sdo::FrameKind::InitiateDownloadResponse || f.index != index_) {
-                return failed(make_error_code(EcatErrc::ProtocolError),
-                              "the answer does not match the request");
+        switch (machine_.on_reply(reply, extra)) {
+        case Step_::Send:
+            put_request(request);
+            return Step::Send;
+        case Step_::Done:
+            if (upload_) {
+                outcome.data = std::move(data_);
             }
-            initiated_ = true;
-        } else {
-            if (f.kind != sdo::FrameKind::DownloadSegmentResponse || f.toggle != toggle_) {
-                return failed(make_error_code(EcatErrc::ProtocolError),
-                              "the segment answer does not match (toggle)");
-            }
-            toggle_ = !toggle_;
-        }
-        if (sent_ >= data_.size()) {
             return Step::Done;
+        case Step_::Failed:
+            if (fail_with(machine_.failure())) {
+                put_request(request); // the abort the master sends (ETG.1000.6 §5.6.2.7)
+                return Step::SendLast;
+            }
+            return Step::Failed;
+        case Step_::Ignore:
+            break;
         }
-        // Download segment: 7 data bytes as on CAN, or more in one CoE segment (the rest of
-        // the mailbox); at least 7 bytes are always sent (n tells the unused ones).
-        const std::size_t room = mailbox_out_ - kMailboxHeaderSize - kCoeHeaderSize - 1;
-        const std::size_t n = std::min(room, data_.size() - sent_);
-        const bool last = sent_ + n == data_.size();
-        const auto chunk = std::span<const std::uint8_t>(data_).subspan(sent_, n);
-        if (n <= sdo::kSegmentData) {
-            put_request(request, CoeService::SdoRequest,
-                        sdo::make_download_segment(toggle_, last, chunk));
-        } else {
-            auto p = sdo::make_download_segment(toggle_, last, chunk.first(sdo::kSegmentData));
-            put_request(request, CoeService::SdoRequest, p);
-            request.insert(request.end(), chunk.begin() + sdo::kSegmentData, chunk.end());
+        return Step::Wait;
+    }
+
+    // sdo::ISdoData: the transfer's own buffer.
+    bool begin(std::optional<std::size_t> size) override {
+        if (size) {
+            data_.reserve(std::min<std::size_t>(*size, 1U << 20U));
         }
-        sent_ += n;
-        return Step::Send;
+        return true;
+    }
+    bool write(std::span<const std::uint8_t> d) override {
+        data_.insert(data_.end(), d.begin(), d.end());
+        return true;
+    }
+    bool read(std::span<std::uint8_t> out) override {
+        if (out.size() > data_.size() - read_) {
+            return false;
+        }
+        std::copy_n(data_.begin() + static_cast<long>(read_), out.size(), out.begin());
+        read_ += out.size();
+        return true;
     }
 
 private:
-    std::uint16_t index_;
-    std::uint8_t subindex_;
-    std::vector<std::uint8_t> data_;
-    bool ca_;
-    std::size_t mailbox_out_;
-    std::size_t sent_ = 0;
-    bool initiated_ = false;
-    bool toggle_ = false;
+    using Step_ = sdo::SdoClientMachine::Step;
+
+    static sdo::SdoFraming download_framing(std::size_t mailbox_out, bool ca) {
+        // Room for data in one request: the mailbox after its header and, for the initiate
+        // request, the 8-byte frame (ETG.1000.6 §5.6.2.2), for a segment its command byte
+        // (§5.6.2.3). A segment always holds at least CiA 301's 7 bytes.
+        const std::size_t room =
+            mailbox_out > kMailboxHeaderSize ? mailbox_out - kMailboxHeaderSize : 0;
+        sdo::SdoFraming f;
+        f.initiate_room = room > kSdoFrame ? room - kSdoFrame : 0;
+        f.segment_room =
+            std::max(sdo::kSegmentData, room > kCoeHeaderSize + 1 ? room - kCoeHeaderSize - 1 : 0);
+        f.complete_access = ca;
+        return f;
+    }
+
+    void put_request(std::vector<std::uint8_t>& out) const {
+        out.assign(kCoeHeaderSize, 0);
+        put_le<std::uint16_t>(out.data(), coe_header(CoeService::SdoRequest));
+        const auto& p = machine_.request();
+        out.insert(out.end(), p.begin(), p.end());
+        const auto extra = machine_.request_extra();
+        out.insert(out.end(), extra.begin(), extra.end());
+    }
+
+    /// The outcome of a failed transfer; true when the master tells the slave with an abort.
+    bool fail_with(const sdo::SdoClientMachine::Failure& f) {
+        outcome.error = f.cause;
+        outcome.data.clear();
+        const bool abort_code = f.cause.category() == sdo_abort_category();
+        const auto code = static_cast<std::uint32_t>(f.cause.value());
+        if (f.origin == sdo::AbortOrigin::Server && abort_code) {
+            outcome.sentence = fmt::format("{}: {} aborted 0x{:08X} ({})", label, what, code,
+                                           sdo_abort_describe(code));
+        } else if (f.origin == sdo::AbortOrigin::Client && abort_code) {
+            outcome.sentence = fmt::format("{}: {} aborted by the master 0x{:08X} ({}): {}", label,
+                                           what, code, sdo_abort_describe(code), f.detail);
+        } else {
+            outcome.sentence = fmt::format("{}: {} failed: {}{}{}", label, what, f.cause.message(),
+                                           f.detail.empty() ? "" : ": ", f.detail);
+        }
+        return f.abort.has_value();
+    }
+
+    bool upload_;
+    std::vector<std::uint8_t> data_; ///< download: the data; upload: what arrived
+    std::size_t read_ = 0;
+    sdo::SdoClientMachine machine_;
 };
 
 class SdoInfo final : public CoeTransfer {
@@ -259,7 +201,7 @@ CoeTransfer::Step CoeTransfer::failed(std::error_code ec, const std::string& why
 
 std::unique_ptr<CoeTransfer> make_sdo_upload(std::uint16_t index, std::uint8_t subindex,
                                              bool complete_access) {
-    auto t = std::make_unique<SdoUpload>(index, subindex, complete_access);
+    auto t = std::make_unique<CoeSdo>(index, subindex, complete_access);
     t->what = fmt::format("SDO upload 0x{:04X}:{:02X}", index, subindex);
     return t;
 }
@@ -267,8 +209,8 @@ std::unique_ptr<CoeTransfer> make_sdo_upload(std::uint16_t index, std::uint8_t s
 std::unique_ptr<CoeTransfer> make_sdo_download(std::uint16_t index, std::uint8_t subindex,
                                                std::vector<std::uint8_t> data, bool complete_access,
                                                std::size_t mailbox_out) {
-    auto t = std::make_unique<SdoDownload>(index, subindex, std::move(data), complete_access,
-                                           mailbox_out);
+    auto t =
+        std::make_unique<CoeSdo>(index, subindex, std::move(data), complete_access, mailbox_out);
     t->what = fmt::format("SDO download 0x{:04X}:{:02X}", index, subindex);
     return t;
 }

@@ -25,7 +25,8 @@ class CoeTransfer {
 public:
     using Step = TransferStep;
     virtual ~CoeTransfer() = default;
-    /// The first request (CoE header first) into `request`.
+    /// The first request (CoE header first) into `request`. A transfer that cannot start sets
+    /// outcome.error and its sentence instead; the channel then finishes it without sending.
     virtual void first(std::vector<std::uint8_t>& request) = 0;
     /// A reply (CoE header first). Send: `request` holds the next request; Wait: more
     /// fragments follow; Failed: outcome holds the error and its sentence.

@@ -88,7 +88,12 @@ std::size_t Master::frame_room() const {
 void Master::mailbox_start(std::size_t slave, TimePoint now) {
     MailboxChannel& ch = channel(slave);
     ch.active = true;
-    ch.queue.front()->first(ch.request);
+    auto& t = *ch.queue.front();
+    t.first(ch.request);
+    if (t.outcome.error) {
+        mailbox_finish(slave, now); // it could not start (e.g. an SDO download over 4 GiB)
+        return;
+    }
     mailbox_send(slave, now);
 }
 

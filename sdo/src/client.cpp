@@ -16,15 +16,10 @@ using detail::ClientState;
 
 namespace {
 
-constexpr std::size_t kMaxSdoSize = 0xFFFFFFFFU; // the SDO size field is 32 bits
 constexpr std::size_t kMaxReserve = 16U * 1024U * 1024U;
 /// Transfers failing inside start() in one start_next() call before the rest is deferred to
 /// the next tick (bounds the work of one call when a callback retries during bus-off).
 constexpr int kMaxFailedStartsPerCall = 16;
-
-std::string mux(std::uint16_t index, std::uint8_t subindex) {
-    return fmt::format("0x{:04X}:{:02X}", index, subindex);
-}
 
 std::string bytes_of(std::size_t done, std::optional<std::size_t> total) {
     return total ? fmt::format("{} of {} bytes", done, *total) : fmt::format("{} bytes", done);
@@ -80,6 +75,12 @@ int family(FrameKind k) {
     }
 }
 
+/// The states the shared expedited/segmented machine runs (SdoClientMachine).
+bool machine_state(ClientState s) {
+    return s == ClientState::InitiateUpload || s == ClientState::UploadSegment ||
+           s == ClientState::InitiateDownload || s == ClientState::DownloadSegment;
+}
+
 bool initiate_state(ClientState s) {
     return s == ClientState::InitiateUpload || s == ClientState::InitiateDownload ||
            s == ClientState::BlockDownloadInitiate || s == ClientState::BlockUploadInitiate;
@@ -101,6 +102,26 @@ private:
 } // namespace
 
 namespace detail {
+
+bool ClientTransfer::begin(std::optional<std::size_t> size) {
+    if (size && !sink.write) {
+        buffer.reserve(std::min<std::size_t>(*size, kMaxReserve));
+    }
+    return !sink.begin || sink.begin(size);
+}
+
+bool ClientTransfer::write(std::span<const std::uint8_t> data) {
+    if (sink.write) {
+        return data.empty() || sink.write(data);
+    }
+    buffer.insert(buffer.end(), data.begin(), data.end());
+    return true;
+}
+
+bool ClientTransfer::read(std::span<std::uint8_t> out) {
+    return out.empty() || (source.read && source.read(out));
+}
+
 SdoError size_mismatch(NodeId node, std::uint16_t index, std::uint8_t subindex, std::size_t got,
                        std::size_t want) {
     SdoError e;
@@ -242,7 +263,11 @@ void SdoClient::arm(TimePoint now) {
 
 void SdoClient::start(Transfer& t, TimePoint now) {
     const bool block = t.options.mode == Mode::Block;
+    // Expedited and segmented transfers run in the shared machine with CAN's framing; a block
+    // upload keeps one ready for the server's switch to them (protocol switch threshold).
+    t.machine = SdoClientMachine(t, SdoFraming{}, t.index, t.subindex);
     if (t.direction == Direction::Upload) {
+        (void)t.machine.begin_upload();
         if (block) {
             t.protocol = Protocol::Block;
             t.state = ClientState::BlockUploadInitiate;
@@ -251,35 +276,27 @@ void SdoClient::start(Transfer& t, TimePoint now) {
                                                     t.block_size, t.options.pst);
         } else {
             t.state = ClientState::InitiateUpload;
-            t.initiate = make_initiate_upload(t.index, t.subindex);
+            t.initiate = t.machine.request();
         }
-    } else {
+    } else if (block) {
         const std::size_t size = t.source.size;
-        if (size > kMaxSdoSize) {
-            fail(make_error_code(SdoErrc::TooLarge),
-                 fmt::format("{} bytes, the SDO size field holds at most {}", size, kMaxSdoSize));
+        if (auto too_large = download_too_large(size)) {
+            fail(make_error_code(SdoErrc::TooLarge), std::move(*too_large));
             return;
         }
-        const auto size32 = static_cast<std::uint32_t>(size);
-        if (block) {
-            t.protocol = Protocol::Block;
-            t.state = ClientState::BlockDownloadInitiate;
-            t.initiate = make_block_download_initiate(t.index, t.subindex, t.options.crc, size32);
-        } else if (t.options.mode == Mode::Auto && size >= 1 && size <= kExpeditedMax) {
-            std::array<std::uint8_t, kExpeditedMax> data{};
-            if (!read_source(std::span<std::uint8_t>(data.data(), size))) {
-                return;
-            }
-            t.protocol = Protocol::Expedited;
-            t.state = ClientState::InitiateDownload;
-            t.done = size;
-            t.initiate = make_initiate_download_expedited(
-                t.index, t.subindex, std::span<const std::uint8_t>(data.data(), size));
-        } else {
-            t.protocol = Protocol::Segmented;
-            t.state = ClientState::InitiateDownload;
-            t.initiate = make_initiate_download_segmented(t.index, t.subindex, size32);
+        t.protocol = Protocol::Block;
+        t.state = ClientState::BlockDownloadInitiate;
+        t.initiate = make_block_download_initiate(t.index, t.subindex, t.options.crc,
+                                                  static_cast<std::uint32_t>(size));
+    } else {
+        const auto step = t.machine.begin_download(t.source.size, t.options.mode == Mode::Auto);
+        sync(t);
+        if (step == SdoClientMachine::Step::Failed) {
+            fail_with(t.machine.failure());
+            return;
         }
+        t.state = ClientState::InitiateDownload;
+        t.initiate = t.machine.request();
     }
     if (!send(t.initiate)) {
         fail(make_error_code(SdoErrc::SendFailed), "initiate request refused by the bus");
@@ -403,26 +420,16 @@ void SdoClient::server_abort(const FrameInfo& info) {
         ++stats_.unexpected_responses;
         return;
     }
-    if (info.abort_code == 0) {
-        // Code 0 is no abort code; an error_code with value 0 would read as success.
-        fail(make_error_code(SdoErrc::ProtocolError),
-             "the server sent an abort frame with code 0x00000000, which is not an abort code",
-             AbortOrigin::Server);
-        return;
-    }
-    fail(std::error_code(static_cast<int>(info.abort_code), sdo_abort_category()), {},
-         AbortOrigin::Server);
+    (void)t.machine.server_abort(info);
+    fail_with(t.machine.failure());
 }
 
 bool SdoClient::begin_upload_data(const FrameInfo& info) {
     Transfer& t = *active_;
     if (info.size_indicated) {
         t.total = info.size;
-        if (!t.sink.write) {
-            t.buffer.reserve(std::min<std::size_t>(info.size, kMaxReserve));
-        }
     }
-    if (t.sink.begin && !t.sink.begin(t.total)) {
+    if (!t.begin(t.total)) {
         abort_and_fail(static_cast<std::uint32_t>(SdoAbort::DataTransfer),
                        "the local data sink refused the size");
         return false;
@@ -441,9 +448,16 @@ void SdoClient::handle_response(const Frame& frame, TimePoint now) {
         ++stats_.stale_responses;
         return;
     }
+    // A block upload the server answered with a normal initiate upload response (protocol
+    // switch threshold, CiA 301 §7.2.4.3.13) continues in the machine like any upload.
     const bool upload_switch = t.state == ClientState::BlockUploadInitiate &&
                                info.kind == FrameKind::InitiateUploadResponse;
-    if (info.kind != expected_kind(t.state) && !upload_switch) {
+    if (machine_state(t.state) || upload_switch) {
+        remember_response(frame);
+        apply(t.machine.on_reply(info), now);
+        return;
+    }
+    if (info.kind != expected_kind(t.state)) {
         abort_and_fail(static_cast<std::uint32_t>(SdoAbort::UnknownCommand),
                        fmt::format("expected {}, received {}", to_string(expected_kind(t.state)),
                                    to_string(info.kind)));
@@ -452,34 +466,7 @@ void SdoClient::handle_response(const Frame& frame, TimePoint now) {
     remember_response(frame);
 
     switch (t.state) {
-    case ClientState::InitiateUpload:
     case ClientState::BlockUploadInitiate:
-        if (info.kind == FrameKind::InitiateUploadResponse) {
-            if (info.expedited) {
-                t.protocol = Protocol::Expedited;
-                const std::span<const std::uint8_t> data(info.data.data(), info.data_len);
-                if ((t.sink.begin && !t.sink.begin(data.size())) || !deliver(data)) {
-                    abort_and_fail(static_cast<std::uint32_t>(SdoAbort::DataTransfer),
-                                   "the local data sink refused the data");
-                    return;
-                }
-                finish({});
-                return;
-            }
-            t.protocol = Protocol::Segmented;
-            if (!begin_upload_data(info)) {
-                return;
-            }
-            t.toggle = false;
-            t.state = ClientState::UploadSegment;
-            if (!send(make_upload_segment_request(t.toggle))) {
-                fail(make_error_code(SdoErrc::SendFailed), "segment request refused by the bus");
-                return;
-            }
-            arm(now);
-            return;
-        }
-        // Block upload initiate response.
         t.crc = t.options.crc && info.crc;
         if (!begin_upload_data(info)) {
             return;
@@ -495,72 +482,6 @@ void SdoClient::handle_response(const Frame& frame, TimePoint now) {
         t.flow_sent = now;
         deadline_ = std::min(deadline_, now + config_.block_gap_timeout);
         arm(now);
-        return;
-
-    case ClientState::UploadSegment: {
-        if (info.toggle != t.toggle) {
-            abort_and_fail(static_cast<std::uint32_t>(SdoAbort::ToggleBit),
-                           fmt::format("segment after {} had toggle {}, expected {}",
-                                       bytes_of(t.done, t.total), info.toggle ? 1 : 0,
-                                       t.toggle ? 1 : 0));
-            return;
-        }
-        const std::span<const std::uint8_t> data(info.data.data(), info.data_len);
-        if (t.total && t.done + data.size() > *t.total) {
-            abort_and_fail(
-                static_cast<std::uint32_t>(SdoAbort::LengthTooHigh),
-                fmt::format("server sent more than the {} bytes it announced", *t.total));
-            return;
-        }
-        if (!deliver(data)) {
-            abort_and_fail(static_cast<std::uint32_t>(SdoAbort::DataTransfer),
-                           "the local data sink refused the data");
-            return;
-        }
-        t.done += data.size();
-        report_progress();
-        if (info.last) {
-            if (t.total && t.done != *t.total) {
-                abort_and_fail(static_cast<std::uint32_t>(SdoAbort::LengthTooLow),
-                               fmt::format("server sent {} bytes, announced {}", t.done, *t.total));
-                return;
-            }
-            finish({});
-            return;
-        }
-        t.toggle = !t.toggle;
-        if (!send(make_upload_segment_request(t.toggle))) {
-            fail(make_error_code(SdoErrc::SendFailed), "segment request refused by the bus");
-            return;
-        }
-        arm(now);
-        return;
-    }
-
-    case ClientState::InitiateDownload:
-        if (t.protocol == Protocol::Expedited) {
-            finish({});
-            return;
-        }
-        t.toggle = false;
-        send_download_segment(now);
-        return;
-
-    case ClientState::DownloadSegment:
-        if (info.toggle != t.toggle) {
-            abort_and_fail(static_cast<std::uint32_t>(SdoAbort::ToggleBit),
-                           fmt::format("segment response after {} had toggle {}, expected {}",
-                                       bytes_of(t.done, t.total), info.toggle ? 1 : 0,
-                                       t.toggle ? 1 : 0));
-            return;
-        }
-        report_progress();
-        if (t.last_sent) {
-            finish({});
-            return;
-        }
-        t.toggle = !t.toggle;
-        send_download_segment(now);
         return;
 
     case ClientState::BlockDownloadInitiate:
@@ -644,6 +565,10 @@ void SdoClient::handle_response(const Frame& frame, TimePoint now) {
         return;
     }
 
+    case ClientState::InitiateUpload:
+    case ClientState::UploadSegment:
+    case ClientState::InitiateDownload:
+    case ClientState::DownloadSegment:
     case ClientState::BlockUploadData:
     case ClientState::Queued:
         break;
@@ -721,25 +646,6 @@ void SdoClient::send_block_upload_ack(TimePoint now, bool early) {
     arm(now);
 }
 
-void SdoClient::send_download_segment(TimePoint now) {
-    Transfer& t = *active_;
-    const std::size_t total = t.source.size;
-    const std::size_t n = std::min(kSegmentData, total - t.done);
-    std::array<std::uint8_t, kSegmentData> data{};
-    if (!read_source(std::span<std::uint8_t>(data.data(), n))) {
-        return;
-    }
-    t.done += n;
-    t.last_sent = t.done == total;
-    t.state = ClientState::DownloadSegment;
-    if (!send(make_download_segment(t.toggle, t.last_sent,
-                                    std::span<const std::uint8_t>(data.data(), n)))) {
-        fail(make_error_code(SdoErrc::SendFailed), "segment refused by the bus");
-        return;
-    }
-    arm(now);
-}
-
 void SdoClient::send_sub_block(TimePoint now) {
     Transfer& t = *active_;
     if (!t.sender.fill(t.block_size,
@@ -758,27 +664,65 @@ void SdoClient::send_sub_block(TimePoint now) {
 }
 
 bool SdoClient::deliver(std::span<const std::uint8_t> data) {
-    Transfer& t = *active_;
-    if (t.sink.write) {
-        return data.empty() || t.sink.write(data);
-    }
-    t.buffer.insert(t.buffer.end(), data.begin(), data.end());
-    return true;
+    return active_->write(data);
 }
 
 bool SdoClient::read_source(std::span<std::uint8_t> out) {
     Transfer& t = *active_;
-    if (out.empty() || (t.source.read && t.source.read(out))) {
+    if (t.read(out)) {
         return true;
     }
-    // The server is told the data cannot be supplied (CiA 301 abort 0x08000020).
-    if (t.state != ClientState::Queued) {
-        (void)send(
-            make_abort(t.index, t.subindex, static_cast<std::uint32_t>(SdoAbort::DataTransfer)));
-    }
+    // Block download (it runs after the initiate request): the server is told the data cannot
+    // be supplied (CiA 301 abort 0x08000020).
+    (void)send(make_abort(t.index, t.subindex, static_cast<std::uint32_t>(SdoAbort::DataTransfer)));
     fail(make_error_code(SdoErrc::LocalTransferError),
          fmt::format("the data source failed after {}", bytes_of(t.done, t.total)));
     return false;
+}
+
+void SdoClient::sync(Transfer& t) {
+    t.done = t.machine.done();
+    t.total = t.machine.total();
+    t.protocol = t.machine.protocol();
+}
+
+void SdoClient::apply(SdoClientMachine::Step step, TimePoint now) {
+    using Step = SdoClientMachine::Step;
+    using Phase = SdoClientMachine::Phase;
+    Transfer& t = *active_;
+    sync(t);
+    if (t.machine.progressed()) {
+        report_progress();
+    }
+    switch (step) {
+    case Step::Send: {
+        const bool upload = t.machine.phase() == Phase::UploadSegment;
+        t.state = upload ? ClientState::UploadSegment : ClientState::DownloadSegment;
+        if (!send(t.machine.request())) {
+            fail(make_error_code(SdoErrc::SendFailed),
+                 upload ? "segment request refused by the bus" : "segment refused by the bus");
+            return;
+        }
+        arm(now);
+        return;
+    }
+    case Step::Done:
+        finish({});
+        return;
+    case Step::Failed:
+        fail_with(t.machine.failure());
+        return;
+    case Step::Ignore:
+        ++stats_.stale_responses;
+        return;
+    }
+}
+
+void SdoClient::fail_with(const SdoClientMachine::Failure& f) {
+    if (f.abort) {
+        (void)send(active_->machine.request());
+    }
+    fail(f.cause, f.detail, f.origin);
 }
 
 void SdoClient::report_progress() {
@@ -848,13 +792,9 @@ void SdoClient::on_timeout(TimePoint now) {
         }
     }
     if (initiate_state(t.state) && t.stray_other_object) {
-        // Only answers for another object came: client and server disagree about the transfer
-        // (CiA 301 leaves this open), so it cannot continue.
-        (void)send(make_abort(t.index, t.subindex, static_cast<std::uint32_t>(SdoAbort::General)));
-        fail(make_error_code(SdoErrc::WrongObject),
-             fmt::format("server answered for {} instead of {}",
-                         mux(t.stray_index, t.stray_subindex), mux(t.index, t.subindex)),
-             AbortOrigin::Client);
+        // Only answers for another object came.
+        (void)t.machine.wrong_object(t.stray_index, t.stray_subindex);
+        fail_with(t.machine.failure());
         return;
     }
     if (initiate_state(t.state) && t.stray_invalid) {
@@ -912,10 +852,10 @@ SdoError SdoClient::make_error(const Transfer& t, std::error_code cause, std::st
 }
 
 void SdoClient::abort_and_fail(std::uint32_t code, std::string detail) {
-    const Transfer& t = *active_;
-    (void)send(make_abort(t.index, t.subindex, code));
-    fail(std::error_code(static_cast<int>(code), sdo_abort_category()), std::move(detail),
-         AbortOrigin::Client);
+    Transfer& t = *active_;
+    (void)t.machine.abort(code, std::error_code(static_cast<int>(code), sdo_abort_category()),
+                          std::move(detail));
+    fail_with(t.machine.failure());
 }
 
 void SdoClient::fail(std::error_code cause, std::string detail, AbortOrigin origin) {

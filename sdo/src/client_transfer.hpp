@@ -6,6 +6,7 @@
 #include "block_sender.hpp"
 
 #include <codrive/sdo/client.hpp>
+#include <codrive/sdo/client_machine.hpp>
 #include <codrive/sdo/protocol.hpp>
 
 namespace codrive::sdo::detail {
@@ -24,7 +25,14 @@ enum class ClientState : std::uint8_t {
     BlockUploadEnd,
 };
 
-struct ClientTransfer {
+/// One queued or running transfer. Its data side (ISdoData) is the caller's sink, the in-memory
+/// buffer or the download source; `machine` runs expedited and segmented transfers (a block
+/// upload the server switched to segmented continues there too).
+struct ClientTransfer final : ISdoData {
+    bool begin(std::optional<std::size_t> size) override;
+    bool write(std::span<const std::uint8_t> data) override;
+    bool read(std::span<std::uint8_t> out) override;
+
     TransferId id = 0;
     Direction direction = Direction::Upload;
     std::uint16_t index = 0;
@@ -40,9 +48,8 @@ struct ClientTransfer {
     DownloadSource source;
 
     ClientState state = ClientState::Queued;
+    SdoClientMachine machine;
     Protocol protocol = Protocol::Unknown;
-    bool toggle = false;
-    bool last_sent = false;
     bool crc = false;
     std::uint8_t block_size = kMaxBlockSize;
     std::size_t done = 0;

@@ -261,6 +261,18 @@ TEST_F(EcatVethTest, CapturedFramesDissectWithoutMalformedPackets) {
     }
     ASSERT_TRUE(name);
     EXPECT_EQ(std::string(name->data.begin(), name->data.end()), "AKD2G") << name->sentence;
+    // A segmented download and upload (sdo::SdoClientMachine with CoE's framing: normal transfer
+    // data after the size, then segments longer than 7 bytes).
+    std::string text;
+    for (int i = 0; i < 30; ++i) {
+        text += fmt::format("tshark segmented transfer {:02}|", i);
+    }
+    ASSERT_TRUE(
+        master_->sdo_download(1, 0x5FFF, 0, std::vector<std::uint8_t>(text.begin(), text.end())))
+        << master_->last_error();
+    auto back = master_->sdo_upload(1, 0x5FFF, 0);
+    ASSERT_TRUE(back) << master_->last_error();
+    EXPECT_EQ(std::string(back->begin(), back->end()), text);
     link_->set_tap({});
     writer.close();
     ASSERT_GT(writer.frames(), 100U);
@@ -281,6 +293,13 @@ TEST_F(EcatVethTest, CapturedFramesDissectWithoutMalformedPackets) {
         }
     }
     EXPECT_EQ(packets, "") << "tshark flags malformed EtherCAT frames in " << pcap;
+    // The segments dissect as the CiA 301 segments they are, toggles alternating.
+    auto toggles = run({"/usr/bin/tshark", "-r", pcap, "-Y", "ecat_mailbox.coe.sdoccsds", "-T",
+                        "fields", "-e", "ecat_mailbox.coe.sdoccsds.toggle"});
+    EXPECT_NE(toggles.output.find("0\n1\n"), std::string::npos) << toggles.output;
+    auto up = run({"/usr/bin/tshark", "-r", pcap, "-Y", "ecat_mailbox.coe.sdoccsus", "-T", "fields",
+                   "-e", "ecat_mailbox.coe.sdoccsus_toggle"});
+    EXPECT_NE(up.output.find("0\n1\n"), std::string::npos) << up.output;
     if (!HasFailure()) {
         ::unlink(pcap.c_str());
     }

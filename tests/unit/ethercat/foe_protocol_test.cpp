@@ -3,84 +3,31 @@
 // breaks the protocol — wrong packet number, an opcode out of turn, a malformed message — ends
 // the transfer with a sentence, and the master tells the slave so with an FoE ERR (ETG.1000.6
 // §5.7), as a real slave's own state machine expects.
-#include <codrive/ethercat/datagram.hpp>
-#include <codrive/ethercat/error.hpp>
+#include "scripted_slave.hpp"
+
 #include <codrive/ethercat/foe.hpp>
-#include <codrive/ethercat/mailbox.hpp>
-#include <codrive/ethercat/master.hpp>
 
 #include <gtest/gtest.h>
-
-#include <deque>
 
 namespace codrive::ethercat {
 namespace {
 
-constexpr std::uint16_t kSm0 = 0x1000;
-constexpr std::uint16_t kSm1 = 0x1080;
-constexpr std::uint16_t kMailbox = 128;
+using testing::ScriptedSlave;
 
-/// One slave whose answers come from a script: every request the master writes to SM0 is
-/// recorded, and the next scripted FoE message is put in SM1 for the read that follows it.
-class ScriptedSlave final : public IEcatLink {
+/// The scripted slave seen as FoE messages: answers are built and requests decoded as FoE.
+class FoeScript {
 public:
-    explicit ScriptedSlave(FakeClock& clock) : clock_(clock) {}
+    explicit FoeScript(ScriptedSlave& link) : link_(link) {}
     void answer(FoeOpcode op, std::uint32_t value, std::vector<std::uint8_t> body = {}) {
         std::vector<std::uint8_t> p;
         encode_foe(p, op, value, body);
-        script_.push_back(std::move(p));
+        link_.answer_raw(std::move(p));
     }
-    void answer_raw(std::vector<std::uint8_t> payload) { script_.push_back(std::move(payload)); }
-    VoidResult send(std::span<const std::uint8_t> frame) override {
-        clock_.advance(milliseconds(1));
-        auto datagrams = decode_frame(frame);
-        if (!datagrams) {
-            return {};
-        }
-        for (auto& d : *datagrams) {
-            const auto ado = static_cast<std::uint16_t>(d.address >> 16);
-            d.wkc = 1;
-            if (d.command == Command::Fpwr && ado == kSm0) {
-                auto m = MailboxMessage::decode(d.data);
-                if (m && m->header.type == MailboxType::Foe) {
-                    requests_.push_back(m->payload);
-                    ready_ = !script_.empty();
-                }
-            } else if (d.command == Command::Fprd && ado == kSm1) {
-                if (!ready_) {
-                    d.wkc = 0;
-                    continue;
-                }
-                ready_ = false;
-                MailboxMessage m;
-                m.header.type = MailboxType::Foe;
-                m.payload = std::move(script_.front());
-                script_.pop_front();
-                auto bytes = m.encode(kMailbox);
-                std::copy(bytes.begin(), bytes.end(), d.data.begin());
-            }
-        }
-        if (auto out = encode_frame(*datagrams)) {
-            pending_.push_back(std::move(*out));
-        }
-        return {};
-    }
-    Result<std::size_t> receive(std::span<std::uint8_t> buffer, TimePoint deadline) override {
-        if (pending_.empty()) {
-            clock_.set(deadline);
-            return fail(CoreErrc::Timeout);
-        }
-        const auto f = std::move(pending_.front());
-        pending_.pop_front();
-        std::copy(f.begin(), f.end(), buffer.begin());
-        return f.size();
-    }
-    void idle(Duration d) override { clock_.advance(d); }
-    [[nodiscard]] std::string name() const override { return "scripted slave"; }
+    void answer_raw(std::vector<std::uint8_t> payload) { link_.answer_raw(std::move(payload)); }
     /// What the master wrote, decoded.
     [[nodiscard]] std::vector<FoeMessage> requests() const {
         std::vector<FoeMessage> out;
-        for (const auto& r : requests_) {
+        for (const auto& r : link_.requests()) {
             auto m = decode_foe(r);
             EXPECT_TRUE(m) << "the master wrote a malformed FoE message";
             if (m) {
@@ -91,30 +38,16 @@ public:
     }
 
 private:
-    FakeClock& clock_;
-    std::deque<std::vector<std::uint8_t>> script_;
-    std::deque<std::vector<std::uint8_t>> pending_;
-    std::vector<std::vector<std::uint8_t>> requests_;
-    bool ready_ = false;
+    ScriptedSlave& link_;
 };
 
 class FoeProtocol : public ::testing::Test {
 protected:
-    FoeProtocol() {
-        SlaveInfo s;
-        s.station_address = 0x1001;
-        s.state = AlState::PreOp;
-        s.sii.name = "DRIVE";
-        s.sii.rx_mailbox_offset = kSm0;
-        s.sii.rx_mailbox_size = kMailbox;
-        s.sii.tx_mailbox_offset = kSm1;
-        s.sii.tx_mailbox_size = kMailbox;
-        s.sii.mailbox_protocols = mbx_proto::kFoe;
-        master_.slaves().push_back(s);
-    }
+    FoeProtocol() { master_.slaves().push_back(testing::scripted_slave_info(mbx_proto::kFoe)); }
     FakeClock clock_;
-    ScriptedSlave slave_{clock_};
-    Master master_{slave_, clock_};
+    ScriptedSlave link_{clock_, MailboxType::Foe};
+    FoeScript slave_{link_};
+    Master master_{link_, clock_};
 };
 
 std::string body_text(const FoeMessage& m) {

@@ -8,6 +8,7 @@
 #include <codrive/core/endian.hpp>
 #include <codrive/core/event_loop.hpp>
 #include <codrive/core/frame.hpp>
+#include <codrive/sdo/client_machine.hpp>
 #include <codrive/sdo/error.hpp>
 #include <codrive/sdo/protocol.hpp>
 #include <codrive/sdo/transfer.hpp>
@@ -131,7 +132,9 @@ private:
     void on_timeout(TimePoint now);
     bool deliver(std::span<const std::uint8_t> data);
     bool read_source(std::span<std::uint8_t> out);
-    void send_download_segment(TimePoint now);
+    void sync(Transfer& t);
+    void apply(SdoClientMachine::Step step, TimePoint now);
+    void fail_with(const SdoClientMachine::Failure& f);
     void send_sub_block(TimePoint now);
     void send_block_upload_ack(TimePoint now, bool early = false);
     void report_progress();

@@ -1,0 +1,253 @@
+// SPDX-License-Identifier: Apache-2.0
+// One SDO client machine for CAN and CoE: the same misbehaving server answers, frame for frame,
+// reach the CAN client (sdo::SdoClient on a scripted bus) and the EtherCAT master's CoE SDO (a
+// scripted slave, the same 8 bytes behind a CoE header), and both end the transfer with the
+// same error code and tell the server with the same abort frame (CiA 301 §7.2.4.3.17,
+// ETG.1000.6 §5.6.2.7).
+#include "scripted_slave.hpp"
+
+#include <codrive/core/endian.hpp>
+#include <codrive/core/sdo_abort.hpp>
+#include <codrive/sdo/client.hpp>
+#include <codrive/sdo/protocol.hpp>
+
+#include <gtest/gtest.h>
+
+#include <optional>
+#include <string>
+
+namespace codrive::ethercat {
+namespace {
+
+using sdo::Payload;
+using testing::ScriptedSlave;
+
+constexpr NodeId kNode = 4;
+constexpr std::uint16_t kIndex = 0x2100;
+constexpr std::uint8_t kSub = 1;
+
+/// A CAN bus that records what the client sends; the test plays the server.
+class RecordingBus final : public ICanBus {
+public:
+    VoidResult send(const Frame& frame) override {
+        sent.push_back(frame);
+        return {};
+    }
+    void set_frame_handler(FrameHandler) override {}
+    void set_event_handler(EventHandler) override {}
+    [[nodiscard]] std::size_t tx_pending() const override { return 0; }
+    [[nodiscard]] const BusStats& stats() const override { return stats_; }
+    [[nodiscard]] const std::string& name() const override { return name_; }
+    std::vector<Frame> sent;
+
+private:
+    BusStats stats_;
+    std::string name_ = "scripted";
+};
+
+/// How one transfer ended on one transport.
+struct Ending {
+    std::error_code cause;             ///< empty: it succeeded
+    std::vector<std::uint8_t> data;    ///< uploaded data on success
+    std::optional<Payload> abort_sent; ///< the client's abort frame, if it sent one
+    std::string sentence;
+};
+
+std::optional<Payload> abort_in(std::span<const std::uint8_t> frame) {
+    if (frame.size() < sdo::kFrameLen ||
+        sdo::parse_frame(frame.first(sdo::kFrameLen), sdo::Sender::Client).kind !=
+            sdo::FrameKind::Abort) {
+        return std::nullopt;
+    }
+    Payload p{};
+    std::copy_n(frame.begin(), sdo::kFrameLen, p.begin());
+    return p;
+}
+
+/// The CAN client: each scripted frame answers the request before it; when the script runs out
+/// the client's timeouts run (as a silent server's would).
+Ending run_can(bool upload, const std::vector<std::uint8_t>& data,
+               const std::vector<Payload>& script) {
+    FakeClock clock;
+    RecordingBus bus;
+    sdo::ClientConfig config;
+    config.node = kNode;
+    sdo::SdoClient client(bus, clock, config);
+    std::optional<Ending> end;
+    if (upload) {
+        client.upload(kIndex, kSub, [&](sdo::SdoResult<sdo::Bytes> r) {
+            end =
+                r ? Ending{{}, *r, {}, {}} : Ending{r.error().cause, {}, {}, r.error().to_string()};
+        });
+    } else {
+        client.download(kIndex, kSub, data, [&](sdo::SdoResult<void> r) {
+            end = r ? Ending{} : Ending{r.error().cause, {}, {}, r.error().to_string()};
+        });
+    }
+    for (const Payload& p : script) {
+        clock.advance(milliseconds(1));
+        client.on_frame(Frame::make(cob::sdo_tx(kNode), p), clock.now());
+    }
+    for (int i = 0; i < 20 && !end; ++i) {
+        clock.advance(milliseconds(500));
+        client.on_tick(clock.now());
+    }
+    EXPECT_TRUE(end) << "the CAN transfer never ended";
+    if (!end) {
+        return {};
+    }
+    if (!bus.sent.empty()) {
+        end->abort_sent = abort_in(bus.sent.back().payload());
+    }
+    return *end;
+}
+
+/// The CoE SDO of the master: the same frames, each behind a CoE header (an abort travels as an
+/// SDO request, ETG.1000.6 §5.6.2.7).
+Ending run_coe(bool upload, const std::vector<std::uint8_t>& data,
+               const std::vector<Payload>& script) {
+    FakeClock clock;
+    ScriptedSlave link(clock, MailboxType::Coe);
+    Master master(link, clock);
+    master.slaves().push_back(testing::scripted_slave_info(mbx_proto::kCoe));
+    for (const Payload& p : script) {
+        const bool abort = sdo::parse_frame(p, sdo::Sender::Server).kind == sdo::FrameKind::Abort;
+        std::vector<std::uint8_t> coe(kCoeHeaderSize);
+        put_le<std::uint16_t>(coe.data(),
+                              coe_header(abort ? CoeService::SdoRequest : CoeService::SdoResponse));
+        coe.insert(coe.end(), p.begin(), p.end());
+        link.answer_raw(std::move(coe));
+    }
+    Ending end;
+    if (upload) {
+        auto r = master.sdo_upload(0, kIndex, kSub);
+        if (r) {
+            end.data = *r;
+        } else {
+            end.cause = r.error();
+        }
+    } else if (auto r = master.sdo_download(0, kIndex, kSub, data); !r) {
+        end.cause = r.error();
+    }
+    end.sentence = master.last_error();
+    const auto& sent = link.requests();
+    if (!sent.empty() && sent.back().size() >= kCoeHeaderSize + sdo::kFrameLen) {
+        end.abort_sent =
+            abort_in(std::span<const std::uint8_t>(sent.back()).subspan(kCoeHeaderSize));
+    }
+    return end;
+}
+
+std::error_code abort_error(SdoAbort code) {
+    return {static_cast<int>(code), sdo_abort_category()};
+}
+
+/// Runs the script on both transports and checks they end alike with `cause`; returns the CoE
+/// ending for further checks.
+Ending expect_same(bool upload, const std::vector<std::uint8_t>& data,
+                   const std::vector<Payload>& script, std::error_code cause,
+                   std::optional<SdoAbort> client_abort) {
+    const Ending can = run_can(upload, data, script);
+    const Ending coe = run_coe(upload, data, script);
+    EXPECT_EQ(can.cause, cause) << can.sentence;
+    EXPECT_EQ(coe.cause, cause) << coe.sentence;
+    if (client_abort) {
+        const Payload want =
+            sdo::make_abort(kIndex, kSub, static_cast<std::uint32_t>(*client_abort));
+        EXPECT_EQ(can.abort_sent, want) << "CAN: " << can.sentence;
+        EXPECT_EQ(coe.abort_sent, want) << "CoE: " << coe.sentence;
+    } else {
+        EXPECT_FALSE(can.abort_sent) << can.sentence;
+        EXPECT_FALSE(coe.abort_sent) << coe.sentence;
+    }
+    return coe;
+}
+
+Payload segment(bool toggle, bool last, std::vector<std::uint8_t> data) {
+    return sdo::make_upload_segment(toggle, last, data);
+}
+
+TEST(SdoOneMachine, AGoodSegmentedUploadGivesTheSameBytesOnBothTransports) {
+    const std::vector<Payload> script = {
+        sdo::make_initiate_upload_segmented(kIndex, kSub, 10),
+        segment(false, false, {1, 2, 3, 4, 5, 6, 7}),
+        segment(true, true, {8, 9, 10}),
+    };
+    const Ending can = run_can(true, {}, script);
+    const Ending coe = run_coe(true, {}, script);
+    EXPECT_FALSE(can.cause) << can.sentence;
+    EXPECT_FALSE(coe.cause) << coe.sentence;
+    const std::vector<std::uint8_t> want = {1, 2, 3, 4, 5, 6, 7, 8, 9, 10};
+    EXPECT_EQ(can.data, want);
+    EXPECT_EQ(coe.data, want);
+}
+
+TEST(SdoOneMachine, AnAnswerForAnotherSubIndexFailsAsWrongObjectOnBoth) {
+    const std::array<std::uint8_t, 2> value = {1, 2};
+    const Ending coe =
+        expect_same(true, {}, {sdo::make_initiate_upload_expedited(kIndex, kSub + 1, value)},
+                    make_error_code(sdo::SdoErrc::WrongObject), SdoAbort::General);
+    EXPECT_EQ(coe.sentence,
+              "slave 0 (DRIVE): SDO upload 0x2100:01 failed: response for a different "
+              "object: server answered for 0x2100:02 instead of 0x2100:01");
+}
+
+TEST(SdoOneMachine, AToggleErrorAbortsWithTheToggleCodeOnBoth) {
+    const Ending coe = expect_same(true, {},
+                                   {sdo::make_initiate_upload_segmented(kIndex, kSub, 14),
+                                    segment(true, false, {1, 2, 3, 4, 5, 6, 7})},
+                                   abort_error(SdoAbort::ToggleBit), SdoAbort::ToggleBit);
+    EXPECT_EQ(coe.sentence,
+              "slave 0 (DRIVE): SDO upload 0x2100:01 aborted by the master 0x05030000 (toggle bit "
+              "not alternated): segment after 0 of 14 bytes had toggle 1, expected 0");
+}
+
+TEST(SdoOneMachine, AZeroLengthSegmentThatIsNotTheLastIsAProtocolErrorNotALoop) {
+    // The server would answer every segment request with an empty one: without the progress
+    // guard the client would ask forever.
+    expect_same(true, {},
+                {sdo::make_initiate_upload_segmented(kIndex, kSub, 14), segment(false, false, {}),
+                 segment(true, false, {}), segment(false, false, {})},
+                abort_error(SdoAbort::General), SdoAbort::General);
+}
+
+TEST(SdoOneMachine, MoreDataThanIndicatedAbortsWithLengthTooHighOnBoth) {
+    expect_same(true, {},
+                {sdo::make_initiate_upload_segmented(kIndex, kSub, 3),
+                 segment(false, true, {1, 2, 3, 4, 5, 6, 7})},
+                abort_error(SdoAbort::LengthTooHigh), SdoAbort::LengthTooHigh);
+}
+
+TEST(SdoOneMachine, LessDataThanIndicatedAbortsWithLengthTooLowOnBoth) {
+    expect_same(
+        true, {},
+        {sdo::make_initiate_upload_segmented(kIndex, kSub, 20), segment(false, true, {1, 2, 3})},
+        abort_error(SdoAbort::LengthTooLow), SdoAbort::LengthTooLow);
+}
+
+TEST(SdoOneMachine, AServerAbortEndsTheTransferWithItsCodeAndIsNotAnswered) {
+    const Ending coe = expect_same(
+        true, {}, {sdo::make_abort(kIndex, kSub, static_cast<std::uint32_t>(SdoAbort::NoObject))},
+        abort_error(SdoAbort::NoObject), std::nullopt);
+    EXPECT_EQ(coe.sentence, "slave 0 (DRIVE): SDO upload 0x2100:01 aborted 0x06020000 (object "
+                            "does not exist in the object dictionary)");
+}
+
+TEST(SdoOneMachine, AReservedCommandSpecifierMidTransferAbortsWithUnknownCommandOnBoth) {
+    Payload reserved{};
+    reserved[0] = 0xE0; // scs 7: reserved (CiA 301 §7.2.4.3)
+    expect_same(true, {}, {sdo::make_initiate_upload_segmented(kIndex, kSub, 14), reserved},
+                abort_error(SdoAbort::UnknownCommand), SdoAbort::UnknownCommand);
+}
+
+TEST(SdoOneMachine, ADownloadSegmentResponseWithTheWrongToggleAbortsOnBoth) {
+    // 200 bytes: more than one 128-byte CoE mailbox carries, so CoE segments too.
+    const std::vector<std::uint8_t> data(200, 0x5A);
+    expect_same(false, data,
+                {sdo::make_initiate_download_response(kIndex, kSub),
+                 sdo::make_download_segment_response(true)},
+                abort_error(SdoAbort::ToggleBit), SdoAbort::ToggleBit);
+}
+
+} // namespace
+} // namespace codrive::ethercat
