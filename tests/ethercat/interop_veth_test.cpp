@@ -9,6 +9,7 @@
 #include <codrive/ethercat/registers.hpp>
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 namespace codrive::testing {
 namespace {
@@ -96,6 +97,80 @@ TEST_F(EcatVethTest, Akd2gControlledStopObjectHasEverySubIndexTheManualLists) {
     auto axis2 = master_->sdo_info_entry(0, 0x5102, 2);
     ASSERT_TRUE(axis2) << master_->last_error();
     EXPECT_EQ(axis2->name, "AXIS2.CS.DEC");
+}
+
+// Every record and array of the simulated drives, as a master that lists the dictionary sees it
+// (SOEM's slaveinfo -sdo: object list, object description, entry descriptions, values): sub 0
+// (the entries in use) is at most the highest sub-index the object description states, and on
+// the AKD2G and the FIO, whose manuals list every entry, each entry up to that has a description
+// and a name (FIO 3210h once said 0Ch with entries up to 0Ah only). The DS-BVS manual leaves some
+// entries out (docs/conformance.md), so its records may have gaps, as ETG.1000.6 allows.
+TEST_F(EcatVethTest, EveryObjectDescribesEachEntryUpToItsHighestSubIndex) {
+    start({"--slave", "akd2g", "--slave", "ds-bvs", "--slave", "fio"});
+    if (IsSkipped() || HasFatalFailure()) {
+        return;
+    }
+    ASSERT_TRUE(master_->scan()) << master_->last_error();
+    ASSERT_TRUE(master_->set_state_all(AlState::PreOp)) << master_->last_error();
+    std::vector<std::string> problems;
+    for (std::size_t slave = 0; slave < 3; ++slave) {
+        auto list = master_->sdo_info_object_list(slave);
+        ASSERT_TRUE(list) << master_->last_error();
+        const std::string who = master_->slaves()[slave].display_name();
+        const bool complete_manual = who != "DS-BVS";
+        for (const std::uint16_t index : *list) {
+            auto o = master_->sdo_info_object(slave, index);
+            if (!o) {
+                problems.push_back(
+                    fmt::format("{} {:04X}h: {}", who, index, master_->last_error()));
+                continue;
+            }
+            constexpr std::uint8_t kVar = 7; // ETG.1000.6 Table 46 object code VAR
+            // FIO 1C32h: §7.13.22 gives sub 0 = 05h with entries 01h..03h (docs/conformance.md).
+            if (o->object_code == kVar || (who == "FIO Drive Control" && index == 0x1C32)) {
+                continue;
+            }
+            auto highest = master_->sdo_read<std::uint8_t>(slave, index, 0);
+            if (!highest || *highest > o->max_subindex) {
+                problems.push_back(fmt::format("{} {:04X}h: sub 0 = {}, object description {}", who,
+                                               index, highest ? int{*highest} : -1,
+                                               int{o->max_subindex}));
+            }
+            for (unsigned s = 0; complete_manual && s <= o->max_subindex; ++s) {
+                auto e = master_->sdo_info_entry(slave, index, static_cast<std::uint8_t>(s));
+                if (!e || e->name.empty() || e->bit_length == 0) {
+                    problems.push_back(
+                        fmt::format("{} {:04X}:{:02X}: no entry description", who, index, s));
+                }
+            }
+        }
+    }
+    EXPECT_TRUE(problems.empty()) << fmt::format("{}", fmt::join(problems, "\n"));
+}
+
+TEST_F(EcatVethTest, DsBvsNamesAreTheManualsWholeNames) {
+    // The DS-BVS manual's table cells wrap ("External Load Torque Feed-" / "Forward Gain"); the
+    // names a master lists are the whole names of the section headings (§6.2.52, §6.2.57,
+    // §6.2.86.1, §6.2.88.1).
+    start({"--slave", "ds-bvs"});
+    if (IsSkipped() || HasFatalFailure()) {
+        return;
+    }
+    ASSERT_TRUE(master_->scan()) << master_->last_error();
+    ASSERT_TRUE(master_->set_state_all(AlState::PreOp)) << master_->last_error();
+    const struct {
+        std::uint16_t index;
+        std::uint8_t sub;
+        const char* name;
+    } expected[] = {{0x4209, 0, "Averaged Current (Moving Averaged 10step)"},
+                    {0x4311, 0, "External Load Torque Feed-Forward Gain"},
+                    {0x6048, 1, "VL Mode Acceleration Delta Speed"},
+                    {0x604A, 2, "VL Mode Quick Stop Deceleration Delta Time"}};
+    for (const auto& x : expected) {
+        auto e = master_->sdo_info_entry(0, x.index, x.sub);
+        ASSERT_TRUE(e) << master_->last_error();
+        EXPECT_EQ(e->name, x.name);
+    }
 }
 
 } // namespace
