@@ -402,8 +402,12 @@ std::uint16_t EscSlave::check_transition(AlState to) {
 void EscSlave::on_al_control(std::uint16_t value) {
     const bool ack = (value & kAlErrorFlag) != 0;
     const bool error_pending = (reg16(reg::kAlStatus) & kAlErrorFlag) != 0;
-    if (error_pending && !ack) {
-        return; // a pending error must be acknowledged first (ETG.1000.6 §6.4.1.3)
+    // A pending error must be acknowledged before any other state is requested (ETG.1000.6
+    // §6.4.1.3), except INIT: a request for INIT is always carried out, acknowledged or not
+    // (masters reset a slave with a plain INIT: SOEM's ecx_reconfig_slave() writes 0x0001).
+    const bool to_init = (value & 0x0F) == static_cast<unsigned>(AlState::Init);
+    if (error_pending && !ack && !to_init) {
+        return;
     }
     if (ack) {
         set_al_status(state_, false, 0);

@@ -173,5 +173,28 @@ TEST_F(EcatVethTest, DsBvsNamesAreTheManualsWholeNames) {
     }
 }
 
+TEST_F(EcatVethTest, InitWithoutAcknowledgeLeavesAnErrorState) {
+    // ETG.1000.6 §6.4.1.3: with the error flag set, a request without the acknowledge bit is
+    // ignored, except one for INIT. SOEM's ecx_reconfig_slave() writes a plain 0x0001; a slave
+    // that ignored it stayed in SAFE-OP + error and SOEM's simple_ng reconfigured it forever.
+    start({"--slave", "akd2g", "--refuse", "0:op:0x001A"});
+    if (IsSkipped() || HasFatalFailure()) {
+        return;
+    }
+    ASSERT_TRUE(master_->scan()) << master_->last_error();
+    ASSERT_FALSE(master_->set_state_all(AlState::Op)); // refused and acknowledged: SAFE-OP
+    const auto al_status = [&] {
+        auto v = master_->read_register<std::uint16_t>(0, reg::kAlStatus);
+        return v ? *v : std::uint16_t{0xFFFF};
+    };
+    constexpr std::uint16_t kErrorFlag = 0x10;
+    ASSERT_TRUE(master_->write_register<std::uint16_t>(0, reg::kAlControl, 0x08)); // OP again
+    EXPECT_EQ(al_status(), 0x04 | kErrorFlag) << "refused: SAFE-OP with the error flag";
+    ASSERT_TRUE(master_->write_register<std::uint16_t>(0, reg::kAlControl, 0x02)); // PRE-OP
+    EXPECT_EQ(al_status(), 0x04 | kErrorFlag) << "PRE-OP without acknowledge is ignored";
+    ASSERT_TRUE(master_->write_register<std::uint16_t>(0, reg::kAlControl, 0x01)); // INIT
+    EXPECT_EQ(al_status(), 0x01) << "INIT is carried out without acknowledge";
+}
+
 } // namespace
 } // namespace codrive::testing
