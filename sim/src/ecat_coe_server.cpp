@@ -85,9 +85,10 @@ tl::expected<std::vector<std::uint8_t>, SdoAbort> CoeServer::read_value(std::uin
         }
         return std::vector<std::uint8_t>(v->begin(), v->end());
     }
-    // Complete access (ETG.1000.6 §5.6.2.1): the object as its data type lays it out (ETG.2000
-    // DataType: sub-index 0, UINT8, at bit 0 and sub-index 1 at bit offset 16), i.e. sub 0
-    // padded to 16 bits, then every sub-index 1..n packed. Starting at sub 1 leaves sub 0 out.
+    // Complete access (ETG.1000.6 §5.6.2.1, ETG.1020 §12.2 "SDO Complete Access"): the object
+    // as its data type lays it out (ETG.2000 DataType: sub-index 0, UINT8, at bit 0 and
+    // sub-index 1 at bit offset 16), i.e. sub 0 padded to 16 bits, then every sub-index 1..n
+    // packed. Starting at sub 1 leaves sub 0 out.
     const Object* obj = od_.find(index);
     if (obj == nullptr) {
         return tl::unexpected(SdoAbort::NoObject);
