@@ -17,6 +17,9 @@ using A = Access;
 using builders::limited;
 using builders::spec;
 
+// Names: where the table's Name cell is wrapped in the manual text ("Averaged Current (Moving
+// Avera" / "aged 10step)"), the name is the section heading's (§6.2.52 "Averaged Current (Moving
+// Averaged 10step)"): a master shows it from the SDO information.
 // clang-format off
 constexpr std::array kObjects{
     limited(spec(0x4000, 0, "Resistance", DT::Unsigned16, A::Rw, false, 0x1F4), 1, 65535), // §6.2.33, line 2908
@@ -39,7 +42,7 @@ constexpr std::array kObjects{
     limited(spec(0x4206, 0, "Current Cotroller Bandwidth", DT::Unsigned16, A::Rw, false, 0x7D0), 1000, 10000), // §6.2.49, line 3262
     spec(0x4207, 0, "Target Current", DT::Integer32, A::Rw, true, 0), // §6.2.50, line 3276
     spec(0x4208, 0, "Actual Current", DT::Integer32, A::Ro, true, 0), // §6.2.51, line 3292
-    spec(0x4209, 0, "Averaged Current (Moving Avera", DT::Integer32, A::Ro, false, 0), // §6.2.52, line 3310
+    spec(0x4209, 0, "Averaged Current (Moving Averaged 10step)", DT::Integer32, A::Ro, false, 0), // §6.2.52, line 3310
     limited(spec(0x4300, 1, "Velocity Controller P-Gain", DT::Unsigned32, A::Rw, false, 0x64, true), 0, 100000000), // §6.2.53.1, line 3335
     limited(spec(0x4300, 2, "Velocity Controller I-Gain", DT::Unsigned32, A::Rw, false, 0x64, true), 0, 1000000), // §6.2.53.2, line 3353
     limited(spec(0x4300, 4, "Velocity Feed-Forward Gain", DT::Unsigned8, A::Rw, false, 0x32, true), 0, 250), // §6.2.53.3, line 3369
@@ -50,13 +53,13 @@ constexpr std::array kObjects{
     spec(0x4302, 4, "I2T Energy Setpoint Value", DT::Unsigned32, A::Ro, false, 0, true), // §6.2.55.4, line 3488
     spec(0x4302, 5, "I2T Energy Actual Value", DT::Unsigned32, A::Ro, false, 0, true), // §6.2.55.4, line 3502
     limited(spec(0x4310, 0, "Velocity kalman Filter Covariance", DT::Unsigned32, A::Rw, false, 0x1F4), 1, 1000), // §6.2.56, line 3518
-    limited(spec(0x4311, 0, "External Load Torque Feed-", DT::Unsigned8, A::Rw, false, 0x32), 0, 100), // §6.2.57, line 3532
+    limited(spec(0x4311, 0, "External Load Torque Feed-Forward Gain", DT::Unsigned8, A::Rw, false, 0x32), 0, 100), // §6.2.57, line 3532
     limited(spec(0x4312, 0, "External Load Torque Deadzone", DT::Unsigned8, A::Rw, false, 5), 0, 100), // §6.2.58, line 3548
     spec(0x4313, 0, "Load Torque", DT::Integer32, A::Ro, false, 0), // §6.2.59, line 3562
     limited(spec(0x4314, 0, "Load Torque Threshold", DT::Unsigned32, A::Rw, false, 0), 0, 2147483647), // §6.2.60, line 3576
     spec(0x4321, 0, "Velocity Auto-Tuning Acceleration", DT::Unsigned32, A::Rw, false, 0x3E8), // §6.2.61, line 3594
-    spec(0x4322, 0, "Velocity Auto-Tuning Velocit", DT::Unsigned32, A::Rw, false, 0x1F4), // §6.2.62, line 3610
-    spec(0x4323, 0, "Velocity Auto-Tuning Positio", DT::Integer32, A::Rw, false, 500), // §6.2.63, line 3628
+    spec(0x4322, 0, "Velocity Auto-Tuning Velocity", DT::Unsigned32, A::Rw, false, 0x1F4), // §6.2.62, line 3610
+    spec(0x4323, 0, "Velocity Auto-Tuning Position", DT::Integer32, A::Rw, false, 500), // §6.2.63, line 3628
     limited(spec(0x4400, 1, "Position Controller P-Gain", DT::Integer32, A::Rw, false, 30000, true), 0, 100000000), // §6.2.64.1, line 3653
     limited(spec(0x4400, 2, "Position Controller I-Gain", DT::Integer32, A::Rw, false, 0, true), 0, 100000000), // §6.2.64.2, line 3671
     limited(spec(0x4400, 3, "Position Controller D-Gain", DT::Integer32, A::Rw, false, 0, true), 0, 100000000), // §6.2.64.3, line 3687
@@ -69,8 +72,8 @@ constexpr std::array kObjects{
     spec(0x4610, 5, "Min. Motor Speed for Brake On", DT::Unsigned16, A::Rw, false, 0, true), // §6.2.68.5, line 3819: range 10..500 excludes the default 0 (docs)
     limited(spec(0x4610, 6, "Tum On Voltage", DT::Unsigned8, A::Rw, false, 0xC, true), 0, 24), // §6.2.68.6, line 3835
     limited(spec(0x4610, 7, "On Hold Voltage", DT::Unsigned8, A::Rw, false, 0, true), 0, 24), // §6.2.68.7, line 3853
-    spec(0x4620, 1, "Minimum Collision Detection Po", DT::Integer32, A::Rw, false, 0, true), // §6.2.69.1, line 3876
-    spec(0x4620, 2, "Maximum Collision Detection Po", DT::Integer32, A::Rw, false, 0, true), // §6.2.69.1, line 3890
+    spec(0x4620, 1, "Minimum Collision Detection Position", DT::Integer32, A::Rw, false, 0, true), // §6.2.69.1, line 3876
+    spec(0x4620, 2, "Maximum Collision Detection Position", DT::Integer32, A::Rw, false, 0, true), // §6.2.69.1, line 3890
     limited(spec(0x4700, 2, "Target Motion Index", DT::Unsigned16, A::Rw, true, 0x4710, true), 0x4710, 0x4719), // §6.2.70.1, line 3917
     limited(spec(0x4701, 0, "Actual Motion Index", DT::Unsigned16, A::Ro, true, 0x4710), 0x4710, 0x4719), // §6.2.71, line 3935
     spec(0x4702, 1, "Motion Error", DT::Unsigned32, A::Ro, false, 0, true), // §6.2.72.2, line 3978
@@ -94,12 +97,12 @@ constexpr std::array kObjects{
     limited(spec(0x6044, 0, "VL Mode Actual Velocity", DT::Integer16, A::Ro, true, 0), 0, 32767), // §6.2.84, line 4671
     spec(0x6046, 1, "VL Mode Velocity Min. Value", DT::Unsigned32, A::Rw, false, 1, true), // §6.2.85.1, line 4694
     spec(0x6046, 2, "VL Mode Velocity Max. Value", DT::Unsigned32, A::Rw, false, 0, true), // §6.2.85.2, line 4708
-    spec(0x6048, 1, "VL Mode Acceleration Delta Spe", DT::Unsigned32, A::Rw, false, 0, true), // §6.2.86.1, line 4731
-    limited(spec(0x6048, 2, "VL Mode Acceleration Delta Tim", DT::Unsigned16, A::Rw, false, 1, true), 1, 65535), // §6.2.86.2, line 4745
-    spec(0x6049, 1, "VL Mode Deceleration Delta Sp", DT::Unsigned32, A::Rw, false, 0, true), // §6.2.87, line 4766
-    limited(spec(0x6049, 2, "VL Mode Deceleration Delta Tin", DT::Unsigned16, A::Rw, false, 1, true), 1, 65535), // §6.2.87.2, line 4782
-    spec(0x604A, 1, "VL Mode Quick Stop Deceleration", DT::Unsigned32, A::Rw, false, 0, true), // §6.2.88, line 4803
-    limited(spec(0x604A, 2, "VL Mode Quick Stop Deceleration", DT::Unsigned16, A::Rw, false, 1, true), 1, 65535), // §6.2.88.2, line 4819
+    spec(0x6048, 1, "VL Mode Acceleration Delta Speed", DT::Unsigned32, A::Rw, false, 0, true), // §6.2.86.1, line 4731
+    limited(spec(0x6048, 2, "VL Mode Acceleration Delta Time", DT::Unsigned16, A::Rw, false, 1, true), 1, 65535), // §6.2.86.2, line 4745
+    spec(0x6049, 1, "VL Mode Deceleration Delta Speed", DT::Unsigned32, A::Rw, false, 0, true), // §6.2.87, line 4766
+    limited(spec(0x6049, 2, "VL Mode Deceleration Delta Time", DT::Unsigned16, A::Rw, false, 1, true), 1, 65535), // §6.2.87.2, line 4782
+    spec(0x604A, 1, "VL Mode Quick Stop Deceleration Delta Speed", DT::Unsigned32, A::Rw, false, 0, true), // §6.2.88, line 4803
+    limited(spec(0x604A, 2, "VL Mode Quick Stop Deceleration Delta Time", DT::Unsigned16, A::Rw, false, 1, true), 1, 65535), // §6.2.88.2, line 4819
     spec(0x6073, 0, "Maximum Current", DT::Unsigned16, A::Rw, false, 0x7D0), // §6.2.108, line 5197
     spec(0x6075, 0, "Motor Rated Current", DT::Unsigned32, A::Rw, false, 0x3E8), // §6.2.109, line 5215
     spec(0x6076, 0, "Motor Rated Torque", DT::Unsigned32, A::Rw, false, 0), // §6.2.110, line 5242: range 1..1000000 excludes the default 0 (docs)

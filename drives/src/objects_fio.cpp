@@ -67,7 +67,9 @@ constexpr std::array kObjects{
     spec(0x3210, 8, "Torque Current Loop, Integral Gain (closed Loop)", DT::Integer32, A::Rw, false, 0, true), // §7.13.57, line 5333
     spec(0x3210, 9, "Torque Current Loop, Proportional Gain (open Loop)", DT::Integer32, A::Rw, false, 0, true), // §7.13.57, line 5342
     spec(0x3210, 10, "Torque Current Loop, Integral Gain (open Loop)", DT::Integer32, A::Rw, false, 0, true), // §7.13.57, line 5351
-    // §7.13.57 line 5263: sub 0 = 0Ch; 0Bh/0Ch give no data type, so they are not simulated (docs).
+    spec(0x3210, 11, "Velocity Feed Forward Factor In Per Mille", DT::Integer32, A::Rw, false, 0x3E8, true), // §7.13.57, line 5360
+    spec(0x3210, 12, "Acceleration Feed Forward Factor", DT::Integer32, A::Rw, false, 0, true), // §7.13.57, line 5369
+    // §7.13.57 line 5263: sub 0 = 0Ch, the highest of the entries 01h..0Ch the section lists.
     spec(0x3210, 0, "Highest Sub-index Supported", DT::Unsigned8, A::Ro, false, 0x0C, true),
     spec(0x3240, 1, "Special Function Enable", DT::Unsigned32, A::Rw, true, 0, true), // §7.13.59, line 5482
     spec(0x3240, 2, "Function Inverted", DT::Unsigned32, A::Rw, true, 0, true), // §7.13.59, line 5489
@@ -114,7 +116,9 @@ constexpr std::array kObjects{
     spec(0x60F8, 0, "Max Slippage", DT::Integer32, A::Rw, true, 400), // §7.13.160, line 8558
     spec(0x60FA, 0, "Control Effort", DT::Integer32, A::Ro, true, 0), // §7.13.161, line 8579
     spec(0x60FC, 0, "Position Demand Internal Value", DT::Integer32, A::Ro, true, 0), // §7.13.162, line 8596
-    spec(0x60FE, 0, "Highest Sub-index Supported", DT::Unsigned8, A::Ro, false, 1), // §7.13.164, line 8651
+    // §7.13.164: a RECORD, sub 0 = 01h; the table prints the entry's sub-index as 00h.
+    spec(0x60FE, 1, "Digital Outputs #1", DT::Unsigned32, A::Rw, true, 0, true), // §7.13.164, line 8658
+    spec(0x60FE, 0, "Highest Sub-index Supported", DT::Unsigned8, A::Ro, false, 1, true), // §7.13.164, line 8651
 };
 // clang-format on
 

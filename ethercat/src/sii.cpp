@@ -170,9 +170,14 @@ std::vector<std::uint8_t> build_sii(const SiiInfo& info) {
 
     std::vector<std::uint8_t> general(32, 0);
     general[3] = strings.empty() ? 0 : 1; // NameIdx: first string
-    general[5] =
-        (info.mailbox_protocols & mbx_proto::kCoe) != 0 ? 0x23 : 0; // CoE: SDO, SDO info, CA
+    // CoE details (ETG.2010 Table 6): SDO (bit 0), SDO information (1), PDO assignment (2), PDO
+    // configuration (3), complete access (5): what codrive's CoE slaves serve and what their ESI
+    // files state (Mailbox/CoE SdoInfo, PdoAssign, PdoConfig).
+    general[5] = (info.mailbox_protocols & mbx_proto::kCoe) != 0 ? 0x2F : 0;
     general[6] = (info.mailbox_protocols & mbx_proto::kFoe) != 0 ? 0x01 : 0; // FoE details
+    // Physical ports, 4 bits each (ETG.2010 Table 6: 1 = MII): ports 0 and 1, as the ESC's port
+    // descriptor 0x0007 and the ESI's Physics="YY" say.
+    general[16] = 0x11;
     append_category(img, sii_cat::kGeneral, std::move(general));
 
     if (!info.fmmu_usage.empty()) {

@@ -286,27 +286,34 @@ void DriveCore::install_objects() {
         }
     }
     if (p.akd2g_objects) {
-        // Manufacturer axis objects: axis 2 at +0x100 (akd2g.md §4).
+        // Manufacturer axis objects: axis 2 at +0x100 (akd2g.md §4), named per axis as the
+        // manual's object tables name them (AXIS1.CS.DEC, AXIS2.CS.DEC, ...).
         const auto m = static_cast<std::uint16_t>(mfr_index(0x5000) - 0x5000);
+        const std::string ax = "AXIS" + std::to_string(axis_ + 1);
+        // §5.3.82: all five sub-indices (a master reading the entry descriptions 1..highest
+        // meets no gap).
         in.record(
-            0x5002, "AXIS#.CS", ObjectCode::Record,
-            {make_sub(2, "AXIS#.CS.DEC", DT::Unsigned32, rw, '-', vel(p.quick_stop_deceleration)),
-             make_sub(4, "AXIS#.CS.ZEROV", DT::Integer32, rw, '-', 6553)},
+            0x5002, ax + ".CS", ObjectCode::Record,
+            {make_sub(1, ax + ".CS.STATE", DT::Unsigned8, ro, '-', 0),
+             make_sub(2, ax + ".CS.DEC", DT::Unsigned32, rw, '-', vel(p.quick_stop_deceleration)),
+             make_sub(3, ax + ".ZEROT", DT::Unsigned32, rw, '-', 0),
+             make_sub(4, ax + ".ZEROV", DT::Integer32, rw, '-', 6553),
+             make_sub(5, ax + ".ZEROACC", DT::Integer32, rw, '-', 0)},
             m);
-        in.record(0x5007, "AXIS#.SAFE.STO", ObjectCode::Record,
-                  {make_sub(1, "AXIS#.SAFE.STO.REPORTFAULT", DT::Unsigned8, rw, '-', 1),
-                   make_sub(2, "AXIS#.SAFE.STO.ACTIVE", DT::Unsigned8, ro, 'T', 0)},
+        in.record(0x5007, ax + ".SAFE.STO", ObjectCode::Record,
+                  {make_sub(1, ax + ".SAFE.STO.REPORTFAULT", DT::Unsigned8, rw, '-', 1),
+                   make_sub(2, ax + ".SAFE.STO.ACTIVE", DT::Unsigned8, ro, 'T', 0)},
                   m);
         // §5.3.84: AXIS#.FAULT1..10, Unsigned16, read only: where the drive names the axis of a
         // fault (the EMCY message does not).
         std::vector<SubObject> faults;
         for (std::uint8_t i = 1; i <= kAxisFaultSlots; ++i) {
             faults.push_back(
-                make_sub(i, "AXIS#.FAULT" + std::to_string(i), DT::Unsigned16, ro, '-', 0));
+                make_sub(i, ax + ".FAULT" + std::to_string(i), DT::Unsigned16, ro, '-', 0));
         }
-        in.record(0x5004, "AXIS#.FAULT", ObjectCode::Record, std::move(faults), m);
-        in.record(0x5016, "AXIS#.SETTLE", ObjectCode::Record,
-                  {make_sub(1, "AXIS#.SETTLE.P", DT::Unsigned32, rw, '-', p.position_window)}, m);
+        in.record(0x5004, ax + ".FAULT", ObjectCode::Record, std::move(faults), m);
+        in.record(0x5016, ax + ".SETTLE", ObjectCode::Record,
+                  {make_sub(1, ax + ".SETTLE.P", DT::Unsigned32, rw, '-', p.position_window)}, m);
     }
 }
 

@@ -85,7 +85,10 @@ tl::expected<std::vector<std::uint8_t>, SdoAbort> CoeServer::read_value(std::uin
         }
         return std::vector<std::uint8_t>(v->begin(), v->end());
     }
-    // Complete access: sub 0 (one byte) then every sub-index 1..n, packed (ETG.1000.6 §5.6.2.1).
+    // Complete access (ETG.1000.6 §5.6.2.1, ETG.1020 §12.2 "SDO Complete Access"): the object
+    // as its data type lays it out (ETG.2000 DataType: sub-index 0, UINT8, at bit 0 and
+    // sub-index 1 at bit offset 16), i.e. sub 0 padded to 16 bits, then every sub-index 1..n
+    // packed. Starting at sub 1 leaves sub 0 out.
     const Object* obj = od_.find(index);
     if (obj == nullptr) {
         return tl::unexpected(SdoAbort::NoObject);
@@ -97,6 +100,7 @@ tl::expected<std::vector<std::uint8_t>, SdoAbort> CoeServer::read_value(std::uin
     const auto count = od_.get<std::uint8_t>(index, 0).value_or(0);
     if (sub == 0) {
         out.push_back(count);
+        out.push_back(0); // padding to 16 bits
     }
     for (std::uint8_t s = 1; s <= count; ++s) {
         auto v = od_.read(index, s);
@@ -127,11 +131,12 @@ tl::expected<void, SdoAbort> CoeServer::write_value(std::uint16_t index, std::ui
     std::size_t pos = 0;
     std::uint8_t count = od_.get<std::uint8_t>(index, 0).value_or(0);
     if (sub == 0) {
-        if (data.empty()) {
+        // Sub 0 padded to 16 bits, as in an upload (ETG.1000.6 §5.6.2.1).
+        if (data.size() < 2) {
             return tl::unexpected(SdoAbort::LengthTooLow);
         }
         count = data[0];
-        pos = 1;
+        pos = 2;
         // PDO objects: clear the count before entries, set it last (ETG.1000.6 §5.6.7.4).
         const std::uint8_t zero = 0;
         if (auto r = od_.write(index, 0, std::span<const std::uint8_t>(&zero, 1)); !r) {

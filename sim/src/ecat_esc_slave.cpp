@@ -264,10 +264,27 @@ bool EscSlave::logical(const DatagramRef& dg, bool& read_done, bool& write_done,
     return read_done || write_done;
 }
 
+void EscSlave::update_dl_status(const ChainContext& ctx) {
+    // Port 0 faces the master and is open with communication; port 1 is open towards the next
+    // slave, closed (loop) on the last one; ports 2 and 3 (not implemented, 0x0007) are closed
+    // (ETG.1000.4 §6.1.4). A master reads its line topology from this (SOEM's "activeports").
+    namespace dl = dl_status;
+    auto v =
+        static_cast<std::uint16_t>(dl::kPdiOperational | dl::kPdiWatchdogOk | dl::link(0) |
+                                   dl::communication(0) | dl::loop_closed(2) | dl::loop_closed(3));
+    if (ctx.position + 1 < ctx.chain_length) {
+        v = static_cast<std::uint16_t>(v | dl::link(1) | dl::communication(1));
+    } else {
+        v = static_cast<std::uint16_t>(v | dl::loop_closed(1));
+    }
+    put_le<std::uint16_t>(mem_.data() + reg::kDlStatus, v);
+}
+
 void EscSlave::process(const DatagramRef& dg, const ChainContext& ctx) {
     if (faults_.silent) {
         return;
     }
+    update_dl_status(ctx);
     bool addressed = false;
     const Addressing mode = addressing_of(dg.command);
     switch (mode) {
@@ -385,8 +402,12 @@ std::uint16_t EscSlave::check_transition(AlState to) {
 void EscSlave::on_al_control(std::uint16_t value) {
     const bool ack = (value & kAlErrorFlag) != 0;
     const bool error_pending = (reg16(reg::kAlStatus) & kAlErrorFlag) != 0;
-    if (error_pending && !ack) {
-        return; // a pending error must be acknowledged first (ETG.1000.6 §6.4.1.3)
+    // A pending error must be acknowledged before any other state is requested (ETG.1000.6
+    // §6.4.1.3), except INIT: a request for INIT is always carried out, acknowledged or not
+    // (masters reset a slave with a plain INIT: SOEM's ecx_reconfig_slave() writes 0x0001).
+    const bool to_init = (value & 0x0F) == static_cast<unsigned>(AlState::Init);
+    if (error_pending && !ack && !to_init) {
+        return;
     }
     if (ack) {
         set_al_status(state_, false, 0);

@@ -161,6 +161,8 @@ const std::array kFacts{
     F{0x3210, 8, DT::Integer32, Acc::Rw, 0, "§7.13.57", 5333},
     F{0x3210, 9, DT::Integer32, Acc::Rw, 0, "§7.13.57", 5342},
     F{0x3210, 10, DT::Integer32, Acc::Rw, 0, "§7.13.57", 5351},
+    F{0x3210, 11, DT::Integer32, Acc::Rw, 0x3E8, "§7.13.57", 5360},
+    F{0x3210, 12, DT::Integer32, Acc::Rw, 0, "§7.13.57", 5369},
     F{0x3240, 0, DT::Unsigned8, Acc::Ro, 7, "§7.13.59", 5475},
     F{0x3240, 1, DT::Unsigned32, Acc::Rw, 0, "§7.13.59", 5482},
     F{0x3240, 2, DT::Unsigned32, Acc::Rw, 0, "§7.13.59", 5489},
@@ -279,6 +281,7 @@ const std::array kFacts{
     F{0x60FC, 0, DT::Integer32, Acc::Ro, 0, "§7.13.162", 8596},
     F{0x60FD, 0, DT::Unsigned32, Acc::Ro, 0, "§7.13.163", 8611},
     F{0x60FE, 0, DT::Unsigned8, Acc::Ro, 1, "§7.13.164", 8651},
+    F{0x60FE, 1, DT::Unsigned32, Acc::Rw, 0, "§7.13.164", 8658},
     F{0x60FF, 0, DT::Integer32, Acc::Rw, 0, "§7.13.165", 8682},
     F{0x6502, 0, DT::Unsigned32, Acc::Ro, 0x3AF, "§7.13.166", 8699},
     // §7.13.3: 1003h holds eight entries (sub 01h..08h), no ninth.

@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: Apache-2.0
 // ESM transition rules, AL status code texts (ETG.1000.6) and SII EEPROM parsing (ETG.2010).
+#include <codrive/core/endian.hpp>
 #include <codrive/ethercat/al_state.hpp>
 #include <codrive/ethercat/mailbox.hpp>
 #include <codrive/ethercat/registers.hpp>
@@ -71,6 +72,26 @@ TEST(EcatSii, BuiltImageParsesBackWithIdentityMailboxAndSyncManagers) {
     ASSERT_EQ(out->sync_managers.size(), 4U);
     EXPECT_EQ(out->sync_managers[2].type, SmType::Outputs);
     EXPECT_EQ(out->sync_managers[3].start, 0x1180);
+}
+
+TEST(EcatSii, GeneralCategoryStatesTheCoeServicesAndPortsTheSlaveHas) {
+    // ETG.2010 Table 6, as a master such as SOEM reads it ("CoE details"): SDO, SDO information,
+    // PDO assignment, PDO configuration, complete access; FoE; ports 0 and 1 MII.
+    SiiInfo in;
+    in.name = "AKD2G";
+    in.mailbox_protocols = mbx_proto::kCoe | mbx_proto::kFoe;
+    const auto image = build_sii(in);
+    std::size_t at = 0x80; // categories start at word 40h
+    while (at + 4 <= image.size() &&
+           get_le<std::uint16_t>(image.data() + at) != sii_cat::kGeneral) {
+        at += 4 + 2U * get_le<std::uint16_t>(image.data() + at + 2);
+    }
+    ASSERT_LT(at + 4 + 18, image.size());
+    const std::uint8_t* general = image.data() + at + 4;
+    EXPECT_EQ(general[3], 1) << "name: first string";
+    EXPECT_EQ(general[5], 0x2F) << "CoE details";
+    EXPECT_EQ(general[6], 0x01) << "FoE details";
+    EXPECT_EQ(get_le<std::uint16_t>(general + 16), 0x0011) << "physical ports";
 }
 
 TEST(EcatSii, TruncatedCategoryIsAnErrorAndBadChecksumIsFlagged) {

@@ -198,10 +198,17 @@ TEST_F(EcatMasterSegment, CompleteAccessReadsAWholeRecord) {
     ASSERT_TRUE(master_.set_state_all(AlState::PreOp));
     auto r = master_.sdo_upload(0, 0x1018, 0, true);
     ASSERT_TRUE(r) << master_.last_error();
-    ASSERT_EQ(r->size(), 1U + 4 * 4);
+    // Sub 0 padded to 16 bits (ETG.1000.6 §5.6.2.1; ESI: sub 1 at bit offset 16), then 1..4.
+    ASSERT_EQ(r->size(), 2U + 4 * 4);
     EXPECT_EQ((*r)[0], 4);
-    EXPECT_EQ(get_le<std::uint32_t>(r->data() + 1), 0x0048554BU);
-    EXPECT_EQ(get_le<std::uint32_t>(r->data() + 13), 11U);
+    EXPECT_EQ((*r)[1], 0);
+    EXPECT_EQ(get_le<std::uint32_t>(r->data() + 2), 0x0048554BU);
+    EXPECT_EQ(get_le<std::uint32_t>(r->data() + 14), 11U);
+    // From sub 1: the entries alone, no sub 0.
+    auto from1 = master_.sdo_upload(0, 0x1018, 1, true);
+    ASSERT_TRUE(from1) << master_.last_error();
+    ASSERT_EQ(from1->size(), 4U * 4);
+    EXPECT_EQ(get_le<std::uint32_t>(from1->data()), 0x0048554BU);
 }
 
 TEST_F(EcatMasterSegment, PdoAssignmentIsPreOpOnlyAndConfigurable) {

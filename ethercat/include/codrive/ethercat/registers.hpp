@@ -56,6 +56,25 @@ inline constexpr std::uint16_t kProcessRam = 0x1000;
 }
 } // namespace reg
 
+/// DL status (0x0110) bits (ETG.1000.4 §6.1.4, ET1100 datasheet register 0x0110): link and
+/// loop state per port, which masters read for the topology (open ports with communication).
+namespace dl_status {
+inline constexpr std::uint16_t kPdiOperational = 1U << 0; ///< EEPROM loaded, PDI up
+inline constexpr std::uint16_t kPdiWatchdogOk = 1U << 1;  ///< PDI watchdog not expired
+/// Physical link on `port` (0..3).
+[[nodiscard]] constexpr std::uint16_t link(unsigned port) {
+    return static_cast<std::uint16_t>(1U << (4 + port));
+}
+/// Loop closed on `port` (the frame turns back there; 0 = open).
+[[nodiscard]] constexpr std::uint16_t loop_closed(unsigned port) {
+    return static_cast<std::uint16_t>(1U << (8 + 2 * port));
+}
+/// Communication established on `port`.
+[[nodiscard]] constexpr std::uint16_t communication(unsigned port) {
+    return static_cast<std::uint16_t>(1U << (9 + 2 * port));
+}
+} // namespace dl_status
+
 /// SII interface control/status (0x0502) bits.
 namespace sii_ctl {
 inline constexpr std::uint16_t kReadSize8 = 1U << 6; ///< 1: the ESC reads 8 bytes per access

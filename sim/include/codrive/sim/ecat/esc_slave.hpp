@@ -101,6 +101,8 @@ private:
     [[nodiscard]] std::uint16_t check_transition(ethercat::AlState to);
     void on_sii_control();
     void latch_receive_times(const ChainContext& ctx);
+    /// DL status (0x0110) from where the slave sits in the chain.
+    void update_dl_status(const ChainContext& ctx);
     void refresh_dc(TimePoint now);
     void send_mailbox(std::vector<std::uint8_t> payload, ethercat::MailboxType type);
     void load_mailbox_out();
