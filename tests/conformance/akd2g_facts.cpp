@@ -36,9 +36,12 @@ const std::array kFacts{
     F{0x1010, 0, DT::Unsigned8, Acc::Ro, std::nullopt, "§5.2.11", 8066},
     F{0x1011, 0, DT::Unsigned8, Acc::Ro, std::nullopt, "§5.2.12", 8080},
     F{0x1012, 0, DT::Unsigned32, Acc::Rw, std::nullopt, "§5.2.13", 8103, {}, {}, Bus::Can},
-    F{0x1016, 0, DT::Unsigned32, Acc::Ro, std::nullopt, "§5.2.14", 8108},
-    F{0x1016, 1, DT::Unsigned32, Acc::Rw, std::nullopt, "§5.2.14", 8109},
-    F{0x1017, 0, DT::Unsigned16, Acc::Rw, std::nullopt, "§5.2.15", 8118},
+    // 1017h: "Can bus only" (§5.2.15). 1016h and 1200h have no such note, but heartbeat
+    // consumption and SDO COB-IDs are CAN mechanisms (CiA 301 §7.2.8.3.2, §7.5.2.33) with no
+    // EtherCAT counterpart; the manual is silent (docs/conformance.md), the facts are CAN's.
+    F{0x1016, 0, DT::Unsigned32, Acc::Ro, std::nullopt, "§5.2.14", 8108, {}, {}, Bus::Can},
+    F{0x1016, 1, DT::Unsigned32, Acc::Rw, std::nullopt, "§5.2.14", 8109, {}, {}, Bus::Can},
+    F{0x1017, 0, DT::Unsigned16, Acc::Rw, std::nullopt, "§5.2.15", 8118, {}, {}, Bus::Can},
     F{0x1018, 0, DT::Unsigned8, Acc::Ro, std::nullopt, "§5.2.16.0.4", 8158},
     F{0x1018, 1, DT::Unsigned32, Acc::Ro, std::nullopt, "§5.2.16.0.4", 8159},
     F{0x1018, 2, DT::Unsigned32, Acc::Ro, std::nullopt, "§5.2.16.0.4", 8160},
@@ -47,9 +50,9 @@ const std::array kFacts{
     F{0x1026, 0, DT::Unsigned8, Acc::Ro, std::nullopt, "§5.2.17", 8173},
     F{0x1026, 1, DT::Unsigned8, Acc::Rw, std::nullopt, "§5.2.17", 8174},
     F{0x1026, 2, DT::Unsigned8, Acc::Ro, std::nullopt, "§5.2.17", 8175},
-    F{0x1200, 0, DT::Unsigned8, Acc::Ro, std::nullopt, "§5.2.18", 8180},
-    F{0x1200, 1, DT::Unsigned32, Acc::Ro, std::nullopt, "§5.2.18", 8181},
-    F{0x1200, 2, DT::Unsigned32, Acc::Ro, std::nullopt, "§5.2.18", 8182},
+    F{0x1200, 0, DT::Unsigned8, Acc::Ro, std::nullopt, "§5.2.18", 8180, {}, {}, Bus::Can},
+    F{0x1200, 1, DT::Unsigned32, Acc::Ro, std::nullopt, "§5.2.18", 8181, {}, {}, Bus::Can},
+    F{0x1200, 2, DT::Unsigned32, Acc::Ro, std::nullopt, "§5.2.18", 8182, {}, {}, Bus::Can},
     F{0x1400, 0, DT::Unsigned8, Acc::Ro, std::nullopt, "§5.2.19.0.2", 8214, {}, {}, Bus::Can},
     F{0x1401, 0, DT::Unsigned8, Acc::Ro, std::nullopt, "§5.2.19.0.2", 8214, {}, {}, Bus::Can},
     F{0x1402, 0, DT::Unsigned8, Acc::Ro, std::nullopt, "§5.2.19.0.2", 8214, {}, {}, Bus::Can},
@@ -378,7 +381,7 @@ const std::array kFacts{
     F{0x1003, 11, DT::Unsigned32, Acc::Absent, std::nullopt, "§5.2.3 (at most 10 entries)", 7965},
     F{0x1600, 9, DT::Unsigned32, Acc::Absent, std::nullopt, "§5.2.20 (8 entries on CAN bus)", 8229, {}, {}, Bus::Can},
     F{0x1603, 9, DT::Unsigned32, Acc::Absent, std::nullopt, "§5.2.20 (8 entries on CAN bus)", 8232, {}, {}, Bus::Can},
-    F{0x1016, 0, DT::Unsigned32, Acc::Ro, 1, "§5.2.14 (sub 0 Unsigned32)", 8108},
+    F{0x1016, 0, DT::Unsigned32, Acc::Ro, 1, "§5.2.14 (sub 0 Unsigned32)", 8108, {}, {}, Bus::Can},
     F{0x1018, 1, DT::Unsigned32, Acc::Ro, 0x6A, "§5.2.16.0.1 (always 0x6A)", 8126},
     F{0x6096, 1, DT::Unsigned32, Acc::Rw, 1, "§5.4.28 (default 1)", 12126},
     F{0x6096, 2, DT::Unsigned32, Acc::Rw, 1, "§5.4.28 (default 1)", 12127},
@@ -403,14 +406,13 @@ const std::array kFacts{
 
 // Facts the simulator gets wrong where the fix belongs to another part (docs/conformance.md).
 // clang-format off
-const std::array<KnownDivergence, 9> kKnown{{
+const std::array<KnownDivergence, 8> kKnown{{
     {0x1A00, 0x20, "CAN: the simulator keeps 8 entries as §5.2.20 says for RxPDOs; §5.2.31 says 0 to 32 for TxPDOs without the CAN-bus note"},
     {0x1A01, 0x20, "CAN: the simulator keeps 8 entries as §5.2.20 says for RxPDOs; §5.2.31 says 0 to 32 for TxPDOs without the CAN-bus note"},
     {0x1A02, 0x20, "CAN: the simulator keeps 8 entries as §5.2.20 says for RxPDOs; §5.2.31 says 0 to 32 for TxPDOs without the CAN-bus note"},
     {0x1A03, 0x20, "CAN: the simulator keeps 8 entries as §5.2.20 says for RxPDOs; §5.2.31 says 0 to 32 for TxPDOs without the CAN-bus note"},
     // Only in devices/akd2g.eds and devices/akd2g.xml, which take their communication objects
     // from the simulators' stacks (devices::stack_objects) and so show the same gaps.
-    {0x1200, 0, "device files: akd2g.xml takes its communication objects from the CoE slave of codrive-ecat-sim, which makes no SDO server parameter 1200h (an SDO server's COB-IDs are a CAN matter, CiA 301 §7.5.2.33); akd2g.eds has it", In::DeviceFile, 0x1200},
     {0x1A00, 0x20, "device files: akd2g.eds takes its PDO objects from the CAN stack, which keeps 8 entries (the CAN divergence of 1A00h:20)", In::DeviceFile},
     {0x1A01, 0x20, "device files: akd2g.eds takes its PDO objects from the CAN stack, which keeps 8 entries (the CAN divergence of 1A01h:20)", In::DeviceFile},
     {0x1A02, 0x20, "device files: akd2g.eds takes its PDO objects from the CAN stack, which keeps 8 entries (the CAN divergence of 1A02h:20)", In::DeviceFile},
