@@ -294,24 +294,30 @@ void add_can_error_control_objects(ObjectDictionary& od, const Profile& p) {
     od.find(0x1016)->code = ObjectCode::Array;
     od.add_var(0x1017, "Producer heartbeat time", DataType::Unsigned16, Access::Rw,
                u(DataType::Unsigned16, 0));
-    if (p.quirks.error_behaviour_1029) {
-        od.add_sub(0x1029,
-                   SubObject::make(0, "Highest sub-index supported", DataType::Unsigned8,
-                                   Access::Ro, u(DataType::Unsigned8, 2)),
-                   "Error behaviour");
-        // 0 pre-operational (if operational), 1 no state change, 2 stopped.
-        for (const std::uint8_t sub : {std::uint8_t{1}, std::uint8_t{2}}) {
-            auto e = SubObject::make(sub, sub == 1 ? "Communication error" : "Application error",
-                                     DataType::Unsigned8, Access::Rw, u(DataType::Unsigned8, 1));
-            e.low_limit = u(DataType::Unsigned8, 0);
-            e.high_limit = u(DataType::Unsigned8, 2);
-            od.add_sub(0x1029, std::move(e));
-        }
-        od.find(0x1029)->code = ObjectCode::Array;
-    }
+    add_error_behaviour_object(od, p);
 }
 
 } // namespace
+
+void add_error_behaviour_object(ObjectDictionary& od, const Profile& p) {
+    if (!p.quirks.error_behaviour_1029) {
+        return;
+    }
+    const auto u8 = [](std::uint64_t v) { return *Value::from_uint(DataType::Unsigned8, v); };
+    od.add_sub(
+        0x1029,
+        SubObject::make(0, "Highest sub-index supported", DataType::Unsigned8, Access::Ro, u8(2)),
+        "Error behaviour");
+    // 0 pre-operational (if operational), 1 no state change, 2 stopped.
+    for (const std::uint8_t sub : {std::uint8_t{1}, std::uint8_t{2}}) {
+        auto e = SubObject::make(sub, sub == 1 ? "Communication error" : "Application error",
+                                 DataType::Unsigned8, Access::Rw, u8(1));
+        e.low_limit = u8(0);
+        e.high_limit = u8(2);
+        od.add_sub(0x1029, std::move(e));
+    }
+    od.find(0x1029)->code = ObjectCode::Array;
+}
 
 void build_device_dictionary(ObjectDictionary& od, const Profile& p, unsigned axes) {
     axes = std::clamp(axes, 1U, static_cast<unsigned>(p.max_axes));

@@ -5,6 +5,7 @@
 #pragma once
 
 #include <codrive/core/object_dictionary.hpp>
+#include <codrive/drives/profile.hpp>
 #include <codrive/sim/profile.hpp>
 
 #include <algorithm>
@@ -78,8 +79,8 @@ inline tl::expected<void, SdoAbort> clear_error_history(std::uint16_t, std::uint
 }
 
 /// The drive's error objects as its manual lists them, on either transport: 1003h (AKD2G, FIO),
-/// 4080h (DS-BVS §6.2.44) with their clear-on-0 hooks, and 1029h (DS-BVS §6.2.12: communication
-/// and application error behaviour, both 1 = no state change by default).
+/// 4080h (DS-BVS §6.2.44) with their clear-on-0 hooks, and 1029h (DS-BVS §6.2.12) from the
+/// drive profile.
 inline void add_error_objects(ObjectDictionary& od, const SimProfile& p) {
     if (p.has_error_history_1003) {
         od.insert(error_history_object(0x1003, "Pre-defined error field", "Number of errors",
@@ -87,19 +88,7 @@ inline void add_error_objects(ObjectDictionary& od, const SimProfile& p) {
                                        p.drive->error_history_depth));
         od.on_write(0x1003, clear_error_history);
     }
-    if (p.has_error_behaviour_1029) {
-        Object o;
-        o.index = 0x1029;
-        o.name = "Error behaviour";
-        o.code = ObjectCode::Array;
-        o.subs.emplace(0, SubObject::make(0, "Highest sub-index supported", DataType::Unsigned8,
-                                          Access::Ro, Value(DataType::Unsigned8, {2})));
-        o.subs.emplace(1, SubObject::make(1, "Communication error", DataType::Unsigned8, Access::Rw,
-                                          Value(DataType::Unsigned8, {1})));
-        o.subs.emplace(2, SubObject::make(2, "Application error", DataType::Unsigned8, Access::Rw,
-                                          Value(DataType::Unsigned8, {1})));
-        od.insert(std::move(o));
-    }
+    drives::add_error_behaviour_object(od, *p.drive); // DS-BVS 1029h, as the master has it
     if (p.has_error_history_4080) {
         od.insert(error_history_object(0x4080, "Error history", "Number of entries", "Error code",
                                        DataType::Unsigned16, p.drive->error_history_depth, true));

@@ -296,7 +296,6 @@ SimProfile make_ds_bvs() {
     p.tpdo_no_rtr_bit = true;
     p.rpdo_default_type = 0xFF;
     p.tpdo_default_type = 0;
-    p.has_error_behaviour_1029 = true;
     return p;
 }
 

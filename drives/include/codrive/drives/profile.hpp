@@ -294,6 +294,12 @@ struct Profile {
 /// plus overrides), indexes already offset for `axis`.
 [[nodiscard]] std::vector<ObjectSpec> device_objects(const Profile& p, unsigned axis);
 
+/// Error behaviour 1029h where the drive has it (`quirks.error_behaviour_1029`; DS-BVS §6.2.12,
+/// "CANopen, EtherCAT"): subs 1 communication and 2 application error, 0 PRE-OP (if
+/// operational), 1 no state change (default), 2 STOPPED. Nothing for a drive without it. The one
+/// description of the object, for the master's dictionary and both simulators.
+void add_error_behaviour_object(ObjectDictionary& od, const Profile& p);
+
 /// Adds the identity objects (1000h, 1018h) and every axis's CiA 402 objects with the types,
 /// access, PDO flags, defaults and limits from the profile to `od`. `axes` is clamped to
 /// 1..max_axes. Existing objects with the same index are replaced.

@@ -129,7 +129,6 @@ struct SimProfile {
     bool default_can_maps = false; ///< AKD2G sim choice: the CSP layout pre-mapped per axis
     bool node_guarding = false;    ///< 100Ch/100Dh
     bool has_sync_objects = false; ///< 1005h/1006h
-    bool has_error_behaviour_1029 = false;
 
     // ---- from the drive profile -------------------------------------------------------------
     [[nodiscard]] std::string_view name() const { return drive->name; }
