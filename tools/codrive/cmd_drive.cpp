@@ -414,20 +414,11 @@ int run_drive_ecat(const DriveArgs& a) {
     // first); its default PDO assignment is the layout of a drive codrive has no profile for.
     std::optional<ethercat::EsiDefaultPdos> esi_pdos;
     if (!a.esi.empty()) {
-        auto esi = ethercat::load_esi(a.esi);
+        const auto esi = slave_esi(a.esi, m, *slave);
         if (!esi) {
-            fmt::print(stderr, "codrive: {}\n", esi.error());
             return kExitFailure;
         }
-        const auto& sii = m.slaves()[*slave].sii;
-        const ethercat::EsiDevice* device =
-            esi->match(sii.vendor_id, sii.product_code, sii.revision);
-        if (device == nullptr) {
-            fmt::print(stderr, "codrive: {}: {}\n", m.slave_label(*slave),
-                       esi->mismatch(sii.vendor_id, sii.product_code, sii.revision));
-            return kExitFailure;
-        }
-        esi_pdos = ethercat::esi_default_pdos(*device);
+        esi_pdos = ethercat::esi_default_pdos(*esi->device);
     }
     auto current = m.read_pdo_assignment(*slave);
     if (!current) {

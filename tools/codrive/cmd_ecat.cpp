@@ -33,7 +33,7 @@ struct EcatOptions {
 /// `refused` (after printing the sentence) when the file cannot be read or describes another
 /// device; nullptr without --esi or when the dictionary has no such entry.
 struct EsiLookup {
-    std::optional<ethercat::EsiFile> file;
+    std::optional<SlaveEsi> esi;
     const ethercat::EsiEntry* entry = nullptr;
     bool refused = false;
 };
@@ -43,21 +43,12 @@ EsiLookup esi_entry(const EcatOptions& o, const Master& m, std::uint16_t index, 
     if (o.esi.empty()) {
         return out;
     }
-    auto esi = ethercat::load_esi(o.esi);
-    if (!esi) {
-        fmt::print(stderr, "codrive: {}\n", esi.error());
+    out.esi = slave_esi(o.esi, m, o.position);
+    if (!out.esi) {
         out.refused = true;
         return out;
     }
-    out.file = std::move(*esi);
-    const auto& sii = m.slaves().at(o.position).sii;
-    const ethercat::EsiDevice* d = out.file->match(sii.vendor_id, sii.product_code, sii.revision);
-    if (d == nullptr) {
-        fmt::print(stderr, "codrive: {}: {}\n", m.slave_label(o.position),
-                   out.file->mismatch(sii.vendor_id, sii.product_code, sii.revision));
-        out.refused = true;
-        return out;
-    }
+    const ethercat::EsiDevice* d = out.esi->device;
     out.entry = d->entry(index, sub);
     if (out.entry == nullptr) {
         fmt::print(stderr, "codrive: {} has no object 0x{:04X}:{:02X} for {}\n", o.esi, index, sub,

@@ -66,4 +66,23 @@ std::string format_slave_table(const Master& master, unsigned base) {
     return out;
 }
 
+std::optional<SlaveEsi> slave_esi(const std::string& path, const Master& master,
+                                  std::size_t slave) {
+    auto esi = ethercat::load_esi(path);
+    if (!esi) {
+        fmt::print(stderr, "codrive: {}\n", esi.error());
+        return std::nullopt;
+    }
+    std::optional<SlaveEsi> out(std::in_place);
+    out->file = std::move(*esi); // `device` points into the file from here on
+    const auto& sii = master.slaves().at(slave).sii;
+    out->device = out->file.match(sii.vendor_id, sii.product_code, sii.revision);
+    if (out->device == nullptr) {
+        fmt::print(stderr, "codrive: {}: {}\n", master.slave_label(slave),
+                   out->file.mismatch(sii.vendor_id, sii.product_code, sii.revision));
+        return std::nullopt;
+    }
+    return out;
+}
+
 } // namespace codrive::cli

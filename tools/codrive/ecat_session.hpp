@@ -3,6 +3,7 @@
 // with a readable error, pick a slave by its position, bring it to PRE-OP for CoE.
 #pragma once
 
+#include <codrive/ethercat/esi.hpp>
 #include <codrive/ethercat/master.hpp>
 #include <codrive/ethercat/raw_socket_link.hpp>
 
@@ -28,6 +29,18 @@ std::optional<EcatSession> open_segment(const std::string& iface, unsigned label
 /// mailbox); prints the problem and returns nullopt.
 std::optional<std::size_t> slave_for_coe(ethercat::Master& master, unsigned position,
                                          unsigned base);
+
+/// A vendor's ESI file and its device that describes one slave.
+struct SlaveEsi {
+    ethercat::EsiFile file;
+    const ethercat::EsiDevice* device = nullptr; ///< in `file`
+};
+
+/// `--esi PATH` for the slave at index `slave`: the file read and its device matched against the
+/// slave's SII identity (vendor, product; the exact revision first). Prints the sentence and
+/// returns nullopt when the file cannot be read or describes another device.
+std::optional<SlaveEsi> slave_esi(const std::string& path, const ethercat::Master& master,
+                                  std::size_t slave);
 
 /// The segment as a table: position (from `base`), station address, vendor, product,
 /// revision, name, AL state.
