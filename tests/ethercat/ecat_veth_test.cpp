@@ -23,6 +23,21 @@ using namespace codrive::ethercat;
 
 const std::vector<std::string> kChain{"--slave", "fio", "--slave", "akd2g", "--slave", "ds-bvs"};
 
+/// An 800-odd-byte text downloaded to slave 1's scratch string 5FFFh and uploaded again (segmented
+/// CoE transfers both ways: normal-transfer data after the size, then long segments).
+void expect_segmented_round_trip(Master& master, const std::string& tag) {
+    std::string text;
+    for (int i = 0; i < 30; ++i) {
+        text += fmt::format("{} segmented transfer {:02}|", tag, i);
+    }
+    ASSERT_TRUE(
+        master.sdo_download(1, 0x5FFF, 0, std::vector<std::uint8_t>(text.begin(), text.end())))
+        << master.last_error();
+    auto back = master.sdo_upload(1, 0x5FFF, 0);
+    ASSERT_TRUE(back) << master.last_error();
+    EXPECT_EQ(std::string(back->begin(), back->end()), text);
+}
+
 std::vector<std::string> chain_with(std::vector<std::string> extra) {
     std::vector<std::string> a = kChain;
     a.insert(a.end(), extra.begin(), extra.end());
@@ -63,16 +78,7 @@ TEST_F(EcatVethTest, CoeReadsIdentityAndRoundTripsASegmentedString) {
     auto name = master_->sdo_upload(2, 0x1008, 0);
     ASSERT_TRUE(name) << master_->last_error();
     EXPECT_EQ(std::string(name->begin(), name->end()), "DS-BVS");
-    std::string text;
-    for (int i = 0; i < 30; ++i) {
-        text += fmt::format("veth segmented transfer {:02}|", i);
-    }
-    ASSERT_TRUE(
-        master_->sdo_download(1, 0x5FFF, 0, std::vector<std::uint8_t>(text.begin(), text.end())))
-        << master_->last_error();
-    auto back = master_->sdo_upload(1, 0x5FFF, 0);
-    ASSERT_TRUE(back) << master_->last_error();
-    EXPECT_EQ(std::string(back->begin(), back->end()), text);
+    ASSERT_NO_FATAL_FAILURE(expect_segmented_round_trip(*master_, "veth"));
     auto missing = master_->sdo_upload(0, 0x2345, 9);
     ASSERT_FALSE(missing);
     EXPECT_EQ(missing.error(), SdoAbort::NoObject);
@@ -263,16 +269,7 @@ TEST_F(EcatVethTest, CapturedFramesDissectWithoutMalformedPackets) {
     EXPECT_EQ(std::string(name->data.begin(), name->data.end()), "AKD2G") << name->sentence;
     // A segmented download and upload (sdo::SdoClientMachine with CoE's framing: normal transfer
     // data after the size, then segments longer than 7 bytes).
-    std::string text;
-    for (int i = 0; i < 30; ++i) {
-        text += fmt::format("tshark segmented transfer {:02}|", i);
-    }
-    ASSERT_TRUE(
-        master_->sdo_download(1, 0x5FFF, 0, std::vector<std::uint8_t>(text.begin(), text.end())))
-        << master_->last_error();
-    auto back = master_->sdo_upload(1, 0x5FFF, 0);
-    ASSERT_TRUE(back) << master_->last_error();
-    EXPECT_EQ(std::string(back->begin(), back->end()), text);
+    ASSERT_NO_FATAL_FAILURE(expect_segmented_round_trip(*master_, "tshark"));
     link_->set_tap({});
     writer.close();
     ASSERT_GT(writer.frames(), 100U);
