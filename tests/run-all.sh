@@ -1,11 +1,12 @@
 #!/usr/bin/env bash
 # SPDX-License-Identifier: Apache-2.0
-# Builds and runs every codrive test: unit and virtual-bus tests under ASan+UBSan on the host,
-# vcan tests (real sockets, real processes) under UBSan in vcan (natively or in a UML guest),
-# EtherCAT tests on veth, the host threading tests under ThreadSanitizer, the allocation tests
-# and the Python module's pytest suites (host, and vcan in the guest) in a Release build, the
-# libFuzzer targets (clang 14, bounded time) and a valgrind leak check of
-# a vcan subset in the guest. Each build directory builds only the targets its stages run.
+# Builds and runs every codrive test: unit, virtual-bus and EtherCAT (veth) tests under
+# ASan+UBSan on the host; vcan tests (real sockets, real processes) in vcan (natively or in a UML
+# guest, where no sanitizer runtime works) on the Release build users ship, with a valgrind leak
+# check of a vcan subset; the host threading tests under ThreadSanitizer; the allocation tests and
+# the Python module's pytest suites (host, and vcan in the guest) in the same Release build; the
+# libFuzzer targets (clang 14, bounded time). Four builds (ASan+UBSan, Release, TSan, clang fuzz),
+# each building only the targets its stages run.
 # The summary gives per suite: passed, failed, skipped, and the stage's wall time. A suite that
 # exists but ran no test fails the run, and so does a skipped test that was not asked for.
 #   CODRIVE_SKIP_VCAN=1      skip the vcan and leak stages explicitly (reported as skipped)
@@ -105,8 +106,8 @@ run_gtest() {
     rm -f "$log"
 }
 
-# The unit stage runs in the background while build-ubsan compiles (a test binary needs one
-# CPU): each binary's log and exit status go to unit_dir and are counted afterwards.
+# The unit stage runs in the background while the Release build compiles (a test binary needs
+# one CPU): each binary's log and exit status go to unit_dir and are counted afterwards.
 unit_dir=$root/build-asan/ci-unit
 unit_run() {
     local exe t0
@@ -129,10 +130,11 @@ unit_report() {
     done
 }
 
-# The allocation proofs in an optimised build: the optimiser must not be able to remove what
-# they count (and a Release build is what users ship). The build directory is the one the
-# install stage (tests/install/run.sh) configures next with the same flags: the libraries
-# compiled here are reused there instead of being compiled a fourth time.
+# The Release build (what users ship) serves the vcan and leak stages (no sanitizer runtime works
+# in the UML guest; valgrind reads optimised code fine), the allocation proofs (the optimiser
+# must not be able to remove what they count), the Python module and the install stage: its
+# directory is the one tests/install/run.sh configures with the same flags, so the libraries
+# compiled here are reused there instead of being compiled again.
 release_build=$root/build-install/build
 release_stage() {
     local exe
@@ -146,7 +148,7 @@ release_stage() {
 # (integration_tests) and the controller over veth EtherCAT with its dedicated cyclic thread.
 # TSan cannot run in the UML guest, so the vcan suite has no TSan run. Left out under TSan: the
 # allocation count (TSan slows the cycle until frames are lost) and the thread count (TSan runs a
-# background thread of its own); both run in the UBSan EtherCAT stage.
+# background thread of its own); both run in the ASan+UBSan EtherCAT stage.
 tsan_stage() {
     export TSAN_OPTIONS="halt_on_error=1 second_deadlock_stack=1 ${TSAN_OPTIONS:-}"
     run_gtest tsan "$root/build-tsan/tests/integration_tests"
@@ -154,18 +156,19 @@ tsan_stage() {
         --gtest_filter='ControllerOverEthercat.*:-*EcatDemoProgram*:*AllocatesNothing*:*LeavesNoFdsOrThreads*'
 }
 
-echo "== build: ASan+UBSan (unit and virtual-bus tests)"
+echo "== build: ASan+UBSan (unit, virtual-bus and EtherCAT tests, and the tools they start)"
 stage build-asan configure_build "$root/build-asan" Debug "address,undefined" \
-    'unit_[a-z_]+|integration_tests' || status=1
-echo "== unit tests (ASan+UBSan) started in the background, beside the UBSan build"
+    'unit_[a-z_]+|integration_tests|ethercat_tests|codrive(-[a-z_-]+)?' || status=1
+echo "== unit tests (ASan+UBSan) started in the background, beside the Release build"
 unit_run &
 unit_pid=$!
 
-echo "== build: UBSan (vcan and EtherCAT tests, tools; ASan cannot run in a UML guest)"
+echo "== build: Release (vcan and leak stages, allocation tests, Python module, install)"
 all_jobs=$jobs
 jobs=$((all_jobs > 1 ? all_jobs - 1 : 1))
-stage build-ubsan configure_build "$root/build-ubsan" Debug "undefined" \
-    'vcan_tests|ethercat_tests|codrive(-[a-z_-]+)?' || status=1
+mkdir -p "$root/build-install"
+stage build-release configure_build "$release_build" Release "" \
+    'vcan_tests|unit_pdo|unit_sync|unit_drives|codrive_python|codrive(-[a-z_-]+)?' || status=1
 jobs=$all_jobs
 echo "== unit tests (ASan+UBSan)"
 wait "$unit_pid" || true
@@ -192,7 +195,7 @@ vcan_stage() {
     local log rc
     log=$(mktemp)
     set +e
-    bash vcan-scripts/run-in-vcan.sh -v --timeout 2400 "$root/build-ubsan/tests/vcan_tests" 2>&1 | tee "$log"
+    bash vcan-scripts/run-in-vcan.sh -v --timeout 2400 "$release_build/tests/vcan_tests" 2>&1 | tee "$log"
     rc=${PIPESTATUS[0]}
     set -e
     [[ $rc -eq 0 ]] || status=1
@@ -209,7 +212,7 @@ leak_stage() {
     log=$(mktemp)
     set +e
     bash vcan-scripts/run-in-vcan.sh --timeout 900 bash tests/vcan/leak_check.sh \
-        "$root/build-ubsan" 2>&1 | tee "$log"
+        "$release_build" 2>&1 | tee "$log"
     rc=${PIPESTATUS[0]}
     set -e
     [[ $rc -eq 0 ]] || status=1
@@ -254,7 +257,7 @@ if [[ ${CODRIVE_SKIP_ETHERCAT:-0} == 1 ]]; then
     note[ethercat]="skipped on request"
 else
     echo "== EtherCAT tests (veth)"
-    stage ethercat run_gtest ethercat "$root/build-ubsan/tests/ethercat_tests"
+    stage ethercat run_gtest ethercat "$root/build-asan/tests/ethercat_tests"
 fi
 
 echo "== build: ThreadSanitizer (controller, hand-off and EtherCAT controller tests)"
@@ -263,10 +266,6 @@ stage build-tsan configure_build "$root/build-tsan" Debug thread \
 echo "== ThreadSanitizer tests (host)"
 stage tsan tsan_stage
 
-echo "== build: Release (allocation tests)"
-mkdir -p "$root/build-install"
-stage build-release configure_build "$release_build" Release "" \
-    'unit_pdo|unit_sync|unit_drives|codrive_python|codrive-sim|codrive-ecat-sim|codrive-dump' || status=1
 echo "== allocation tests (Release)"
 stage release release_stage
 

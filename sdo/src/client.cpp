@@ -478,9 +478,12 @@ void SdoClient::handle_response(const Frame& frame, TimePoint now) {
             fail(make_error_code(SdoErrc::SendFailed), "start request refused by the bus");
             return;
         }
-        // A repeated start is ignored by a server that got the first (codrive's does).
-        t.flow_sent = now;
-        deadline_ = std::min(deadline_, now + config_.block_gap_timeout);
+        // A repeated start is ignored by a server that got the first (codrive's does); sent
+        // only on request (ClientConfig::repeat_block_responses).
+        if (config_.repeat_block_responses) {
+            t.flow_sent = now;
+            deadline_ = std::min(deadline_, now + config_.block_gap_timeout);
+        }
         arm(now);
         return;
 
@@ -639,7 +642,7 @@ void SdoClient::send_block_upload_ack(TimePoint now, bool early) {
     // Repeating a response is safe only when the server can tell the copy from a new response:
     // successive responses differ when the block size alternates (BlockReceiver::next_block_size).
     const bool alternating = t.options.block_size > 1;
-    t.flow_sent = !complete && alternating ? now : kNever;
+    t.flow_sent = !complete && alternating && config_.repeat_block_responses ? now : kNever;
     if (t.flow_sent != kNever) {
         deadline_ = std::min(deadline_, now + config_.block_gap_timeout);
     }

@@ -96,9 +96,20 @@ protected:
             << after;
         EXPECT_NE(after.find("slave 0 axis 2 (gantry)    SWITCH ON DISABLED"), std::string::npos)
             << after;
+        const bool spindle_disabled =
+            after.find("slave 1 axis 1 (spindle)   SWITCH ON DISABLED") != std::string::npos;
         if (spindle_stops) {
-            EXPECT_NE(after.find("slave 1 axis 1 (spindle)   SWITCH ON DISABLED"),
+            EXPECT_TRUE(spindle_disabled) << after;
+        } else if (!spindle_disabled) {
+            // Still on its quick-stop ramp when the budget ran out: not disabled (that would let
+            // it coast) and said so. The DS-BVS's 6007h default 0 (§6.2.78, no action) lets the
+            // ramp go on after PRE-OP.
+            EXPECT_NE(out.find("slave 1 axis 1 (spindle): still QUICK STOP ACTIVE after the safe "
+                               "shutdown: no standstill (statusword bit 10) within 1000 ms; left "
+                               "decelerating on its quick-stop ramp, not disabled"),
                       std::string::npos)
+                << out;
+            EXPECT_NE(after.find("slave 1 axis 1 (spindle)   QUICK STOP ACTIVE"), std::string::npos)
                 << after;
         }
         EXPECT_NE(out.find("demo OK: every step worked"), std::string::npos) << out;
@@ -156,7 +167,7 @@ TEST_F(DemoScenarioOverEthercat, AFaultOnTheAkd2gIsDecodedWithTheAkd2gTable) {
     EXPECT_EQ(r.status, 0) << r.output;
     // Here the spindle is never faulted: it still turns from the CSV step when the shutdown
     // starts, and its quick stop (DS-BVS 605Ah = 6, stay in QUICK STOP ACTIVE) may outlast the
-    // 1 s shutdown budget; that case is the safe-stop tests' subject, not this one's.
+    // 1 s shutdown budget: then it must be left on its ramp, not disabled, and named.
     expect_scenario(r.output, false);
     EXPECT_NE(r.output.find("slave 0 axis 1 (gantry) is in FAULT: the drive is in FAULT: error "
                             "code 0xFF07 (F2002 Output over current)"),

@@ -415,6 +415,46 @@ TEST(SdoClientFaults, InvalidAckSequenceFromServerAborts) {
     EXPECT_EQ(w->error().abort_code(), 0x05040003U);
 }
 
+/// A block upload whose upload start (the client's second request, cs 5 / 0xA3) is lost once.
+/// Returns the transfer's result and how often the client sent the start.
+std::pair<std::optional<SdoResult<Bytes>>, int> upload_with_lost_start(ClientConfig config) {
+    Harness h({}, config);
+    const Bytes data = pattern(2000);
+    h.od.write(0x2100, 0, data);
+    int starts = 0;
+    h.net.set_fault_filter([&](const std::string& sender, const Frame& f) {
+        FaultAction a;
+        if (sender == "master" && f.id == 0x604 && f.len >= 1 && f.data[0] == 0xA3) {
+            a.drop = ++starts == 1;
+        }
+        return a;
+    });
+    TransferOptions o;
+    o.mode = Mode::Block;
+    auto r = h.upload(0x2100, 0, o);
+    return {std::move(r), starts};
+}
+
+TEST(SdoClientFaults, ALostBlockUploadStartIsNotRepeatedUnlessAskedFor) {
+    // CiA 301 §7.2.4.3.14: one start request per transfer. By default the client does not send
+    // it again (a slow server would read the copy as its next request): the transfer times out
+    // with its sentence.
+    auto [r, starts] = upload_with_lost_start({});
+    ASSERT_TRUE(r.has_value());
+    ASSERT_FALSE(*r);
+    EXPECT_EQ(starts, 1);
+    EXPECT_NE(message(r).find("timed out"), std::string::npos) << message(r);
+}
+
+TEST(SdoClientFaults, ALostBlockUploadStartIsRepeatedWhenAskedFor) {
+    ClientConfig config;
+    config.repeat_block_responses = true; // a lossy link where a response itself may vanish
+    auto [r, starts] = upload_with_lost_start(config);
+    ASSERT_TRUE(r && *r) << message(r);
+    EXPECT_EQ(r->value(), pattern(2000));
+    EXPECT_EQ(starts, 2);
+}
+
 TEST(SdoClientFaults, RandomLossNeverHangs) {
     // Whatever is lost, every transfer ends within its timeouts.
     for (std::uint64_t seed = 1; seed <= 20; ++seed) {

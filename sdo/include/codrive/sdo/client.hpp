@@ -31,6 +31,12 @@ struct ClientConfig {
     int retries = 0;
     /// Block upload: acknowledge early if a sub-block stalls this long (a lost last segment).
     Duration block_gap_timeout = std::chrono::milliseconds(100);
+    /// Block upload: send the upload start or a sub-block response again when nothing of the
+    /// sub-block arrives within `block_gap_timeout`. Off by default, as on the server
+    /// (ServerConfig::repeat_block_responses): CiA 301 §7.2.4.3.14-15 has one response per step,
+    /// and a server slower than 100 ms to start its sub-block gets the copy as its next request.
+    /// Only for lossy links where the response itself may vanish (fault injection).
+    bool repeat_block_responses = false;
     /// End the transfer when the node sends its boot-up message (700h+node, data 00).
     bool watch_boot_up = true;
 };
