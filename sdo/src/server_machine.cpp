@@ -401,7 +401,7 @@ void SdoServerMachine::on_request(std::span<const std::uint8_t> request, TimePoi
     detail::ServerSession& s = *session_;
     Ctx c{od_, config_, framing_, send_, s, stats_, now};
     const bool in_block = s.state == State::BlockDownloadData;
-    // The CiA 301 frame, then (CoE) its data past 8 bytes; a shorter request parses as Invalid.
+    // The CiA 301 frame, then (CoE) its data past 8 bytes; parse_frame() pads a shorter one.
     const auto frame = request.first(std::min(request.size(), kFrameLen));
     const auto extra =
         request.size() > kFrameLen ? request.subspan(kFrameLen) : std::span<const std::uint8_t>{};

@@ -135,7 +135,7 @@ public:
     void set_access_hook(AccessHook hook) { access_hook_ = std::move(hook); }
 
     /// One request: the 8-byte frame and, on CoE, the bytes after it in the same message. A
-    /// request shorter than 8 bytes is no valid SDO frame (aborted 0x05040001).
+    /// shorter request is read with its tail as zeros (parse_frame()).
     void on_request(std::span<const std::uint8_t> request, TimePoint now);
     /// Earliest time on_tick() has work (client timeout, block gap timer); kNever when idle.
     [[nodiscard]] TimePoint next_deadline() const;
