@@ -219,9 +219,10 @@ void SdoServerMachine::on_request(std::span<const std::uint8_t> request, TimePoi
         }
         s.total = size;
         s.toggle = false;
-        if (framing_.initiate_room > 0 && !extra.empty()) {
+        if (framing_.initiate_room > 0) {
             // CoE normal transfer (ETG.1000.6 §5.6.2.2): data follows the size in the same
-            // request; segments follow only for the rest. Bytes past the size are padding.
+            // request; segments follow only for the rest (an announced 0 bytes is complete
+            // here). Bytes past the size are padding.
             const auto data = size ? extra.first(std::min(extra.size(), *size)) : extra;
             if (!write_data(c, data)) {
                 c.abort(s.write_error);

@@ -364,6 +364,25 @@ TEST(SdoServerOneMachine, CompleteAccessPadsSubIndexZeroAndWritesTheRecordBack) 
     EXPECT_EQ(od.get<std::uint32_t>(0x2100, 2), 0x04030201U);
 }
 
+TEST(SdoServerOneMachine, EmptyNormalTransferDownloadIsCompleteOnCoe) {
+    // ETG.1000.6 §5.6.2.2: the initiate request holds all of an announced 0 bytes; the master's
+    // client machine takes the initiate response as the end, so the slave must have written.
+    ObjectDictionary od;
+    add_objects(od);
+    CoeServer slave(od, kMailbox);
+    std::vector<std::uint8_t> m(kCoeHeaderSize);
+    put_le<std::uint16_t>(m.data(), ethercat::coe_header(CoeService::SdoRequest));
+    const Payload p = sdo::make_initiate_download_segmented(0x2001, 0, 0);
+    m.insert(m.end(), p.begin(), p.end());
+    const auto r = slave.handle(m, AlState::PreOp);
+    ASSERT_EQ(r.size(), 1U);
+    EXPECT_EQ(
+        sdo::parse_frame(std::span(r[0]).subspan(kCoeHeaderSize, 8), sdo::Sender::Server).kind,
+        sdo::FrameKind::InitiateDownloadResponse);
+    EXPECT_TRUE(od.read(0x2001, 0)->empty());
+    EXPECT_FALSE(slave.sdo_server().busy());
+}
+
 TEST(SdoServerOneMachine, PdoMappingWritesOutsidePreOpAreRefusedAtTheInitiateRequest) {
     ObjectDictionary od;
     od.add_sub(0x1C12,
