@@ -7,6 +7,7 @@
 #include <codrive/ethercat/error.hpp>
 #include <codrive/ethercat/master.hpp>
 #include <codrive/ethercat/registers.hpp>
+#include <codrive/sdo/protocol.hpp>
 
 #include <fmt/format.h>
 
@@ -366,9 +367,10 @@ void Master::mailbox_message(std::size_t slave, std::span<const std::uint8_t> sm
     }
     auto& t = *ch.queue.front();
     // The server's SDO abort travels as an SDO *request* (ETG.1000.6 §5.6.2.7).
-    const bool abort = t.service() == CoeService::SdoResponse && got == CoeService::SdoRequest &&
-                       payload.size() > 2 &&
-                       (payload[2] & sdo_cmd::kSpecifierMask) == sdo_cmd::kAbort;
+    const bool abort =
+        t.service() == CoeService::SdoResponse && got == CoeService::SdoRequest &&
+        payload.size() > 2 &&
+        sdo::command_bits(payload[2]) == static_cast<std::uint8_t>(sdo::ServerCommand::Abort);
     if ((got != t.service() && !abort) || t.mailbox_type() != MailboxType::Coe) {
         ++stats_.stray_mailbox_messages;
         return;

@@ -59,27 +59,6 @@ enum class CoeService : std::uint8_t {
     return static_cast<CoeService>(header >> 12);
 }
 
-/// SDO command byte fields (CiA 301 §7.2.4.3 with the CoE complete-access bit, ETG.1000.6
-/// §5.6.2.1): client command specifiers in bits 7..5.
-namespace sdo_cmd {
-inline constexpr std::uint8_t kDownloadSegmentReq = 0x00;  // ccs 0
-inline constexpr std::uint8_t kDownloadInitiateReq = 0x20; // ccs 1
-inline constexpr std::uint8_t kUploadInitiateReq = 0x40;   // ccs 2
-inline constexpr std::uint8_t kUploadSegmentReq = 0x60;    // ccs 3
-inline constexpr std::uint8_t kAbort = 0x80;               // ccs/scs 4
-// Server command specifiers.
-inline constexpr std::uint8_t kUploadSegmentResp = 0x00;    // scs 0
-inline constexpr std::uint8_t kDownloadSegmentResp = 0x20;  // scs 1
-inline constexpr std::uint8_t kUploadInitiateResp = 0x40;   // scs 2
-inline constexpr std::uint8_t kDownloadInitiateResp = 0x60; // scs 3
-inline constexpr std::uint8_t kSpecifierMask = 0xE0;
-inline constexpr std::uint8_t kCompleteAccess = 0x10; ///< initiate requests only
-inline constexpr std::uint8_t kToggle = 0x10;         ///< segments only
-inline constexpr std::uint8_t kExpedited = 0x02;
-inline constexpr std::uint8_t kSizeIndicated = 0x01;
-inline constexpr std::uint8_t kLastSegment = 0x01;
-} // namespace sdo_cmd
-
 /// SDO information opcodes (ETG.1000.6 Table 42), low 7 bits; bit 7 = "incomplete" (more
 /// fragments follow).
 namespace sdo_info {

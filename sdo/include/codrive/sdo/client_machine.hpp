@@ -16,9 +16,6 @@
 
 namespace codrive::sdo {
 
-/// Command byte bit 4 of a CoE initiate request: complete access (ETG.1000.6 §5.6.2.1.1).
-inline constexpr std::uint8_t kCompleteAccessBit = 0x10;
-
 /// How a transport carries SDO data beyond CiA 301's 8 bytes. The defaults are CAN's.
 struct SdoFraming {
     /// Most data bytes one download segment request carries (CAN: 7; CoE: what the slave's

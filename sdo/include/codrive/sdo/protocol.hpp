@@ -46,6 +46,9 @@ inline constexpr std::size_t kSegmentData = 7;        ///< data bytes in a segme
 inline constexpr std::uint8_t kMaxBlockSize = 127;    ///< segments per sub-block (§7.2.4.3.9)
 inline constexpr std::uint8_t kLastSegmentBit = 0x80; ///< `c` bit of a block segment
 inline constexpr std::uint8_t kSeqnoMask = 0x7F;
+/// Command byte bit 4 of a CoE initiate request: complete access (ETG.1000.6 §5.6.2.1.1; on
+/// CAN the bit is reserved).
+inline constexpr std::uint8_t kCompleteAccessBit = 0x10;
 
 [[nodiscard]] constexpr std::uint8_t command_bits(std::uint8_t byte0) {
     return static_cast<std::uint8_t>(byte0 >> 5);

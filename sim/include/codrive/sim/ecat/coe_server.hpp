@@ -1,14 +1,15 @@
 // SPDX-License-Identifier: Apache-2.0
-// The slave side of CoE: SDO server (expedited, normal, segmented, complete access), SDO
-// information service and emergency messages over an ObjectDictionary (ETG.1000.6 §5.6.2).
+// The slave side of CoE: SDO requests served by the SDO server machine of sdo/ with CoE's framing
+// (expedited, normal, segmented, complete access), the SDO information service and emergency
+// messages over an ObjectDictionary (ETG.1000.6 §5.6.2-3).
 #pragma once
 
 #include <codrive/core/object_dictionary.hpp>
 #include <codrive/emcy/message.hpp>
 #include <codrive/ethercat/al_state.hpp>
+#include <codrive/sdo/server_machine.hpp>
 
 #include <cstdint>
-#include <functional>
 #include <span>
 #include <vector>
 
@@ -30,28 +31,17 @@ public:
     /// §5.6.7.4); writes in SAFE-OP/OP abort 0x08000022.
     [[nodiscard]] static bool preop_only(std::uint16_t index);
 
+    /// The SDO server (its statistics, for tests).
+    [[nodiscard]] const sdo::SdoServerMachine& sdo_server() const { return sdo_; }
+
 private:
-    std::vector<std::uint8_t> sdo(std::span<const std::uint8_t> p, ethercat::AlState state);
     std::vector<std::vector<std::uint8_t>> info(std::span<const std::uint8_t> p);
-    std::vector<std::uint8_t> abort(std::uint16_t index, std::uint8_t sub, std::uint32_t code);
-    tl::expected<std::vector<std::uint8_t>, SdoAbort> read_value(std::uint16_t index,
-                                                                 std::uint8_t sub, bool ca);
-    tl::expected<void, SdoAbort> write_value(std::uint16_t index, std::uint8_t sub,
-                                             std::span<const std::uint8_t> data, bool ca,
-                                             ethercat::AlState state);
 
     ObjectDictionary& od_;
     std::size_t mailbox_size_;
-    // Segmented transfer in progress.
-    bool upload_active_ = false;
-    bool download_active_ = false;
-    std::uint16_t xfer_index_ = 0;
-    std::uint8_t xfer_sub_ = 0;
-    bool xfer_ca_ = false;
-    std::uint8_t toggle_ = 0;
-    std::vector<std::uint8_t> buffer_;
-    std::size_t offset_ = 0;
-    std::uint32_t expected_size_ = 0;
+    ethercat::AlState state_ = ethercat::AlState::Init;
+    std::vector<std::vector<std::uint8_t>> sdo_replies_; ///< what the machine sent for a request
+    sdo::SdoServerMachine sdo_;
 };
 
 } // namespace codrive::sim::ecat
