@@ -56,7 +56,9 @@ EscSlave::EscSlave(SiiInfo sii, std::unique_ptr<EcatApplication> app, bool has_d
     mem_[kWatchdogStatus] = 0x01;
     set_al_status(AlState::Init, false, 0);
     // Every simulated clock starts somewhere else, as real free-running ESC clocks do.
-    local_base_ns_ = static_cast<std::int64_t>((sii_.serial % 97) + 1) * 1'000'000'007LL;
+    dc_clock_ = DcClock(static_cast<std::int64_t>((sii_.serial % 97) + 1) * 1'000'000'007LL, 0);
+    // Mean over 2^4 samples for 0x092C (model default; the loop is described in dc_clock.hpp).
+    mem_[reg::kDcSystemTimeDifferenceFilterDepth] = 4;
 }
 
 std::uint16_t EscSlave::reg16(std::uint16_t addr) const {
@@ -80,12 +82,16 @@ void EscSlave::set_sm_status(unsigned n, std::uint8_t status) {
 }
 
 std::uint64_t EscSlave::local_time(TimePoint now) const {
-    return static_cast<std::uint64_t>(
-        std::chrono::duration_cast<nanoseconds>(now.time_since_epoch()).count() + local_base_ns_);
+    return dc_clock_.local_time(now);
 }
 
 std::uint64_t EscSlave::system_time(TimePoint now) const {
-    return local_time(now) + get_le<std::uint64_t>(mem_.data() + reg::kDcSystemTimeOffset);
+    return local_time(now) + get_le<std::uint64_t>(mem_.data() + reg::kDcSystemTimeOffset) +
+           static_cast<std::uint64_t>(dc_clock_.correction(now));
+}
+
+std::int32_t EscSlave::system_time_difference() const {
+    return dc_difference::decode(get_le<std::uint32_t>(mem_.data() + reg::kDcSystemTimeDifference));
 }
 
 bool EscSlave::sync0_active() const {
@@ -200,20 +206,33 @@ void EscSlave::write_memory(std::uint16_t addr, std::span<const std::uint8_t> da
     if (overlaps(addr, data.size(), reg::kSiiControl, 2)) {
         on_sii_control();
     }
-    if (overlaps(addr, data.size(), reg::kDcSystemTime, 8) && data.size() >= 4 &&
-        addr == reg::kDcSystemTime) {
-        // Drift control input: the reference time distributed by ARMW/FRMW (ETG.1000.4 §9.1.3).
-        std::uint64_t received = get_le<std::uint64_t>(mem_.data() + reg::kDcSystemTime);
-        const auto delay = get_le<std::uint32_t>(mem_.data() + reg::kDcSystemTimeDelay);
-        const auto own = static_cast<std::int64_t>(system_time(now));
-        const std::int64_t diff = static_cast<std::int64_t>(received + delay) - own;
-        // A real ESC slews its clock by a control loop; the model corrects in one step.
-        const auto offset = get_le<std::uint64_t>(mem_.data() + reg::kDcSystemTimeOffset);
-        put_le<std::uint64_t>(mem_.data() + reg::kDcSystemTimeOffset,
-                              offset + static_cast<std::uint64_t>(diff));
-        put_le<std::uint32_t>(mem_.data() + reg::kDcSystemTimeDifference,
-                              static_cast<std::uint32_t>(static_cast<std::int32_t>(diff)));
+    if ((reg16(reg::kFeatures) & 0x0004) == 0) {
+        return; // no DC unit
     }
+    if (overlaps(addr, data.size(), reg::kDcSystemTimeOffset, 8)) {
+        dc_clock_.reset(now); // a new offset: the drift control starts over
+    }
+    if (addr == reg::kDcSystemTime && (data.size() == 4 || data.size() == 8)) {
+        on_system_time_write(data, now);
+    }
+}
+
+void EscSlave::on_system_time_write(std::span<const std::uint8_t> data, TimePoint now) {
+    // Drift control input: the reference clock's system time distributed by ARMW/FRMW
+    // (ETG.1000.4 §9.1.3), plus this slave's propagation delay (0x0928), against its own copy.
+    // A 4-byte write carries the low 32 bits (32-bit system time, ETG.1000.4 §9.1.1).
+    const auto delay = get_le<std::uint32_t>(mem_.data() + reg::kDcSystemTimeDelay);
+    const std::uint64_t own = system_time(now);
+    std::int64_t error = 0;
+    if (data.size() == 8) {
+        error = static_cast<std::int64_t>(own - (get_le<std::uint64_t>(data.data()) + delay));
+    } else {
+        error = static_cast<std::int32_t>(static_cast<std::uint32_t>(own) -
+                                          (get_le<std::uint32_t>(data.data()) + delay));
+    }
+    const std::int64_t mean =
+        dc_clock_.on_difference(now, error, mem_[reg::kDcSystemTimeDifferenceFilterDepth] & 0x0FU);
+    put_le<std::uint32_t>(mem_.data() + reg::kDcSystemTimeDifference, dc_difference::encode(mean));
 }
 
 void EscSlave::latch_receive_times(const ChainContext& ctx) {
@@ -306,13 +325,17 @@ void EscSlave::process(const DatagramRef& dg, const ChainContext& ctx) {
     bool read_done = false;
     bool write_done = false;
     const std::uint16_t ado = dg.ado();
+    // The frame reaches this slave `position` hops after the first one (the same model as the
+    // receive time latches): its DC registers are read and written at that instant, so clocks
+    // in sync show the same time at the same instant and a master's delay compensation holds.
+    const TimePoint at = ctx.now + nanoseconds(static_cast<std::int64_t>(ctx.position) * kHopNs);
     if (mode == Addressing::Logical) {
         logical(dg, read_done, write_done, ctx.now);
     } else if (dg.command == Command::Armw || dg.command == Command::Frmw) {
         if (addressed) {
-            read_done = read_memory(ado, dg.data, false, ctx.now);
+            read_done = read_memory(ado, dg.data, false, at);
         } else if (write_allowed_by_sm(ado, dg.data.size())) {
-            write_memory(ado, dg.data, ctx.now);
+            write_memory(ado, dg.data, at);
             write_done = true;
         }
     } else if (addressed) {
@@ -326,14 +349,14 @@ void EscSlave::process(const DatagramRef& dg, const ChainContext& ctx) {
                 incoming.assign(dg.data.begin(), dg.data.end());
             }
             if (command_reads(dg.command)) {
-                read_done = read_memory(ado, dg.data, dg.command == Command::Brd, ctx.now);
+                read_done = read_memory(ado, dg.data, dg.command == Command::Brd, at);
             }
             if (command_writes(dg.command)) {
                 std::span<const std::uint8_t> src = incoming.empty()
                                                         ? std::span<const std::uint8_t>(dg.data)
                                                         : std::span<const std::uint8_t>(incoming);
                 if (ado + src.size() <= mem_.size() && write_allowed_by_sm(ado, src.size())) {
-                    write_memory(ado, src, ctx.now);
+                    write_memory(ado, src, at);
                     write_done = true;
                 }
             }

@@ -5,6 +5,7 @@
 
 #include <codrive/sim/ecat/application.hpp>
 #include <codrive/sim/ecat/coe_server.hpp>
+#include <codrive/sim/ecat/dc_clock.hpp>
 #include <codrive/sim/ecat/foe_server.hpp>
 
 #include <codrive/ethercat/al_state.hpp>
@@ -76,6 +77,11 @@ public:
     [[nodiscard]] EscFaults& faults() { return faults_; }
     [[nodiscard]] std::uint64_t system_time(TimePoint now) const;
     [[nodiscard]] bool sync0_active() const;
+    /// The slave's DC clock: its drift (set_drift_ppm) and drift control loop state.
+    [[nodiscard]] DcClock& dc_clock() { return dc_clock_; }
+    [[nodiscard]] const DcClock& dc_clock() const { return dc_clock_; }
+    /// 0x092C as the slave reports it: local minus received reference time (ns, mean).
+    [[nodiscard]] std::int32_t system_time_difference() const;
     [[nodiscard]] std::uint64_t frames_seen() const { return frames_seen_; }
     /// Mailbox repeats served (ETG.1000.4 §6.7.2).
     [[nodiscard]] std::uint64_t mailbox_repeats() const { return mailbox_repeats_; }
@@ -136,7 +142,8 @@ private:
     TimePoint last_outputs_{}; ///< last SM2 write, or when OP was entered
     std::uint64_t watchdog_expiries_ = 0;
     std::uint64_t frames_seen_ = 0;
-    std::int64_t local_base_ns_ = 0;
+    DcClock dc_clock_;
+    void on_system_time_write(std::span<const std::uint8_t> data, TimePoint now);
     TimePoint epoch_{};
 };
 
