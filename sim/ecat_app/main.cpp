@@ -362,7 +362,7 @@ int main(int argc, char** argv) {
             // for the whole pause in 1 ms motor steps of every axis, too late for the master's
             // frame timeout. While frames come, they step before each frame as before.
             for (std::size_t i = 0; i < segment.size(); ++i) {
-                segment.slave(i).app().step(SteadyClock::now());
+                segment.slave(i).idle(SteadyClock::now());
             }
             continue;
         }

@@ -643,13 +643,37 @@ bool EscSlave::tick(TimePoint now) {
     return true;
 }
 
+bool EscSlave::sm_synchronous() const {
+    // ETG.1020 §21.1.3.1: 1C32h:01 = 1, synchronous with the SM2 event: in SAFE-OP and OP the
+    // application cycle starts when the master's outputs arrive in SM2 (the AKD2G's PLL on
+    // the SM2 event without DC, manual §3.7); below SAFE-OP there is no process data to wait
+    // for and the application runs free.
+    if (state_ != AlState::SafeOp && state_ != AlState::Op) {
+        return false;
+    }
+    return app_->od().get<std::uint16_t>(0x1C32, 1).value_or(0) == 1;
+}
+
+void EscSlave::run_application(TimePoint now) {
+    ++application_cycles_;
+    app_->step(now);
+}
+
+void EscSlave::idle(TimePoint now) {
+    if (!faults_.silent && !sm_synchronous()) {
+        run_application(now);
+    }
+}
+
 void EscSlave::before_frame(TimePoint now) {
     ++frames_seen_;
     if (faults_.silent) {
         return;
     }
     (void)tick(now);
-    app_->step(now);
+    if (!sm_synchronous()) {
+        run_application(now);
+    }
     if (app_->take_restart() && state_ != AlState::Init) {
         // The device restarted: its ESC comes back in INIT, mailbox empty.
         const AlState from = state_;
@@ -712,6 +736,9 @@ void EscSlave::after_frame(TimePoint now) {
             last_outputs_ = now;
             mem_[kWatchdogStatus] = 0x01;
             unpack_outputs(now);
+            if (sm_synchronous()) {
+                run_application(now); // the SM2 event starts the application cycle
+            }
         }
     }
 }

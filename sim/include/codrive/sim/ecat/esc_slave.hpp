@@ -48,10 +48,19 @@ public:
 
     /// Processes one datagram as the frame passes this slave (adds to the WKC in place).
     void process(const ethercat::DatagramRef& dg, const ChainContext& ctx);
-    /// Before a frame: advances the application and refreshes the input buffer (SM3).
+    /// Before a frame: advances the application (unless SM-synchronous) and refreshes the input
+    /// buffer (SM3).
     void before_frame(TimePoint now);
-    /// After a frame: consumes a written mailbox (CoE), applies fresh outputs (SM2).
+    /// After a frame: consumes a written mailbox (CoE), applies fresh outputs (SM2); in sync
+    /// mode 1 (1C32h:01 = 1, SM-synchronous) the SM2 write is what runs the application.
     void after_frame(TimePoint now);
+    /// No frame for a while: the application runs on its own timer, as a real drive's does,
+    /// unless it is SM-synchronous in SAFE-OP/OP (then it waits for the next SM2 event).
+    void idle(TimePoint now);
+    /// True in SAFE-OP/OP with 1C32h:01 = 1 (ETG.1020 §21.1.3.1, synchronous with SM2).
+    [[nodiscard]] bool sm_synchronous() const;
+    /// Application cycles run so far (free-running steps and SM2 events alike).
+    [[nodiscard]] std::uint64_t application_cycles() const { return application_cycles_; }
     /// Runs the process data (SM) watchdog; call it regularly even when no frames arrive (a
     /// master that died sends none). In OP, when the output sync manager has its watchdog
     /// enabled and no outputs were written for the time in 0x0400/0x0420 (default 100 ms), the
@@ -143,6 +152,8 @@ private:
     std::uint64_t watchdog_expiries_ = 0;
     std::uint64_t frames_seen_ = 0;
     DcClock dc_clock_;
+    std::uint64_t application_cycles_ = 0;
+    void run_application(TimePoint now);
     void on_system_time_write(std::span<const std::uint8_t> data, TimePoint now);
     TimePoint epoch_{};
 };
