@@ -16,8 +16,6 @@ using namespace codrive::ethercat;
 
 namespace {
 
-constexpr std::int64_t kHopNs = 500; // simulated per-slave forwarding delay for DC receive times
-
 bool read_only_register(std::uint32_t a) {
     return a < 0x0010 || (a >= 0x0110 && a < 0x0112) || (a >= 0x0130 && a < 0x0140) ||
            (a >= 0x0800 && a < 0x0880 && ((a - 0x0800) % 8 == 5 || (a - 0x0800) % 8 == 7)) ||
@@ -79,24 +77,6 @@ SyncManager EscSlave::sm(unsigned n) const {
 
 void EscSlave::set_sm_status(unsigned n, std::uint8_t status) {
     mem_[reg::sm(n) + 5U] = status;
-}
-
-std::uint64_t EscSlave::local_time(TimePoint now) const {
-    return dc_clock_.local_time(now);
-}
-
-std::uint64_t EscSlave::system_time(TimePoint now) const {
-    return local_time(now) + get_le<std::uint64_t>(mem_.data() + reg::kDcSystemTimeOffset) +
-           static_cast<std::uint64_t>(dc_clock_.correction(now));
-}
-
-std::int32_t EscSlave::system_time_difference() const {
-    return dc_difference::decode(get_le<std::uint32_t>(mem_.data() + reg::kDcSystemTimeDifference));
-}
-
-bool EscSlave::sync0_active() const {
-    return (mem_[reg::kDcActivation] & 0x03) == 0x03 &&
-           get_le<std::uint32_t>(mem_.data() + reg::kDcSync0CycleTime) != 0;
 }
 
 void EscSlave::set_al_status(AlState s, bool error, std::uint16_t code, bool injected) {
@@ -173,10 +153,6 @@ void EscSlave::after_sm_read(std::uint16_t addr, std::size_t len) {
     }
 }
 
-void EscSlave::refresh_dc(TimePoint now) {
-    put_le<std::uint64_t>(mem_.data() + reg::kDcSystemTime, system_time(now));
-}
-
 bool EscSlave::read_memory(std::uint16_t addr, std::span<std::uint8_t> out, bool or_into,
                            TimePoint now) {
     if (addr + out.size() > mem_.size() || !read_allowed_by_sm(addr, out.size())) {
@@ -215,37 +191,6 @@ void EscSlave::write_memory(std::uint16_t addr, std::span<const std::uint8_t> da
     if (addr == reg::kDcSystemTime && (data.size() == 4 || data.size() == 8)) {
         on_system_time_write(data, now);
     }
-}
-
-void EscSlave::on_system_time_write(std::span<const std::uint8_t> data, TimePoint now) {
-    // Drift control input: the reference clock's system time distributed by ARMW/FRMW
-    // (ETG.1000.4 §9.1.3), plus this slave's propagation delay (0x0928), against its own copy.
-    // A 4-byte write carries the low 32 bits (32-bit system time, ETG.1000.4 §9.1.1).
-    const auto delay = get_le<std::uint32_t>(mem_.data() + reg::kDcSystemTimeDelay);
-    const std::uint64_t own = system_time(now);
-    std::int64_t error = 0;
-    if (data.size() == 8) {
-        error = static_cast<std::int64_t>(own - (get_le<std::uint64_t>(data.data()) + delay));
-    } else {
-        error = static_cast<std::int32_t>(static_cast<std::uint32_t>(own) -
-                                          (get_le<std::uint32_t>(data.data()) + delay));
-    }
-    const std::int64_t mean =
-        dc_clock_.on_difference(now, error, mem_[reg::kDcSystemTimeDifferenceFilterDepth] & 0x0FU);
-    put_le<std::uint32_t>(mem_.data() + reg::kDcSystemTimeDifference, dc_difference::encode(mean));
-}
-
-void EscSlave::latch_receive_times(const ChainContext& ctx) {
-    const std::uint64_t t = local_time(ctx.now);
-    const auto pos = static_cast<std::int64_t>(ctx.position);
-    const auto n = static_cast<std::int64_t>(ctx.chain_length);
-    const std::uint64_t port0 = t + static_cast<std::uint64_t>(pos * kHopNs);
-    const std::uint64_t port1 = t + static_cast<std::uint64_t>((2 * n - 1 - pos) * kHopNs);
-    put_le<std::uint32_t>(mem_.data() + reg::kDcReceiveTimePort0,
-                          static_cast<std::uint32_t>(port0));
-    put_le<std::uint32_t>(mem_.data() + reg::kDcReceiveTimePort0 + 4,
-                          static_cast<std::uint32_t>(port1));
-    put_le<std::uint64_t>(mem_.data() + reg::kDcReceiveTimeLocal, port0);
 }
 
 bool EscSlave::logical(const DatagramRef& dg, bool& read_done, bool& write_done, TimePoint now) {
@@ -328,7 +273,7 @@ void EscSlave::process(const DatagramRef& dg, const ChainContext& ctx) {
     // The frame reaches this slave `position` hops after the first one (the same model as the
     // receive time latches): its DC registers are read and written at that instant, so clocks
     // in sync show the same time at the same instant and a master's delay compensation holds.
-    const TimePoint at = ctx.now + nanoseconds(static_cast<std::int64_t>(ctx.position) * kHopNs);
+    const TimePoint at = ctx.now + nanoseconds(static_cast<std::int64_t>(ctx.position) * kDcHopNs);
     if (mode == Addressing::Logical) {
         logical(dg, read_done, write_done, ctx.now);
     } else if (dg.command == Command::Armw || dg.command == Command::Frmw) {

@@ -101,6 +101,9 @@ public:
     [[nodiscard]] std::uint16_t reg16(std::uint16_t addr) const;
 
 private:
+    /// Simulated per-slave forwarding delay (ns): the frame reaches slave n n hops after the
+    /// first (DC receive time latches and register access times).
+    static constexpr std::int64_t kDcHopNs = 500;
     void write_memory(std::uint16_t addr, std::span<const std::uint8_t> data, TimePoint now);
     bool read_memory(std::uint16_t addr, std::span<std::uint8_t> out, bool or_into, TimePoint now);
     bool write_allowed_by_sm(std::uint16_t addr, std::size_t len);
