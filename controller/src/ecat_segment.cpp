@@ -211,7 +211,7 @@ tl::expected<void, ControllerError> EcatSegment::synchronise_slave(Slave& s) {
     // SAFE-OP; a cycle below the slave's minimum (1C32h:05) is refused here, never in OP.
     ethercat::SyncSettings sync;
     sync.cycle = period_;
-    sync.dc = slave_dc(config_, s.entry);
+    sync.mode = slave_sync(config_, s.entry);
     sync.shift = microseconds(slave_sync0_shift_us(config_, s.entry));
     sync.name = s.entry.name;
     auto r = ethercat::configure_sync(*master_, s.index, sync);
@@ -221,11 +221,12 @@ tl::expected<void, ControllerError> EcatSegment::synchronise_slave(Slave& s) {
     for (const auto& note : r->notes) {
         emit_(note);
     }
-    emit_(fmt::format(
-        "{}: sync mode {} ({}), cycle {} µs{}", master_->slave_label(s.index), r->mode,
-        ethercat::sync_mode_name(r->mode), config_.cycle_us,
-        sync.dc ? fmt::format(", SYNC0 shift {} µs", slave_sync0_shift_us(config_, s.entry))
-                : std::string()));
+    emit_(
+        fmt::format("{}: sync mode {} ({}), cycle {} µs{}", master_->slave_label(s.index), r->mode,
+                    ethercat::sync_mode_name(r->mode), config_.cycle_us,
+                    sync.mode == ethercat::SyncMode::DcSync0
+                        ? fmt::format(", SYNC0 shift {} µs", slave_sync0_shift_us(config_, s.entry))
+                        : std::string()));
     return {};
 }
 

@@ -37,10 +37,10 @@ public:
             error(key_line, "`ethercat` must be a map with `interface`, `cycle_us` and `slaves`");
             return std::nullopt;
         }
-        check_keys(
-            s,
-            {"interface", "cycle_us", "lost_frames_event", "dc", "sync0_shift_us", "esi", "slaves"},
-            "`ethercat`");
+        check_keys(s,
+                   {"interface", "cycle_us", "lost_frames_event", "dc", "sync", "sync0_shift_us",
+                    "esi", "slaves"},
+                   "`ethercat`");
         if (s["interface"] && s["interface"].IsScalar()) {
             c.iface = s["interface"].as<std::string>();
         } else {
@@ -65,19 +65,17 @@ public:
                 c.lost_frames_event = static_cast<unsigned>(*v);
             }
         }
-        bool dc_readable = true; // a bad `dc` is one finding, not a second one on the shift
-        if (s["dc"]) {
-            const auto dc = flag(s["dc"], "`ethercat.dc`");
-            dc_readable = dc.has_value();
-            c.dc = dc.value_or(false);
-        }
+        // A bad `dc`/`sync` is one finding, not a second one on the shift.
+        const auto mode = sync_mode(s, "`ethercat.");
+        const bool dc_readable = mode.has_value();
+        c.sync = mode.value_or(std::nullopt).value_or(ethercat::SyncMode::FreeRun);
         std::optional<int> shift_line;
         if (s["sync0_shift_us"]) {
             shift_line = line_of(s["sync0_shift_us"]);
             c.sync0_shift_us =
                 shift(s["sync0_shift_us"], c.cycle_us, "`ethercat.sync0_shift_us`").value_or(0);
         }
-        if (shift_line && dc_readable && !c.dc) {
+        if (shift_line && dc_readable && c.sync != ethercat::SyncMode::DcSync0) {
             error(*shift_line, "`ethercat.sync0_shift_us` needs `dc: true` (SYNC0 exists only "
                                "with distributed clocks)");
         }
@@ -160,6 +158,44 @@ private:
         }
     }
 
+    /// `sync: free|sm|dc` and the older `dc: true|false` of a map (`what` starts the key's
+    /// name in messages: "`ethercat." or "slave 2: `"). The outer nullopt: a finding was
+    /// reported; the inner one: neither key is there.
+    std::optional<std::optional<ethercat::SyncMode>> sync_mode(const YAML::Node& m,
+                                                               const std::string& what) {
+        std::optional<ethercat::SyncMode> from_dc;
+        if (m["dc"]) {
+            const auto dc = flag(m["dc"], what + "dc`");
+            if (!dc) {
+                return std::nullopt;
+            }
+            from_dc = *dc ? ethercat::SyncMode::DcSync0 : ethercat::SyncMode::FreeRun;
+        }
+        if (!m["sync"]) {
+            return from_dc;
+        }
+        const auto name = text(m["sync"], what + "sync`");
+        const auto mode = name ? ethercat::sync_mode_from_string(*name) : std::nullopt;
+        if (!name) {
+            return std::nullopt;
+        }
+        if (!mode) {
+            error(line_of(m["sync"]),
+                  fmt::format("{}sync` must be free, sm or dc (ETG.1020 sync modes 0, 1, 2), but "
+                              "it is `{}`",
+                              what, *name));
+            return std::nullopt;
+        }
+        if (from_dc && *from_dc != *mode) {
+            error(line_of(m["sync"]),
+                  fmt::format("{}sync: {}` and `dc: {}` disagree: give `sync:` "
+                              "alone",
+                              what, *name, from_dc == ethercat::SyncMode::DcSync0));
+            return std::nullopt;
+        }
+        return mode;
+    }
+
     // `dc: true|false`: anything else is a finding naming the key, not a silent false.
     std::optional<bool> flag(const YAML::Node& n, const std::string& what) {
         if (n.IsScalar()) {
@@ -199,7 +235,8 @@ private:
             error(e.line, "an EtherCAT slave must be a map with `position` and `profile`");
             return std::nullopt;
         }
-        check_keys(n, {"position", "name", "profile", "axes", "dc", "sync0_shift_us", "esi"},
+        check_keys(n,
+                   {"position", "name", "profile", "axes", "dc", "sync", "sync0_shift_us", "esi"},
                    "an EtherCAT slave");
         const auto pos = n["position"] ? number(n["position"]) : std::nullopt;
         if (!pos || *pos < 0 || *pos > 65535) {
@@ -227,13 +264,12 @@ private:
                                       "generic)",
                                       e.position));
         }
-        if (n["dc"]) {
-            e.dc = flag(n["dc"], fmt::format("slave {}: `dc`", e.position));
-        }
+        const auto mode = sync_mode(n, fmt::format("slave {}: `", e.position));
+        e.sync = mode.value_or(std::nullopt);
         if (n["sync0_shift_us"]) {
             e.sync0_shift_us = shift(n["sync0_shift_us"], seg.cycle_us,
                                      fmt::format("slave {}: `sync0_shift_us`", e.position));
-            const bool dc_readable = !n["dc"] || e.dc.has_value();
+            const bool dc_readable = mode.has_value();
             if (dc_readable && !slave_dc(seg, e)) {
                 error(line_of(n["sync0_shift_us"]),
                       fmt::format("slave {}: `sync0_shift_us` needs `dc: true` (SYNC0 exists "
@@ -345,8 +381,12 @@ private:
 
 } // namespace
 
+ethercat::SyncMode slave_sync(const EcatSegmentConfig& segment, const EcatSlaveEntry& slave) {
+    return slave.sync.value_or(segment.sync);
+}
+
 bool slave_dc(const EcatSegmentConfig& segment, const EcatSlaveEntry& slave) {
-    return slave.dc.value_or(segment.dc);
+    return slave_sync(segment, slave) == ethercat::SyncMode::DcSync0;
 }
 
 std::uint32_t slave_sync0_shift_us(const EcatSegmentConfig& segment, const EcatSlaveEntry& slave) {

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: Apache-2.0
-// Master distributed clocks: propagation delays, system time offsets, static drift compensation
-// and SYNC0 activation (ETG.1000.4 §9.1, ET1100 datasheet §9 "Distributed Clocks").
+// Master distributed clocks: propagation delays, system time offsets, static and continuous drift
+// compensation and SYNC0 activation (ETG.1000.4 §9.1, ET1100 datasheet §9 "Distributed Clocks").
 #include <codrive/ethercat/error.hpp>
 #include <codrive/ethercat/master.hpp>
 #include <codrive/ethercat/registers.hpp>
@@ -63,17 +63,46 @@ VoidResult Master::configure_dc() {
         }
     }
     dc_reference_ = ref;
-    // Static drift compensation: the reference clock's time distributed by ARMW (ETG.1000.4
-    // §9.1.3 recommends many frames; the slaves' control loops settle with them).
+    // Static drift compensation: the reference clock's time distributed in a burst of frames
+    // (ETG.1000.4 §9.1.3 recommends many; the slaves' control loops start settling with them).
+    // The cyclic frame then goes on distributing it every cycle (dc_time_add()).
     for (int i = 0; i < 16; ++i) {
-        std::array<Datagram, 1> armw{Datagram::physical(
-            Command::Armw, static_cast<std::uint16_t>(0U - slaves_[ref].position),
-            reg::kDcSystemTime, 8)};
-        if (auto e = exchange(armw); !e) {
+        if (auto e = distribute_system_time(); !e) {
             return e;
         }
     }
     return {};
+}
+
+namespace {
+/// The drift compensation datagram (ETG.1000.4 §9.1.3, ETG.1020 distributed clocks): FRMW to
+/// the reference clock's configured address on 0x0910, 64 bits. The reference clock puts its
+/// system time into it, every DC slave behind it takes it as the input of its drift control
+/// (and reports the mean difference in 0x092C).
+constexpr Command kDcTimeCommand = Command::Frmw;
+constexpr std::size_t kDcTimeSize = 8;
+} // namespace
+
+VoidResult Master::distribute_system_time() {
+    if (!dc_reference_) {
+        return set_error(make_error_code(EcatErrc::NotConfigured),
+                         "distributed clocks are not configured (no reference clock)");
+    }
+    std::array<Datagram, 1> d{Datagram::physical(
+        kDcTimeCommand, slaves_[*dc_reference_].station_address, reg::kDcSystemTime, kDcTimeSize)};
+    return exchange(d);
+}
+
+void Master::dc_time_add() {
+    // Right behind the LRW, in the same frame: no extra exchange, and the datagram's buffer is
+    // reused from frame to frame (add_datagram keeps its capacity), so nothing is allocated.
+    if (!dc_reference_ || !config_.continuous_drift_compensation ||
+        frame_room() < kDatagramOverhead + kDcTimeSize) {
+        return;
+    }
+    add_datagram(kDcTimeCommand, slaves_[*dc_reference_].station_address, reg::kDcSystemTime,
+                 kDcTimeSize);
+    ++stats_.dc_time_distributions;
 }
 
 Result<std::uint64_t> Master::read_system_time(std::size_t slave) {
@@ -138,7 +167,7 @@ Result<std::vector<DcSlaveStatus>> Master::dc_status() {
         s.system_time = get_le<std::uint64_t>(reads[2 * k].data.data());
         s.delay = get_le<std::uint32_t>(reads[2 * k + 1].data.data());
         s.difference =
-            static_cast<std::int32_t>(get_le<std::uint32_t>(reads[2 * k + 1].data.data() + 4));
+            dc_difference::decode(get_le<std::uint32_t>(reads[2 * k + 1].data.data() + 4));
         s.offset_to_reference = static_cast<std::int64_t>(s.system_time - ref_time) -
                                 static_cast<std::int64_t>(s.delay);
         out.push_back(s);

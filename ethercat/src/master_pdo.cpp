@@ -291,6 +291,7 @@ VoidResult Master::send_process_data() {
     Datagram& lrw = add_datagram(Command::Lrw, 0, 0, image_.size());
     lrw.address = logical_base_;
     std::copy(image_.begin(), image_.end(), lrw.data.begin());
+    dc_time_add();
     probes_add();
     al_control_add();
     // Mailbox traffic rides in the same frame, as much as fits: one datagram per slave whose

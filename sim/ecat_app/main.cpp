@@ -14,8 +14,10 @@
 #include <fmt/format.h>
 
 #include <atomic>
+#include <cmath>
 #include <csignal>
 #include <cstdio>
+#include <cstdlib>
 #include <random>
 #include <vector>
 
@@ -96,6 +98,10 @@ int main(int argc, char** argv) {
     app.add_option("--leave-op-on-signal", leave_op_on_signal,
                    "POS:CODE[:N] — SIGRTMIN+1 drops slave POS from OP to SAFE-OP with AL status "
                    "CODE (a local error), and it refuses the next N OP requests with CODE");
+    std::vector<std::string> clock_drift;
+    app.add_option("--clock-drift-ppm", clock_drift,
+                   "POS:PPM — slave POS's DC clock runs PPM parts per million fast (negative: "
+                   "slow); default +20, -20, +30, -30, +40, -40 ppm by position");
     app.add_option("--pcap", pcap, "write every frame received and sent to this pcap file");
     app.add_flag("--echo", echo, "return frames untouched (raw-socket floor for benchmarks)");
     CLI11_PARSE(app, argc, argv);
@@ -117,6 +123,25 @@ int main(int argc, char** argv) {
             }
             segment.add(std::move(slave));
         }
+    }
+    for (std::size_t i = 0; i < segment.size(); ++i) {
+        segment.slave(i).dc_clock().set_drift_ppm(sim::ecat::default_clock_drift_ppm(i));
+    }
+    for (const auto& d : clock_drift) {
+        const auto colon = d.find(':');
+        const auto pos = parse_uint(d.substr(0, colon));
+        char* end = nullptr;
+        const std::string ppm_text = colon == std::string::npos ? "" : d.substr(colon + 1);
+        const double ppm = std::strtod(ppm_text.c_str(), &end);
+        if (!pos || *pos >= segment.size() || ppm_text.empty() || end == nullptr || *end != '\0' ||
+            !(std::abs(ppm) <= 1000.0)) {
+            std::fprintf(stderr,
+                         "codrive-ecat-sim: bad --clock-drift-ppm '%s' (POS:PPM, e.g. 1:-50; POS a "
+                         "configured slave, |PPM| up to 1000)\n",
+                         d.c_str());
+            return 2;
+        }
+        segment.slave(*pos).dc_clock().set_drift_ppm(ppm);
     }
     for (int pos : mailbox_silent) {
         if (pos >= 0 && static_cast<std::size_t>(pos) < segment.size()) {
@@ -337,7 +362,7 @@ int main(int argc, char** argv) {
             // for the whole pause in 1 ms motor steps of every axis, too late for the master's
             // frame timeout. While frames come, they step before each frame as before.
             for (std::size_t i = 0; i < segment.size(); ++i) {
-                segment.slave(i).app().step(SteadyClock::now());
+                segment.slave(i).idle(SteadyClock::now());
             }
             continue;
         }

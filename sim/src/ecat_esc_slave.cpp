@@ -16,8 +16,6 @@ using namespace codrive::ethercat;
 
 namespace {
 
-constexpr std::int64_t kHopNs = 500; // simulated per-slave forwarding delay for DC receive times
-
 bool read_only_register(std::uint32_t a) {
     return a < 0x0010 || (a >= 0x0110 && a < 0x0112) || (a >= 0x0130 && a < 0x0140) ||
            (a >= 0x0800 && a < 0x0880 && ((a - 0x0800) % 8 == 5 || (a - 0x0800) % 8 == 7)) ||
@@ -56,7 +54,9 @@ EscSlave::EscSlave(SiiInfo sii, std::unique_ptr<EcatApplication> app, bool has_d
     mem_[kWatchdogStatus] = 0x01;
     set_al_status(AlState::Init, false, 0);
     // Every simulated clock starts somewhere else, as real free-running ESC clocks do.
-    local_base_ns_ = static_cast<std::int64_t>((sii_.serial % 97) + 1) * 1'000'000'007LL;
+    dc_clock_ = DcClock(static_cast<std::int64_t>((sii_.serial % 97) + 1) * 1'000'000'007LL, 0);
+    // Mean over 2^4 samples for 0x092C (model default; the loop is described in dc_clock.hpp).
+    mem_[reg::kDcSystemTimeDifferenceFilterDepth] = 4;
 }
 
 std::uint16_t EscSlave::reg16(std::uint16_t addr) const {
@@ -77,20 +77,6 @@ SyncManager EscSlave::sm(unsigned n) const {
 
 void EscSlave::set_sm_status(unsigned n, std::uint8_t status) {
     mem_[reg::sm(n) + 5U] = status;
-}
-
-std::uint64_t EscSlave::local_time(TimePoint now) const {
-    return static_cast<std::uint64_t>(
-        std::chrono::duration_cast<nanoseconds>(now.time_since_epoch()).count() + local_base_ns_);
-}
-
-std::uint64_t EscSlave::system_time(TimePoint now) const {
-    return local_time(now) + get_le<std::uint64_t>(mem_.data() + reg::kDcSystemTimeOffset);
-}
-
-bool EscSlave::sync0_active() const {
-    return (mem_[reg::kDcActivation] & 0x03) == 0x03 &&
-           get_le<std::uint32_t>(mem_.data() + reg::kDcSync0CycleTime) != 0;
 }
 
 void EscSlave::set_al_status(AlState s, bool error, std::uint16_t code, bool injected) {
@@ -167,10 +153,6 @@ void EscSlave::after_sm_read(std::uint16_t addr, std::size_t len) {
     }
 }
 
-void EscSlave::refresh_dc(TimePoint now) {
-    put_le<std::uint64_t>(mem_.data() + reg::kDcSystemTime, system_time(now));
-}
-
 bool EscSlave::read_memory(std::uint16_t addr, std::span<std::uint8_t> out, bool or_into,
                            TimePoint now) {
     if (addr + out.size() > mem_.size() || !read_allowed_by_sm(addr, out.size())) {
@@ -200,33 +182,15 @@ void EscSlave::write_memory(std::uint16_t addr, std::span<const std::uint8_t> da
     if (overlaps(addr, data.size(), reg::kSiiControl, 2)) {
         on_sii_control();
     }
-    if (overlaps(addr, data.size(), reg::kDcSystemTime, 8) && data.size() >= 4 &&
-        addr == reg::kDcSystemTime) {
-        // Drift control input: the reference time distributed by ARMW/FRMW (ETG.1000.4 §9.1.3).
-        std::uint64_t received = get_le<std::uint64_t>(mem_.data() + reg::kDcSystemTime);
-        const auto delay = get_le<std::uint32_t>(mem_.data() + reg::kDcSystemTimeDelay);
-        const auto own = static_cast<std::int64_t>(system_time(now));
-        const std::int64_t diff = static_cast<std::int64_t>(received + delay) - own;
-        // A real ESC slews its clock by a control loop; the model corrects in one step.
-        const auto offset = get_le<std::uint64_t>(mem_.data() + reg::kDcSystemTimeOffset);
-        put_le<std::uint64_t>(mem_.data() + reg::kDcSystemTimeOffset,
-                              offset + static_cast<std::uint64_t>(diff));
-        put_le<std::uint32_t>(mem_.data() + reg::kDcSystemTimeDifference,
-                              static_cast<std::uint32_t>(static_cast<std::int32_t>(diff)));
+    if ((reg16(reg::kFeatures) & 0x0004) == 0) {
+        return; // no DC unit
     }
-}
-
-void EscSlave::latch_receive_times(const ChainContext& ctx) {
-    const std::uint64_t t = local_time(ctx.now);
-    const auto pos = static_cast<std::int64_t>(ctx.position);
-    const auto n = static_cast<std::int64_t>(ctx.chain_length);
-    const std::uint64_t port0 = t + static_cast<std::uint64_t>(pos * kHopNs);
-    const std::uint64_t port1 = t + static_cast<std::uint64_t>((2 * n - 1 - pos) * kHopNs);
-    put_le<std::uint32_t>(mem_.data() + reg::kDcReceiveTimePort0,
-                          static_cast<std::uint32_t>(port0));
-    put_le<std::uint32_t>(mem_.data() + reg::kDcReceiveTimePort0 + 4,
-                          static_cast<std::uint32_t>(port1));
-    put_le<std::uint64_t>(mem_.data() + reg::kDcReceiveTimeLocal, port0);
+    if (overlaps(addr, data.size(), reg::kDcSystemTimeOffset, 8)) {
+        dc_clock_.reset(now); // a new offset: the drift control starts over
+    }
+    if (addr == reg::kDcSystemTime && (data.size() == 4 || data.size() == 8)) {
+        on_system_time_write(data, now);
+    }
 }
 
 bool EscSlave::logical(const DatagramRef& dg, bool& read_done, bool& write_done, TimePoint now) {
@@ -306,13 +270,17 @@ void EscSlave::process(const DatagramRef& dg, const ChainContext& ctx) {
     bool read_done = false;
     bool write_done = false;
     const std::uint16_t ado = dg.ado();
+    // The frame reaches this slave `position` hops after the first one (the same model as the
+    // receive time latches): its DC registers are read and written at that instant, so clocks
+    // in sync show the same time at the same instant and a master's delay compensation holds.
+    const TimePoint at = ctx.now + nanoseconds(static_cast<std::int64_t>(ctx.position) * kDcHopNs);
     if (mode == Addressing::Logical) {
         logical(dg, read_done, write_done, ctx.now);
     } else if (dg.command == Command::Armw || dg.command == Command::Frmw) {
         if (addressed) {
-            read_done = read_memory(ado, dg.data, false, ctx.now);
+            read_done = read_memory(ado, dg.data, false, at);
         } else if (write_allowed_by_sm(ado, dg.data.size())) {
-            write_memory(ado, dg.data, ctx.now);
+            write_memory(ado, dg.data, at);
             write_done = true;
         }
     } else if (addressed) {
@@ -326,14 +294,14 @@ void EscSlave::process(const DatagramRef& dg, const ChainContext& ctx) {
                 incoming.assign(dg.data.begin(), dg.data.end());
             }
             if (command_reads(dg.command)) {
-                read_done = read_memory(ado, dg.data, dg.command == Command::Brd, ctx.now);
+                read_done = read_memory(ado, dg.data, dg.command == Command::Brd, at);
             }
             if (command_writes(dg.command)) {
                 std::span<const std::uint8_t> src = incoming.empty()
                                                         ? std::span<const std::uint8_t>(dg.data)
                                                         : std::span<const std::uint8_t>(incoming);
                 if (ado + src.size() <= mem_.size() && write_allowed_by_sm(ado, src.size())) {
-                    write_memory(ado, src, ctx.now);
+                    write_memory(ado, src, at);
                     write_done = true;
                 }
             }
@@ -620,13 +588,37 @@ bool EscSlave::tick(TimePoint now) {
     return true;
 }
 
+bool EscSlave::sm_synchronous() const {
+    // ETG.1020 §21.1.3.1: 1C32h:01 = 1, synchronous with the SM2 event: in SAFE-OP and OP the
+    // application cycle starts when the master's outputs arrive in SM2 (the AKD2G's PLL on
+    // the SM2 event without DC, manual §3.7); below SAFE-OP there is no process data to wait
+    // for and the application runs free.
+    if (state_ != AlState::SafeOp && state_ != AlState::Op) {
+        return false;
+    }
+    return app_->od().get<std::uint16_t>(0x1C32, 1).value_or(0) == 1;
+}
+
+void EscSlave::run_application(TimePoint now) {
+    ++application_cycles_;
+    app_->step(now);
+}
+
+void EscSlave::idle(TimePoint now) {
+    if (!faults_.silent && !sm_synchronous()) {
+        run_application(now);
+    }
+}
+
 void EscSlave::before_frame(TimePoint now) {
     ++frames_seen_;
     if (faults_.silent) {
         return;
     }
     (void)tick(now);
-    app_->step(now);
+    if (!sm_synchronous()) {
+        run_application(now);
+    }
     if (app_->take_restart() && state_ != AlState::Init) {
         // The device restarted: its ESC comes back in INIT, mailbox empty.
         const AlState from = state_;
@@ -689,6 +681,9 @@ void EscSlave::after_frame(TimePoint now) {
             last_outputs_ = now;
             mem_[kWatchdogStatus] = 0x01;
             unpack_outputs(now);
+            if (sm_synchronous()) {
+                run_application(now); // the SM2 event starts the application cycle
+            }
         }
     }
 }

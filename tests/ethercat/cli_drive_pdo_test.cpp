@@ -130,6 +130,23 @@ TEST_F(EcatDrivePdo, SyncObjectsAreWrittenAndTheMinimumCycleIsEnforced) {
     EXPECT_TRUE(has(dc.output, "cycle 1000 µs, DC SYNC0")) << dc.output;
     EXPECT_EQ(value_of(sdo_read("1", "0x1C32:1", "u16")), "2");
     EXPECT_EQ(value_of(sdo_read("1", "0x1C33:1", "u16")), "2");
+    // --sync sm: synchronous with the SM2 event, sync mode 1 (ETG.1020 §21.1.3.1). The FIO
+    // states no 1C32h:04 (manual §7.13.22 lists subs 1..3): written, and said to be unchecked.
+    auto sm = codrive({"drive", "--ethercat", iface_, "-n", "1", "status", "--sync", "sm"});
+    ASSERT_EQ(sm.status, 0) << sm.output;
+    EXPECT_TRUE(has(sm.output, "cycle 1000 µs, SM synchronous")) << sm.output;
+    EXPECT_TRUE(has(sm.output, "slave 1 (FIO Drive Control): has no 0x1C32:04 (sync modes "
+                               "supported); sync mode 1 (SM synchronous) not checked"))
+        << sm.output;
+    EXPECT_EQ(value_of(sdo_read("1", "0x1C32:1", "u16")), "1");
+    EXPECT_EQ(value_of(sdo_read("1", "0x1C33:1", "u16")), "1");
+    // The AKD2G offers it (1C32h:04 = 0x0027, manual §5.2.50) and enables its axis with the
+    // application run by the SM2 events of the cyclic frame.
+    auto akd = codrive({"drive", "--ethercat", iface_, "-n", "2", "enable", "--sync", "sm"});
+    ASSERT_EQ(akd.status, 0) << akd.output;
+    EXPECT_TRUE(has(akd.output, "cycle 1000 µs, SM synchronous")) << akd.output;
+    auto bogus = codrive({"drive", "--ethercat", iface_, "-n", "1", "status", "--sync", "sync1"});
+    EXPECT_EQ(bogus.status, 2) << bogus.output;
     // AKD2G manual §5.2.50: minimum cycle time 250 µs in 1C32h:05; a shorter one is refused
     // before SAFE-OP with a sentence naming the slave, and the slave is left where it was.
     auto fast = codrive({"drive", "--ethercat", iface_, "-n", "2", "enable", "--cycle", "125"});

@@ -36,19 +36,20 @@ constexpr std::uint64_t kLostPerCycles = 100;
 
 using namespace std::chrono_literals;
 
-std::string write_bus_file(const std::string& iface, unsigned cycle_us) {
+std::string write_bus_file(const std::string& iface, unsigned cycle_us, bool dc = false) {
     const std::string path = fmt::format("/tmp/codrive-ecat-ctl-{}-{}.yml", ::getpid(), iface);
     std::ofstream(path) << fmt::format("# written by controller_ecat_test\n"
                                        "ethercat:\n"
                                        "  interface: {}\n"
                                        "  cycle_us: {}\n"
+                                       "  dc: {}\n"
                                        "  slaves:\n"
                                        "    - position: 0\n"
                                        "      name: table\n"
                                        "      profile: fio\n"
                                        "      axes:\n"
                                        "        - {{axis: 1, mode: csp}}\n",
-                                       iface, cycle_us);
+                                       iface, cycle_us, dc);
     return path;
 }
 
@@ -71,6 +72,8 @@ class ControllerOverEthercat : public EcatVethTest {
 protected:
     /// Extra simulator options of a derived fixture.
     virtual std::vector<std::string> sim_options() const { return {}; }
+    /// `dc: true` in the bus file (DC SYNC0, the reference time in every cyclic frame).
+    virtual bool dc() const { return false; }
     void SetUp() override {
         std::vector<std::string> args{"--slave", "fio", "--mute-on-signal", "0"}; // SIGUSR1
         const auto extra = sim_options(); // silences the FIO
@@ -81,7 +84,7 @@ protected:
     }
     std::unique_ptr<controller::Controller>
     make(std::string& events, controller::Threading mode = controller::Threading::Single) {
-        path_ = write_bus_file(veth_->master_if(), 2000);
+        path_ = write_bus_file(veth_->master_if(), 2000, dc());
         controller::ControllerOptions o;
         o.threading = mode;
         // The dedicated cyclic thread runs at SCHED_FIFO, as on a machine (root here).
@@ -397,6 +400,21 @@ TEST_F(ControllerOverEthercat, DedicatedCyclicThreadEnablesMovesAndStopsWithinOn
 }
 
 TEST_F(ControllerOverEthercat, DedicatedCyclicThreadAllocatesNothingOverAThousandCycles) {
+    if (IsSkipped() || HasFatalFailure()) {
+        return;
+    }
+    controller::ControllerStats stats;
+    expect_no_cyclic_allocation(stats);
+}
+
+// With DC the cyclic frame also carries the reference clock's system time (continuous drift
+// compensation, ETG.1000.4 §9.1.3): still no allocation on the cyclic thread.
+class ControllerOverEthercatWithDc : public ControllerOverEthercat {
+protected:
+    bool dc() const override { return true; }
+};
+
+TEST_F(ControllerOverEthercatWithDc, DedicatedCyclicThreadAllocatesNothingWhileDistributingTime) {
     if (IsSkipped() || HasFatalFailure()) {
         return;
     }

@@ -145,6 +145,34 @@ TEST_F(ControllerSync, DcFromTheBusFileRunsTheFioOnSync0) {
     EXPECT_EQ(read_back<std::uint32_t>(0, 0x1C32, 2), 1'000'000U);
 }
 
+// `sync: sm` in the bus file: sync mode 1 (synchronous with the SM2 event, ETG.1020
+// §21.1.3.1) written to the FIO, which states no 1C32h:04 to check it against (manual §7.13.22).
+TEST_F(ControllerSync, SmSynchronousFromTheBusFileIsWrittenToTheFio) {
+    start({"--slave", "fio"});
+    if (IsSkipped() || HasFatalFailure()) {
+        return;
+    }
+    master_.reset(); // out of the controller's way; read_back() opens a fresh one
+    link_.reset();
+    write_bus_file(
+        "  cycle_us: 1000\n  sync: sm\n",
+        "    - {position: 0, name: table, profile: fio, axes: [{axis: 1, mode: csp}]}\n");
+    auto started = start_controller();
+    ASSERT_TRUE(started) << started.error().detail << events_;
+    controller_->run_for(200ms);
+    EXPECT_TRUE(has("slave 0 (FIO Drive Control): sync mode 1 (SM synchronous), cycle 1000 µs\n"))
+        << events_;
+    EXPECT_TRUE(has("has no 0x1C32:04 (sync modes supported); sync mode 1 (SM synchronous) not "
+                    "checked"))
+        << events_;
+    EXPECT_TRUE(has("slave 0 (FIO Drive Control): OP")) << events_;
+    EXPECT_FALSE(has("cyclic exchange failed")) << events_;
+    controller_->shutdown();
+    controller_.reset();
+    EXPECT_EQ(read_back<std::uint16_t>(0, 0x1C32, 1), std::uint16_t{1});
+    EXPECT_EQ(read_back<std::uint16_t>(0, 0x1C33, 1), std::uint16_t{1});
+}
+
 // AKD2G manual §5.2.50: 1C32h:05 = 250 µs. A 200 µs cycle is refused before SAFE-OP with the
 // bus file's line, the slave's position, product and name, the cycle and the minimum.
 TEST_F(ControllerSync, ACycleBelowTheSlavesMinimumIsRefusedBeforeOp) {

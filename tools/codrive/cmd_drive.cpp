@@ -66,7 +66,8 @@ struct DriveArgs {
     double jog_s = 1.0;
     int timeout_ms = 10000;
     unsigned cycle_us = 1000; ///< EtherCAT cycle
-    bool dc = false;          ///< EtherCAT: DC SYNC0 instead of free run
+    bool dc = false;          ///< EtherCAT: DC SYNC0 instead of free run (= --sync dc)
+    std::string sync;         ///< EtherCAT: free, sm or dc (ETG.1020 §21.1.3)
     std::string esi;          ///< EtherCAT: the vendor's ESI file of the slave
 };
 
@@ -440,15 +441,17 @@ int run_drive_ecat(const DriveArgs& a) {
         restore.assignment = std::move(*current);
     }
     const Duration cycle = microseconds(a.cycle_us);
-    if (a.dc) {
+    ethercat::SyncSettings sync;
+    sync.cycle = cycle;
+    sync.mode = a.dc
+                    ? ethercat::SyncMode::DcSync0
+                    : ethercat::sync_mode_from_string(a.sync).value_or(ethercat::SyncMode::FreeRun);
+    if (sync.mode == ethercat::SyncMode::DcSync0) {
         if (auto r = m.configure_dc(); !r) {
             fmt::print(stderr, "codrive: distributed clocks: {}\n", m.last_error());
             return kExitFailure;
         }
     }
-    ethercat::SyncSettings sync;
-    sync.cycle = cycle;
-    sync.dc = a.dc;
     auto synced = ethercat::configure_sync(m, *slave, sync);
     if (!synced) {
         fmt::print(stderr, "codrive: {}\n", synced.error());
@@ -461,10 +464,11 @@ int run_drive_ecat(const DriveArgs& a) {
         fmt::print(stderr, "codrive: OP: {}\n", m.last_error());
         return kExitFailure;
     }
-    fmt::print("{}: OP, PDO layout from {}, {} output / {} input bytes, cycle {} µs{}\n",
+    fmt::print("{}: OP, PDO layout from {}, {} output / {} input bytes, cycle {} µs, {}\n",
                m.slave_label(*slave), ethercat::to_string(layout->source),
                m.slaves()[*slave].output_bytes, m.slaves()[*slave].input_bytes, a.cycle_us,
-               a.dc ? ", DC SYNC0" : ", free run");
+               sync.mode == ethercat::SyncMode::FreeRun ? "free run"
+                                                        : ethercat::sync_mode_name(synced->mode));
     // From here on the cyclic frame carries the process data and the mailbox transfers.
     ethercat::CoeTransport transport(m, *slave, ethercat::CoeTransport::Drive::Cyclic);
     w.transport = &transport;
@@ -546,7 +550,11 @@ void install_drive(CLI::App& app, int& exit_code) {
     cmd->add_option("--seconds", a->jog_s, "jog: duration")->capture_default_str();
     cmd->add_option("--cycle", a->cycle_us, "EtherCAT: process data cycle in µs")
         ->capture_default_str();
-    cmd->add_flag("--dc", a->dc, "EtherCAT: synchronise the slave to DC SYNC0 (else free run)");
+    cmd->add_flag("--dc", a->dc, "EtherCAT: synchronise the slave to DC SYNC0 (= --sync dc)");
+    cmd->add_option("--sync", a->sync,
+                    "EtherCAT: sync mode written to 1C32h:01/1C33h:01: free (free run, the "
+                    "default), sm (synchronous with the SM2 event), dc (DC SYNC0)")
+        ->check(CLI::IsMember({"free", "sm", "dc"}));
     cmd->add_option("--esi", a->esi,
                     "EtherCAT: the slave's ESI file (checked against its identity; a drive "
                     "without a codrive profile runs from the file's default PDO assignment)")

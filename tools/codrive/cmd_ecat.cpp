@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: Apache-2.0
 // `codrive ecat`: EtherCAT segment scan, CoE SDO read/write and state requests over a raw socket.
+#include "cmd_ecat_dc.hpp"
 #include "cmd_ecat_foe.hpp"
 #include "command_registry.hpp"
 #include "ecat_session.hpp"
@@ -198,7 +199,7 @@ int run_state(const EcatOptions& o) {
 
 void install_ecat(CLI::App& app, int& exit_code) {
     auto* ecat =
-        app.add_subcommand("ecat", "EtherCAT: scan, CoE SDO access, state requests, FoE files");
+        app.add_subcommand("ecat", "EtherCAT: scan, CoE SDO access, state requests, FoE files, DC");
     ecat->require_subcommand(1);
     auto opts = std::make_shared<EcatOptions>();
     auto* scan = ecat->add_subcommand("scan", "list the slaves with identity, mailbox, DC, state");
@@ -229,6 +230,7 @@ void install_ecat(CLI::App& app, int& exit_code) {
     state->callback([opts, &exit_code] { exit_code = run_state(*opts); });
 
     install_ecat_foe(*ecat, exit_code);
+    install_ecat_dc(*ecat, exit_code);
 }
 
 } // namespace

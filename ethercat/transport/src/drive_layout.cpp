@@ -129,6 +129,38 @@ const char* sync_mode_name(std::uint16_t mode) {
     }
 }
 
+std::optional<SyncMode> sync_mode_from_string(std::string_view text) {
+    if (text == "free") {
+        return SyncMode::FreeRun;
+    }
+    if (text == "sm") {
+        return SyncMode::SmSynchronous;
+    }
+    if (text == "dc") {
+        return SyncMode::DcSync0;
+    }
+    return std::nullopt;
+}
+
+namespace {
+
+/// Whether 1C32h:04 (sync modes supported, ETG.1020 §21.1.3.2) offers `mode`: bit 0 free run,
+/// bit 1 synchronous with the SM event, bits 4..2 the DC modes (001 = SYNC0). The AKD2G states
+/// 0x0027 (manual §5.2.50).
+bool supports(std::uint16_t supported, SyncMode mode) {
+    switch (mode) {
+    case SyncMode::FreeRun:
+        return (supported & 0x0001U) != 0;
+    case SyncMode::SmSynchronous:
+        return (supported & 0x0002U) != 0;
+    case SyncMode::DcSync0:
+        return (supported & 0x001CU) != 0;
+    }
+    return false;
+}
+
+} // namespace
+
 tl::expected<SyncReport, std::string> write_sync_objects(Master& master, std::size_t slave,
                                                          const SyncSettings& sync) {
     const std::string who = sync.name.empty()
@@ -154,9 +186,28 @@ tl::expected<SyncReport, std::string> write_sync_objects(Master& master, std::si
         return tl::unexpected(fmt::format("{}: cannot read the minimum cycle time (0x1C32:05): {}",
                                           who, master.last_error()));
     }
-    // 1C32h:01 / 1C33h:01 synchronisation type: 0 free run, 2 DC SYNC0 (ETG.1020 §21.1.3.1);
-    // the FIO manual has the master set them (004 ~4088).
-    report.mode = sync.dc ? 2 : 0;
+    // 1C32h:01 / 1C33h:01 synchronisation type: 0 free run, 1 synchronous with the SM2 event,
+    // 2 DC SYNC0 (ETG.1020 §21.1.3.1); the FIO manual has the master set them (004 ~4088).
+    report.mode = static_cast<std::uint16_t>(sync.mode);
+    // ETG.1020 §21.1.3.2: 1C32h:04 states the modes the slave offers; a slave without it (the
+    // FIO describes 1C32h:01..03 only, manual §7.13.22) states nothing, so nothing is refused.
+    if (auto supported = master.sdo_read<std::uint16_t>(slave, 0x1C32, 4)) {
+        if (!supports(*supported, sync.mode)) {
+            return tl::unexpected(fmt::format(
+                "{}: sync mode {} ({}) is not among the slave's supported sync modes (0x1C32:04 "
+                "= 0x{:04X}: bit 0 free run, bit 1 SM-synchronous, bits 4..2 DC)",
+                who, report.mode, sync_mode_name(report.mode), *supported));
+        }
+    } else if (is_absent(supported.error())) {
+        if (sync.mode != SyncMode::FreeRun) {
+            report.notes.push_back(fmt::format(
+                "{}: has no 0x1C32:04 (sync modes supported); sync mode {} ({}) not checked", who,
+                report.mode, sync_mode_name(report.mode)));
+        }
+    } else {
+        return tl::unexpected(fmt::format(
+            "{}: cannot read the supported sync modes (0x1C32:04): {}", who, master.last_error()));
+    }
     struct Write {
         std::uint16_t index;
         std::uint8_t sub;
@@ -196,7 +247,7 @@ tl::expected<SyncReport, std::string> write_sync_objects(Master& master, std::si
 tl::expected<SyncReport, std::string> configure_sync(Master& master, std::size_t slave,
                                                      const SyncSettings& sync) {
     auto report = write_sync_objects(master, slave, sync);
-    if (!report || !sync.dc) {
+    if (!report || sync.mode != SyncMode::DcSync0) {
         return report;
     }
     // ETG.1020 §21.1.3.1: sync mode 2 runs the slave's application on SYNC0, which the master

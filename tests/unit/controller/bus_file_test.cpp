@@ -142,6 +142,43 @@ TEST(ControllerBusFile, DcAndSync0ShiftPerSegmentWithASlaveOverride) {
     EXPECT_FALSE(slave_dc(*plain.ethercat, plain.ethercat->slaves[0]));
 }
 
+TEST(ControllerBusFile, SyncModeFreeSmOrDcPerSegmentWithSlaveOverrides) {
+    const std::string text = "ethercat:\n"
+                             "  interface: ecm0\n"
+                             "  sync: sm\n"
+                             "  slaves:\n"
+                             "    - {position: 0, profile: fio}\n"
+                             "    - {position: 1, profile: fio, sync: free}\n"
+                             "    - {position: 2, profile: fio, sync: dc, sync0_shift_us: 50}\n"
+                             "    - {position: 3, profile: fio, dc: true}\n";
+    const auto s = split_bus_file(text, "sm.yml");
+    ASSERT_TRUE(s.ethercat) << joined(s.errors);
+    const auto& seg = *s.ethercat;
+    EXPECT_EQ(slave_sync(seg, seg.slaves[0]), ethercat::SyncMode::SmSynchronous);
+    EXPECT_EQ(slave_sync(seg, seg.slaves[1]), ethercat::SyncMode::FreeRun);
+    EXPECT_EQ(slave_sync(seg, seg.slaves[2]), ethercat::SyncMode::DcSync0);
+    EXPECT_EQ(slave_sync(seg, seg.slaves[3]), ethercat::SyncMode::DcSync0);
+    // Findings: an unknown mode, `sync` and `dc` that disagree, a shift without DC.
+    const std::string bad = "ethercat:\n"
+                            "  interface: ecm0\n"
+                            "  sync: sync1\n"
+                            "  slaves:\n"
+                            "    - {position: 0, profile: fio, sync: sm, dc: true}\n"
+                            "    - {position: 1, profile: fio, sync: sm, sync0_shift_us: 5}\n";
+    const auto b = split_bus_file(bad, "b.yml");
+    EXPECT_FALSE(b.ethercat);
+    const std::string all = joined(b.errors);
+    EXPECT_NE(all.find("b.yml:3: `ethercat.sync` must be free, sm or dc (ETG.1020 sync modes 0, "
+                       "1, 2), but it is `sync1`"),
+              std::string::npos)
+        << all;
+    EXPECT_NE(all.find("b.yml:5: slave 0: `sync: sm` and `dc: true` disagree: give `sync:` alone"),
+              std::string::npos)
+        << all;
+    EXPECT_NE(all.find("b.yml:6: slave 1: `sync0_shift_us` needs `dc: true`"), std::string::npos)
+        << all;
+}
+
 TEST(ControllerBusFile, BadDcAndSync0ShiftValuesAreFindingsWithTheirLines) {
     const std::string text = "ethercat:\n"
                              "  interface: ecm0\n"
@@ -201,4 +238,23 @@ TEST(ControllerBusFile, TheDcExampleOfTheDocsParsesAsPrinted) {
     EXPECT_TRUE(slave_dc(seg, seg.slaves[0]));
     EXPECT_EQ(slave_sync0_shift_us(seg, seg.slaves[0]), 100U);
     EXPECT_FALSE(slave_dc(seg, seg.slaves[1]));
+}
+
+TEST(ControllerBusFile, TheSmExampleOfTheDocsParsesAsPrinted) {
+    // docs/bus-file.md, the `sync: sm` example, exactly as printed there.
+    std::ifstream in(std::string(CODRIVE_SOURCE_DIR) + "/docs/bus-file.md");
+    std::stringstream doc;
+    doc << in.rdbuf();
+    const std::string text = doc.str();
+    const auto at = text.find("sync: sm               #");
+    ASSERT_NE(at, std::string::npos) << "docs/bus-file.md lost its `sync: sm` example";
+    const auto begin = text.rfind("```yaml\n", at);
+    const auto end = text.find("```", at);
+    ASSERT_TRUE(begin != std::string::npos && end != std::string::npos);
+    const auto s = split_bus_file(text.substr(begin + 8, end - begin - 8), "bus-file.md");
+    ASSERT_TRUE(s.ethercat) << joined(s.errors);
+    const auto& seg = *s.ethercat;
+    ASSERT_EQ(seg.slaves.size(), 2U);
+    EXPECT_EQ(slave_sync(seg, seg.slaves[0]), ethercat::SyncMode::SmSynchronous);
+    EXPECT_EQ(slave_sync(seg, seg.slaves[1]), ethercat::SyncMode::FreeRun);
 }

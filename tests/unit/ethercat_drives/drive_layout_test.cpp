@@ -8,6 +8,8 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
 namespace codrive::ethercat {
 namespace {
 
@@ -120,7 +122,7 @@ TEST_F(DriveLayoutTest, AnUnknownSlavesEsiDefaultComesBeforeItsOwnAssignment) {
 SyncSettings sync_at(Duration cycle, bool dc, std::string name = {}) {
     SyncSettings s;
     s.cycle = cycle;
-    s.dc = dc;
+    s.mode = dc ? SyncMode::DcSync0 : SyncMode::FreeRun;
     s.name = std::move(name);
     return s;
 }
@@ -153,6 +155,39 @@ TEST_F(DriveLayoutTest, SyncObjectsAreWrittenWhereWritableAndTheMinimumCycleRefu
     ASSERT_FALSE(akd->notes.empty());
     EXPECT_EQ(akd->notes[0], "slave 1 (AKD2G): 0x1C32:01 (output sync mode) is read-only, the "
                              "slave sets it itself; not written");
+}
+
+TEST_F(DriveLayoutTest, SmSynchronousModeIsCheckedAgainstTheSupportedSyncModes) {
+    SyncSettings sm;
+    sm.cycle = microseconds(1000);
+    sm.mode = SyncMode::SmSynchronous;
+    // FIO §7.13.22: 1C32h:01..03 only, no "sync modes supported": mode 1 is written, and the
+    // report says it could not be checked.
+    auto fio = write_sync_objects(master_, 0, sm);
+    ASSERT_TRUE(fio) << fio.error();
+    EXPECT_EQ(fio->mode, 1U);
+    EXPECT_EQ(master_.sdo_read<std::uint16_t>(0, 0x1C32, 1).value_or(9), 1U);
+    EXPECT_EQ(master_.sdo_read<std::uint16_t>(0, 0x1C33, 1).value_or(9), 1U);
+    const std::string unchecked = "slave 0 (FIO Drive Control): has no 0x1C32:04 (sync modes "
+                                  "supported); sync mode 1 (SM synchronous) not checked";
+    EXPECT_NE(std::find(fio->notes.begin(), fio->notes.end(), unchecked), fio->notes.end());
+    // AKD2G §5.2.50: 1C32h:04 = 0x0027 offers SM-synchronous operation.
+    auto akd = write_sync_objects(master_, 1, sm);
+    ASSERT_TRUE(akd) << akd.error();
+    EXPECT_EQ(akd->mode, 1U);
+    // A slave that offers free run only refuses mode 1 with a sentence naming it and 1C32h:04.
+    const std::array<std::uint8_t, 2> free_only{0x01, 0x00};
+    ASSERT_TRUE(segment_.slave(1).app().od().write(0x1C32, 4, free_only, true));
+    auto refused = write_sync_objects(master_, 1, sm);
+    ASSERT_FALSE(refused);
+    EXPECT_EQ(refused.error(),
+              "slave 1 (AKD2G): sync mode 1 (SM synchronous) is not among the slave's supported "
+              "sync modes (0x1C32:04 = 0x0001: bit 0 free run, bit 1 SM-synchronous, bits 4..2 "
+              "DC)");
+    EXPECT_EQ(sync_mode_from_string("sm"), SyncMode::SmSynchronous);
+    EXPECT_EQ(sync_mode_from_string("dc"), SyncMode::DcSync0);
+    EXPECT_EQ(sync_mode_from_string("free"), SyncMode::FreeRun);
+    EXPECT_FALSE(sync_mode_from_string("sync1"));
 }
 
 } // namespace

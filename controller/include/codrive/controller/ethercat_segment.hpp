@@ -3,6 +3,7 @@
 // drive profiles and axes) that a Controller runs next to its CAN buses.
 #pragma once
 
+#include <codrive/ethercat/drive_layout.hpp>
 #include <codrive/ethercat/esi.hpp>
 
 #include <cstdint>
@@ -25,7 +26,8 @@ struct EcatSlaveEntry {
     std::string name;    ///< shown in messages
     std::string profile; ///< "akd2g", "ds-bvs", "fio", "generic"
     std::vector<EcatAxisEntry> axes;
-    std::optional<bool> dc;                      ///< overrides the segment's `dc`
+    /// Overrides the segment's sync mode (`sync:`, or `dc: true|false`).
+    std::optional<ethercat::SyncMode> sync;
     std::optional<std::uint32_t> sync0_shift_us; ///< overrides the segment's `sync0_shift_us`
     /// The slave's ESI file (`esi:`, else the segment's), read when the bus file is parsed: the
     /// SII identity must match one of its devices, and without `axes` its default PDO
@@ -42,10 +44,12 @@ struct EcatSegmentConfig {
     /// Cyclic frames lost in a row that raise an event naming the segment (each lost frame is
     /// counted in the statistics; the cycle never waits longer than its period for one).
     unsigned lost_frames_event = 3;
-    /// Distributed clocks for every slave (a slave's own `dc` overrides it): the master runs
-    /// its DC setup, programs SYNC0 at the cycle and writes sync mode 2 (DC SYNC0) to
-    /// 1C32h:01/1C33h:01 (ETG.1020 §21.1.3.1); without it, free run (0).
-    bool dc = false;
+    /// How every slave synchronises (a slave's own `sync`/`dc` overrides it), written to
+    /// 1C32h:01/1C33h:01 (ETG.1020 §21.1.3.1): `sync: free` (0, the default), `sync: sm` (1,
+    /// synchronous with the SM2 event of the cyclic frame), `sync: dc` or `dc: true` (2, DC
+    /// SYNC0: the master runs its DC setup, programs SYNC0 at the cycle and distributes the
+    /// reference clock's time in every cyclic frame).
+    ethercat::SyncMode sync = ethercat::SyncMode::FreeRun;
     /// SYNC0 start after the cycle's time grid, µs (0..cycle_us − 1; only with `dc`).
     std::uint32_t sync0_shift_us = 0;
     /// The segment's `esi:` (every slave's that has none of its own); nullptr: none.
@@ -53,7 +57,10 @@ struct EcatSegmentConfig {
     std::vector<EcatSlaveEntry> slaves;
 };
 
-/// The DC setting of one slave: its own `dc`, else the segment's.
+/// The sync mode of one slave: its own `sync`/`dc`, else the segment's.
+[[nodiscard]] ethercat::SyncMode slave_sync(const EcatSegmentConfig& segment,
+                                            const EcatSlaveEntry& slave);
+/// Whether one slave runs on DC SYNC0 (slave_sync() is DcSync0).
 [[nodiscard]] bool slave_dc(const EcatSegmentConfig& segment, const EcatSlaveEntry& slave);
 /// The SYNC0 shift of one slave (µs): its own `sync0_shift_us`, else the segment's.
 [[nodiscard]] std::uint32_t slave_sync0_shift_us(const EcatSegmentConfig& segment,

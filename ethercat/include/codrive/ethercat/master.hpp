@@ -47,6 +47,10 @@ struct MasterConfig {
     Duration emergency_poll = milliseconds(10);
     Duration sii_timeout = milliseconds(100);
     std::uint16_t first_station_address = 0x1001;
+    /// After configure_dc(): every cyclic frame carries an FRMW of the reference clock's system
+    /// time (0x0910) so that the other DC slaves keep steering their clocks to it (continuous
+    /// drift compensation, ETG.1000.4 §9.1.3). Off only to show what drift does without it.
+    bool continuous_drift_compensation = true;
     /// Number of the first slave in messages ("slave 0 (FIO)" by default); the CLI uses 1, as
     /// its -n counts positions from 1.
     unsigned slave_label_base = 0;
@@ -148,6 +152,8 @@ struct ProcessDataStats {
     std::uint64_t stray_mailbox_messages = 0; ///< SM1 messages nobody waited for (dropped)
     std::uint64_t wkc_errors = 0;
     std::uint64_t stale_frames = 0; ///< frames with an index we were not waiting for
+    /// Cyclic frames that carried the reference clock's system time (FRMW 0x0910).
+    std::uint64_t dc_time_distributions = 0;
 };
 
 /// DC state of one slave after configure_dc().
@@ -156,7 +162,10 @@ struct DcSlaveStatus {
     std::uint64_t system_time = 0;        ///< ns since 2000-01-01 as read (0x0910)
     std::int64_t offset_to_reference = 0; ///< system time minus the reference clock's, same frame
     std::uint32_t delay = 0;              ///< propagation delay written to 0x0928
-    std::int32_t difference = 0;          ///< 0x092C system time difference (drift control input)
+    /// 0x092C system time difference, decoded (ns): the slave's mean of its own system time
+    /// minus the distributed reference time; what its drift control steers to zero. 0 for the
+    /// reference clock itself and before any time was distributed.
+    std::int32_t difference = 0;
 };
 
 class Master {
@@ -405,6 +414,12 @@ public:
     VoidResult configure_dc();
     /// 0x0910 of one slave (ns since 2000-01-01). Errors: WorkingCounter, NoResponse.
     Result<std::uint64_t> read_system_time(std::size_t slave);
+    /// The position of the reference clock (the first slave with DC) after configure_dc().
+    [[nodiscard]] std::optional<std::size_t> dc_reference() const { return dc_reference_; }
+    /// One blocking frame that distributes the reference clock's system time (the same FRMW
+    /// the cyclic frame carries): for tools and the static drift compensation, not the cyclic
+    /// path. Errors: NotConfigured (no configure_dc()), NoResponse.
+    VoidResult distribute_system_time();
     /// Programs SYNC0 (cycle, shift) and activates it, starting 10 ms after the slave's time.
     VoidResult configure_sync0(std::size_t slave, Duration cycle, Duration shift = {});
     /// Reads every DC slave's system time in one frame and reports offsets to the reference.
@@ -459,6 +474,8 @@ private:
     void probes_done(bool lost);
     void al_control_add();
     void al_control_done(bool lost);
+    /// The continuous drift compensation datagram of the cyclic frame (master_dc.cpp).
+    void dc_time_add();
     /// Programs SM2/SM3 and FMMU0/1 of one slave for its part of the process image.
     VoidResult write_process_data_config(std::size_t slave, std::uint32_t logical_base);
     /// A mapped slave back from below SAFE-OP: its PDO layout checked, its SMs/FMMUs rewritten.

@@ -40,6 +40,10 @@ inline constexpr std::uint16_t kDcReceiveTimeLocal = 0x0918; ///< ECAT processin
 inline constexpr std::uint16_t kDcSystemTimeOffset = 0x0920;
 inline constexpr std::uint16_t kDcSystemTimeDelay = 0x0928;
 inline constexpr std::uint16_t kDcSystemTimeDifference = 0x092C;
+inline constexpr std::uint16_t kDcSpeedCounterStart = 0x0930;
+inline constexpr std::uint16_t kDcSpeedCounterDiff = 0x0932;
+inline constexpr std::uint16_t kDcSystemTimeDifferenceFilterDepth = 0x0934;
+inline constexpr std::uint16_t kDcSpeedCounterFilterDepth = 0x0935;
 inline constexpr std::uint16_t kDcCyclicUnitControl = 0x0980;
 inline constexpr std::uint16_t kDcActivation = 0x0981; ///< bit 0 cyclic op, bit 1 SYNC0
 inline constexpr std::uint16_t kDcSyncStartTime = 0x0990;
@@ -74,6 +78,24 @@ inline constexpr std::uint16_t kPdiWatchdogOk = 1U << 1;  ///< PDI watchdog not 
     return static_cast<std::uint16_t>(1U << (9 + 2 * port));
 }
 } // namespace dl_status
+
+/// 0x092C system time difference (ET1100 datasheet, register 0x092C): sign and magnitude, not
+/// two's complement. Bits 30:0 the mean of |local copy of the system time - received system
+/// time| (ns), bit 31 set when the local copy is smaller. Saturates at 2^31 - 1 ns.
+namespace dc_difference {
+[[nodiscard]] constexpr std::uint32_t encode(std::int64_t local_minus_received) {
+    const bool behind = local_minus_received < 0;
+    const std::uint64_t mag = behind ? 0ULL - static_cast<std::uint64_t>(local_minus_received)
+                                     : static_cast<std::uint64_t>(local_minus_received);
+    const std::uint32_t m = mag > 0x7FFFFFFFULL ? 0x7FFFFFFFU : static_cast<std::uint32_t>(mag);
+    return behind ? (m | 0x80000000U) : m;
+}
+/// Local copy minus received time (ns): positive when the slave's clock is ahead.
+[[nodiscard]] constexpr std::int32_t decode(std::uint32_t raw) {
+    const auto m = static_cast<std::int32_t>(raw & 0x7FFFFFFFU);
+    return (raw & 0x80000000U) != 0 ? -m : m;
+}
+} // namespace dc_difference
 
 /// SII interface control/status (0x0502) bits.
 namespace sii_ctl {

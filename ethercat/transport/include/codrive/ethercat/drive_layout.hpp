@@ -9,7 +9,9 @@
 #include <codrive/ethercat/master.hpp>
 #include <codrive/pdo/types.hpp>
 
+#include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include <tl/expected.hpp>
@@ -58,10 +60,18 @@ choose_layout(const drives::Profile& profile, unsigned axis, drives::cia402::Mod
               const std::vector<PdoMapping>& current_rx, const std::vector<PdoMapping>& current_tx,
               const EsiDefaultPdos* esi = nullptr);
 
+/// Synchronisation type written to 1C32h:01/1C33h:01 (ETG.1020 §21.1.3: 0 free run, 1
+/// synchronous with the SM2 (outputs) event, 2 DC SYNC0; 3 DC SYNC1 is not offered).
+enum class SyncMode : std::uint16_t { FreeRun = 0, SmSynchronous = 1, DcSync0 = 2 };
+
+/// "free" (free run), "sm" (SM-synchronous), "dc" (DC SYNC0), as the bus file and
+/// `codrive drive --sync` write them; nullopt for anything else.
+[[nodiscard]] std::optional<SyncMode> sync_mode_from_string(std::string_view text);
+
 /// How the slave synchronises to the cycle (ETG.1020 §21.1.3, 1C32h:01/1C33h:01).
 struct SyncSettings {
     Duration cycle = milliseconds(1);
-    bool dc = false;  ///< DC SYNC0 (sync mode 2) instead of free run (0)
+    SyncMode mode = SyncMode::FreeRun;
     Duration shift{}; ///< SYNC0 start after the cycle's time grid (DC only)
     std::string name; ///< the user's name for the slave (bus file), shown in sentences
 };
@@ -69,7 +79,7 @@ struct SyncSettings {
 /// What write_sync_objects() did: the mode written and one sentence per object it left alone
 /// (absent or read-only), for an info line.
 struct SyncReport {
-    std::uint16_t mode = 0;         ///< 0 free run, 2 DC SYNC0
+    std::uint16_t mode = 0;         ///< 0 free run, 1 SM-synchronous, 2 DC SYNC0
     std::uint32_t min_cycle_ns = 0; ///< 1C32h:05, 0 when the slave states none
     std::vector<std::string> notes; ///< "slave 0 (FIO): has no 0x1C32:05 (no minimum stated)"
 };
@@ -77,18 +87,19 @@ struct SyncReport {
 /// "free run" (0), "SM synchronous" (1), "DC SYNC0" (2), ... (ETG.1020 §21.1.3.1).
 [[nodiscard]] const char* sync_mode_name(std::uint16_t mode);
 
-/// Before SAFE-OP (the slave in PRE-OP): reads 1C32h:05 (minimum cycle time) where the slave
-/// has it and refuses a shorter cycle; writes 1C32h:01 and 1C33h:01 (sync mode: 0 free run,
-/// 2 DC SYNC0) and 1C32h:02 (cycle time, ns). An object or sub-index the slave lacks, or one it
-/// reports read-only (it sets them itself, as the AKD2G does), is left alone and named in the
-/// report's notes (ETG.1020 §21.1.3: the master writes them where writable). Blocking (mailbox
-/// frames). Error: one sentence naming the slave, the object and the cause.
+/// Before SAFE-OP (the slave in PRE-OP): reads 1C32h:04 (sync modes supported) where the slave
+/// has it and refuses a mode it does not offer; reads 1C32h:05 (minimum cycle time) where the
+/// slave has it and refuses a shorter cycle; writes 1C32h:01 and 1C33h:01 (sync mode: 0 free
+/// run, 1 SM-synchronous, 2 DC SYNC0) and 1C32h:02 (cycle time, ns). An object or sub-index the
+/// slave lacks, or one it reports read-only (it sets them itself, as the AKD2G does), is left alone
+/// and named in the report's notes (ETG.1020 §21.1.3: the master writes them where writable).
+/// Blocking (mailbox frames). Error: one sentence naming the slave, the object and the cause.
 tl::expected<SyncReport, std::string> write_sync_objects(Master& master, std::size_t slave,
                                                          const SyncSettings& sync);
 
 /// The one way a slave is synchronised before SAFE-OP, for `codrive drive --ethercat` and the
-/// controller alike: write_sync_objects(), then with `dc` SYNC0 at the cycle and shift
-/// (Master::configure_sync0). With `dc`, call Master::configure_dc() once for the segment
+/// controller alike: write_sync_objects(), then in DC SYNC0 mode SYNC0 at the cycle and shift
+/// (Master::configure_sync0). For DC SYNC0, call Master::configure_dc() once for the segment
 /// first. Blocking. Error: one sentence naming the slave and the cause.
 tl::expected<SyncReport, std::string> configure_sync(Master& master, std::size_t slave,
                                                      const SyncSettings& sync);

@@ -5,6 +5,7 @@
 
 #include <codrive/sim/ecat/application.hpp>
 #include <codrive/sim/ecat/coe_server.hpp>
+#include <codrive/sim/ecat/dc_clock.hpp>
 #include <codrive/sim/ecat/foe_server.hpp>
 
 #include <codrive/ethercat/al_state.hpp>
@@ -47,10 +48,19 @@ public:
 
     /// Processes one datagram as the frame passes this slave (adds to the WKC in place).
     void process(const ethercat::DatagramRef& dg, const ChainContext& ctx);
-    /// Before a frame: advances the application and refreshes the input buffer (SM3).
+    /// Before a frame: advances the application (unless SM-synchronous) and refreshes the input
+    /// buffer (SM3).
     void before_frame(TimePoint now);
-    /// After a frame: consumes a written mailbox (CoE), applies fresh outputs (SM2).
+    /// After a frame: consumes a written mailbox (CoE), applies fresh outputs (SM2); in sync
+    /// mode 1 (1C32h:01 = 1, SM-synchronous) the SM2 write is what runs the application.
     void after_frame(TimePoint now);
+    /// No frame for a while: the application runs on its own timer, as a real drive's does,
+    /// unless it is SM-synchronous in SAFE-OP/OP (then it waits for the next SM2 event).
+    void idle(TimePoint now);
+    /// True in SAFE-OP/OP with 1C32h:01 = 1 (ETG.1020 §21.1.3.1, synchronous with SM2).
+    [[nodiscard]] bool sm_synchronous() const;
+    /// Application cycles run so far (free-running steps and SM2 events alike).
+    [[nodiscard]] std::uint64_t application_cycles() const { return application_cycles_; }
     /// Runs the process data (SM) watchdog; call it regularly even when no frames arrive (a
     /// master that died sends none). In OP, when the output sync manager has its watchdog
     /// enabled and no outputs were written for the time in 0x0400/0x0420 (default 100 ms), the
@@ -76,6 +86,11 @@ public:
     [[nodiscard]] EscFaults& faults() { return faults_; }
     [[nodiscard]] std::uint64_t system_time(TimePoint now) const;
     [[nodiscard]] bool sync0_active() const;
+    /// The slave's DC clock: its drift (set_drift_ppm) and drift control loop state.
+    [[nodiscard]] DcClock& dc_clock() { return dc_clock_; }
+    [[nodiscard]] const DcClock& dc_clock() const { return dc_clock_; }
+    /// 0x092C as the slave reports it: local minus received reference time (ns, mean).
+    [[nodiscard]] std::int32_t system_time_difference() const;
     [[nodiscard]] std::uint64_t frames_seen() const { return frames_seen_; }
     /// Mailbox repeats served (ETG.1000.4 §6.7.2).
     [[nodiscard]] std::uint64_t mailbox_repeats() const { return mailbox_repeats_; }
@@ -86,6 +101,9 @@ public:
     [[nodiscard]] std::uint16_t reg16(std::uint16_t addr) const;
 
 private:
+    /// Simulated per-slave forwarding delay (ns): the frame reaches slave n n hops after the
+    /// first (DC receive time latches and register access times).
+    static constexpr std::int64_t kDcHopNs = 500;
     void write_memory(std::uint16_t addr, std::span<const std::uint8_t> data, TimePoint now);
     bool read_memory(std::uint16_t addr, std::span<std::uint8_t> out, bool or_into, TimePoint now);
     bool write_allowed_by_sm(std::uint16_t addr, std::size_t len);
@@ -136,7 +154,10 @@ private:
     TimePoint last_outputs_{}; ///< last SM2 write, or when OP was entered
     std::uint64_t watchdog_expiries_ = 0;
     std::uint64_t frames_seen_ = 0;
-    std::int64_t local_base_ns_ = 0;
+    DcClock dc_clock_;
+    std::uint64_t application_cycles_ = 0;
+    void run_application(TimePoint now);
+    void on_system_time_write(std::span<const std::uint8_t> data, TimePoint now);
     TimePoint epoch_{};
 };
 
