@@ -137,7 +137,7 @@ release_build=$root/build-install/build
 release_stage() {
     local exe
     for exe in "$release_build"/tests/unit_pdo "$release_build"/tests/unit_sync \
-        "$release_build"/tests/unit_drives; do
+        "$release_build"/tests/unit_drives "$release_build"/tests/unit_controller; do
         run_gtest release "$exe" --gtest_filter='*Allocation*'
     done
 }
@@ -266,7 +266,7 @@ stage tsan tsan_stage
 echo "== build: Release (allocation tests)"
 mkdir -p "$root/build-install"
 stage build-release configure_build "$release_build" Release "" \
-    'unit_pdo|unit_sync|unit_drives|codrive_python|codrive-sim|codrive-ecat-sim|codrive-dump' || status=1
+    'unit_pdo|unit_sync|unit_drives|unit_controller|codrive_python|codrive-sim|codrive-ecat-sim|codrive-dump' || status=1
 echo "== allocation tests (Release)"
 stage release release_stage
 

@@ -262,7 +262,7 @@ void Controller::setup_node(Bus& b, const master::NodeEntry& entry) {
     n->transport = std::make_unique<drives::CanopenTransport>(b.master->sdo().client(entry.id));
     drives::DriveTransport* axis_transport = n->transport.get();
     if (dedicated()) {
-        n->handoff = std::make_unique<HandoffTransport>(*n->transport);
+        n->handoff = std::make_unique<HandoffTransport>(*n->transport, "acyclic thread");
         axis_transport = n->handoff.get();
     }
     const unsigned axis_count = entry.axes.empty() ? (n->profile != nullptr ? 1U : 0U)
