@@ -221,7 +221,9 @@ private:
     void emit(const std::string& text);
     /// `key`: kind and source of the event, for the rate limiter.
     void emit(const std::string& text, const std::string& key);
-    void on_sync(Bus& bus, const CycleInfo& info);
+    /// One CAN cycle: callback, axes, then `sync` and the RPDOs in one batch. True if the bus
+    /// took the SYNC.
+    bool on_sync(Bus& bus, const CycleInfo& info, const Frame& sync);
     tl::expected<void, ControllerError> open_bus(Bus& b, std::size_t index);
     void setup_node(Bus& b, const master::NodeEntry& entry);
     void after_boot(Bus& b, Node& n);
