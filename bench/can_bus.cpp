@@ -119,7 +119,7 @@ double bench_raw(const std::string& ifname, std::size_t frames) {
 }
 
 /// SocketCanBus both ways: bursts through send() frame by frame, or through send_many() (one
-/// sendmmsg() per burst, as the PDO master sends a SYNC cycle's RPDOs); received with
+/// sendmmsg() per burst, as the controller sends a cycle's SYNC and RPDOs); received with
 /// read_blocking() (the event loop's direct-read path: blocking recvmmsg() batches).
 double bench_socketcan(const std::string& ifname, std::size_t frames, bool batched) {
     SocketCanOptions o;

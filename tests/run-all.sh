@@ -139,13 +139,14 @@ release_build=$root/build-install/build
 release_stage() {
     local exe
     for exe in "$release_build"/tests/unit_pdo "$release_build"/tests/unit_sync \
-        "$release_build"/tests/unit_drives; do
+        "$release_build"/tests/unit_drives "$release_build"/tests/unit_controller; do
         run_gtest release "$exe" --gtest_filter='*Allocation*'
     done
 }
 
 # ThreadSanitizer on the tests where threads meet: the in-process controller and hand-off tests
-# (integration_tests) and the controller over veth EtherCAT with its dedicated cyclic thread.
+# (integration_tests) and the controller over veth EtherCAT with its dedicated cyclic thread (its
+# object accesses from the loop thread included: DemoScenarioOverEthercat.ObjectAccess*).
 # TSan cannot run in the UML guest, so the vcan suite has no TSan run. Left out under TSan: the
 # allocation count (TSan slows the cycle until frames are lost) and the thread count (TSan runs a
 # background thread of its own); both run in the ASan+UBSan EtherCAT stage.
@@ -153,7 +154,7 @@ tsan_stage() {
     export TSAN_OPTIONS="halt_on_error=1 second_deadlock_stack=1 ${TSAN_OPTIONS:-}"
     run_gtest tsan "$root/build-tsan/tests/integration_tests"
     run_gtest tsan "$root/build-tsan/tests/ethercat_tests" \
-        --gtest_filter='ControllerOverEthercat.*:-*EcatDemoProgram*:*AllocatesNothing*:*LeavesNoFdsOrThreads*'
+        --gtest_filter='ControllerOverEthercat.*:DemoScenarioOverEthercat.ObjectAccess*:-*EcatDemoProgram*:*AllocatesNothing*:*LeavesNoFdsOrThreads*'
 }
 
 echo "== build: ASan+UBSan (unit, virtual-bus and EtherCAT tests, and the tools they start)"
@@ -168,7 +169,7 @@ all_jobs=$jobs
 jobs=$((all_jobs > 1 ? all_jobs - 1 : 1))
 mkdir -p "$root/build-install"
 stage build-release configure_build "$release_build" Release "" \
-    'vcan_tests|unit_pdo|unit_sync|unit_drives|codrive_python|codrive(-[a-z_-]+)?' || status=1
+    'vcan_tests|unit_pdo|unit_sync|unit_drives|unit_controller|codrive_python|codrive(-[a-z_-]+)?' || status=1
 jobs=$all_jobs
 echo "== unit tests (ASan+UBSan)"
 wait "$unit_pid" || true

@@ -262,7 +262,7 @@ void Controller::setup_node(Bus& b, const master::NodeEntry& entry) {
     n->transport = std::make_unique<drives::CanopenTransport>(b.master->sdo().client(entry.id));
     drives::DriveTransport* axis_transport = n->transport.get();
     if (dedicated()) {
-        n->handoff = std::make_unique<HandoffTransport>(*n->transport);
+        n->handoff = std::make_unique<HandoffTransport>(*n->transport, "acyclic thread");
         axis_transport = n->handoff.get();
     }
     const unsigned axis_count = entry.axes.empty() ? (n->profile != nullptr ? 1U : 0U)
@@ -511,8 +511,11 @@ tl::expected<void, ControllerError> Controller::start() {
                                             r.error().message()),
                                 r.error()));
         }
-        bp->sync->set_hook([this, bp](const sync::SyncInfo& s) {
-            on_sync(*bp, CycleInfo{s.cycle, s.ideal, s.actual, 0});
+        // The cycle computes its RPDOs first, then the SYNC and the RPDOs leave in one
+        // send_many() (SYNC first: CiA 301 §7.2.2.2, the RPDOs ride in the synchronous window
+        // it opens and are actuated at the next SYNC).
+        bp->sync->set_sender([this, bp](const Frame& f, const sync::SyncInfo& s) {
+            return on_sync(*bp, CycleInfo{s.cycle, s.ideal, s.actual, 0}, f);
         });
         bp->sync->start(loop_->now() + milliseconds(1));
         if (!dedicated()) {

@@ -116,7 +116,7 @@ void Controller::cyclic_main() {
                 }
             }
             if (b->sync->next_deadline() <= now) {
-                b->sync->on_tick(now); // SYNC out, then on_sync(): callback, axes, RPDOs
+                b->sync->on_tick(now); // on_sync(): callback, axes, then SYNC + RPDOs
             }
             if (b->pdo->next_deadline() <= now) {
                 b->pdo->on_tick(now);
@@ -148,9 +148,10 @@ void Controller::cyclic_main() {
     }
 }
 
-void Controller::on_sync(Bus& b, const CycleInfo& info) {
+bool Controller::on_sync(Bus& b, const CycleInfo& info, const Frame& sync) {
     // Inputs of the last cycle are in the image: let the application compute set-points, the
-    // axes turn them into controlwords and targets, then the RPDOs for this SYNC go out.
+    // axes turn them into controlwords and targets, then the SYNC and the RPDOs behind it go out
+    // together (one sendmmsg() per cycle on SocketCAN).
     if (cycle_cb_) {
         cycle_cb_(info);
     }
@@ -162,8 +163,9 @@ void Controller::on_sync(Bus& b, const CycleInfo& info) {
             a->on_cycle(info.actual);
         }
     }
-    b.pdo->on_sync(info.cycle, info.actual);
+    const bool taken = b.pdo->on_sync(info.cycle, info.actual, sync);
     publish_cyclic_stats(false);
+    return taken;
 }
 
 void Controller::run_loop_until(const std::function<bool()>& pred, TimePoint deadline) {

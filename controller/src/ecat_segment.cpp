@@ -31,7 +31,7 @@ EcatSegment::EcatSegment(EcatSegmentConfig config, std::size_t bus_index, Emit e
 EcatSegment::~EcatSegment() = default;
 
 tl::expected<void, ControllerError> EcatSegment::bring_up(ethercat::IEcatLink* link,
-                                                          bool /*dedicated*/) {
+                                                          bool dedicated) {
     const std::string where = fmt::format("EtherCAT segment on {}", config_.iface);
     if (link == nullptr) {
         auto l = ethercat::RawSocketLink::open(config_.iface);
@@ -124,6 +124,9 @@ tl::expected<void, ControllerError> EcatSegment::bring_up(ethercat::IEcatLink* l
         s->transport = std::make_unique<ethercat::CoeTransport>(
             *master_, s->index, ethercat::CoeTransport::Drive::Cyclic);
         drives::DriveTransport* axis_transport = s->transport.get();
+        if (dedicated) {
+            s->loop_access = std::make_unique<HandoffTransport>(*s->transport, "cyclic thread");
+        }
         for (const auto& a : s->entry.axes) {
             drives::AxisConfig ac;
             ac.axis = a.axis;
@@ -255,6 +258,11 @@ void EcatSegment::cycle(TimePoint now) {
         if (const std::uint16_t v = s->al_request.exchange(0, std::memory_order_acquire); v != 0) {
             (void)master_->queue_al_control(s->index, v);
         }
+        // The loop thread's object accesses join the slave's CoE queue; their mailbox
+        // datagrams ride in this frame and the next ones, one step per cycle, like the axes'.
+        if (s->loop_access) {
+            (void)s->loop_access->pump_requests();
+        }
     }
     bool ok = false;
     if (master_->send_process_data()) {
@@ -305,6 +313,11 @@ void EcatSegment::cycle(TimePoint now) {
 }
 
 void EcatSegment::acyclic(TimePoint now) {
+    for (auto& s : slaves_) {
+        if (s->loop_access) {
+            (void)s->loop_access->deliver_completions();
+        }
+    }
     EmcyEvent e;
     while (emcy_.pop(e)) {
         // With the drive profile's text (AKD2G "F2002 Output over current"), as the CAN side
@@ -465,9 +478,12 @@ drives::Axis* EcatSegment::axis(unsigned position, unsigned number) {
     return nullptr;
 }
 
-drives::DriveTransport* EcatSegment::transport(unsigned position) {
+drives::DriveTransport* EcatSegment::loop_transport(unsigned position) {
     for (auto& s : slaves_) {
         if (s->index == position) {
+            if (s->loop_access) {
+                return s->loop_access.get();
+            }
             return s->transport.get();
         }
     }

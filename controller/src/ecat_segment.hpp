@@ -3,6 +3,7 @@
 // layouts, CiA 402 axes over CoE, and the per-cycle LRW exchange.
 #pragma once
 
+#include "handoff_transport.hpp"
 #include "spsc_ring.hpp"
 
 #include <codrive/controller/controller.hpp>
@@ -35,8 +36,8 @@ public:
     /// Opens the interface (or uses `link` when given), scans, checks every configured slave's
     /// identity against its profile, writes the modes and the profiles' PDO layouts in PRE-OP,
     /// steps to OP and binds the axes. Error: one sentence naming the slave and the step.
-    /// `dedicated`: the axes will live on the cyclic thread (their object accesses are handed
-    /// to the acyclic thread).
+    /// `dedicated`: cycles will run on the dedicated cyclic thread; object accesses from the
+    /// loop thread (loop_transport()) are then handed to it.
     tl::expected<void, ControllerError> bring_up(ethercat::IEcatLink* link, bool dedicated = false);
     /// First cycle at `first`, then every cycle_us.
     void start_cycles(TimePoint first, CycleHook hook);
@@ -64,9 +65,11 @@ public:
     void stop();
 
     [[nodiscard]] drives::Axis* axis(unsigned position, unsigned number);
-    /// The CoE transport of the slave at `position` (used on the thread that runs cycle()), or
-    /// nullptr when the bus file has no slave there or the segment is not up.
-    [[nodiscard]] drives::DriveTransport* transport(unsigned position);
+    /// The transport the loop thread uses for object accesses to the slave at `position`: its
+    /// CoE transport when the loop runs the cycles, the hand-off to the cyclic thread in
+    /// dedicated-cyclic mode (the slave's mailbox rides in the cyclic frame, which that thread
+    /// owns). nullptr when the bus file has no slave there or the segment is not up.
+    [[nodiscard]] drives::DriveTransport* loop_transport(unsigned position);
     void collect_axes(std::vector<AxisRef>& out) const;
     void for_each_axis(const std::function<void(drives::Axis&)>& fn);
     [[nodiscard]] const EcatSegmentConfig& config() const { return config_; }
@@ -86,6 +89,9 @@ private:
         const ethercat::EsiDevice* esi_device = nullptr;
         std::shared_ptr<const emcy::IEmcyTextProvider> emcy_text; ///< the profile's EMCY texts
         std::unique_ptr<ethercat::CoeTransport> transport;
+        /// Dedicated-cyclic mode: the loop thread's object accesses, carried out by the cycle
+        /// (pump_requests() before the frame goes out), delivered by acyclic().
+        std::unique_ptr<HandoffTransport> loop_access;
         std::vector<std::unique_ptr<drives::Axis>> axes;
         std::atomic<std::uint16_t> emcy_code{0}; ///< written by the acyclic side
         /// AL control value the acyclic side asks the cycle to send (0 = none).

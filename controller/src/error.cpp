@@ -34,8 +34,6 @@ public:
             return "the controller is not started";
         case ControllerErrc::NoSuchDevice:
             return "no such bus, node or slave";
-        case ControllerErrc::NotAvailable:
-            return "not available in this threading mode";
         }
         return "unknown controller error";
     }
@@ -78,8 +76,6 @@ std::string_view to_string(ControllerErrc e) {
         return "not_started";
     case ControllerErrc::NoSuchDevice:
         return "no_such_device";
-    case ControllerErrc::NotAvailable:
-        return "not_available";
     }
     return "unknown";
 }

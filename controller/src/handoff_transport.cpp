@@ -1,79 +1,109 @@
 // SPDX-License-Identifier: Apache-2.0
-// Lock-free hand-off of an axis's object accesses between the cyclic and the acyclic thread.
+// Lock-free hand-off of a device's object accesses between two threads through preallocated
+// slots.
 #include "handoff_transport.hpp"
+
+#include <utility>
 
 namespace codrive::controller {
 
-HandoffTransport::HandoffTransport(drives::DriveTransport& inner)
-    : inner_(inner), name_(inner.name()) {}
+HandoffTransport::HandoffTransport(drives::DriveTransport& inner, std::string executor)
+    : inner_(inner), name_(inner.name()), executor_(std::move(executor)) {
+    for (std::size_t i = 0; i < kSlots; ++i) {
+        free_[i] = static_cast<std::uint8_t>(kSlots - 1 - i);
+    }
+    free_count_ = kSlots;
+}
+
+bool HandoffTransport::take_slot(std::uint8_t& slot) {
+    if (free_count_ == 0) {
+        return false;
+    }
+    slot = free_[--free_count_];
+    return true;
+}
+
+void HandoffTransport::refuse(ObjectRequest& r) const {
+    auto why = drives::drive_fail(drives::DriveErrc::Transport,
+                                  name_ + ": too many object accesses waiting for the " +
+                                      executor_ + " (" + std::to_string(kSlots) + ")");
+    if (r.is_write) {
+        r.write_done(std::move(why));
+    } else {
+        r.read_done(std::move(why));
+    }
+}
 
 void HandoffTransport::read(std::uint16_t index, std::uint8_t subindex, ReadDone done) {
-    Request r = Request::read(index, subindex, std::move(done));
-    if (!requests_.push(r)) {
-        r.read_done(drives::drive_fail(drives::DriveErrc::Transport,
-                                       name_ + ": too many object accesses waiting for the "
-                                               "acyclic thread (64)"));
+    ObjectRequest r = ObjectRequest::read(index, subindex, std::move(done));
+    std::uint8_t slot = 0;
+    if (!take_slot(slot)) {
+        refuse(r);
+        return;
     }
+    slots_[slot].request = std::move(r);
+    // Cannot fail: a slot number is in at most one ring at a time and there are kSlots of them.
+    (void)requests_.push(slot);
 }
 
 void HandoffTransport::write(std::uint16_t index, std::uint8_t subindex, drives::Bytes data,
                              WriteDone done) {
-    Request r = Request::write(index, subindex, std::move(data), std::move(done));
-    if (!requests_.push(r)) {
-        r.write_done(drives::drive_fail(drives::DriveErrc::Transport,
-                                        name_ + ": too many object accesses waiting for the "
-                                                "acyclic thread (64)"));
+    ObjectRequest r = ObjectRequest::write(index, subindex, std::move(data), std::move(done));
+    std::uint8_t slot = 0;
+    if (!take_slot(slot)) {
+        refuse(r);
+        return;
     }
+    slots_[slot].request = std::move(r);
+    (void)requests_.push(slot);
 }
 
 std::size_t HandoffTransport::deliver_completions() {
     std::size_t n = 0;
-    Completion c;
-    while (completions_.pop(c)) {
-        if (c.read_done) {
-            c.read_done(std::move(c.read_result));
-        } else if (c.write_done) {
-            c.write_done(c.write_result);
+    std::uint8_t slot = 0;
+    while (completions_.pop(slot)) {
+        Slot& s = slots_[slot];
+        // Free the slot before the callback runs: a callback may start the next access.
+        ObjectRequest r = std::move(s.request);
+        s.request = ObjectRequest{};
+        if (r.is_write) {
+            drives::DriveVoid res = std::move(s.write_result);
+            s.write_result = drives::DriveVoid{};
+            free_[free_count_++] = slot;
+            r.write_done(std::move(res));
+        } else {
+            drives::DriveResult<drives::Bytes> res = std::move(s.read_result);
+            s.read_result = drives::Bytes{};
+            free_[free_count_++] = slot;
+            r.read_done(std::move(res));
         }
-        c = Completion{};
         ++n;
     }
     return n;
 }
 
-void HandoffTransport::complete(Completion c) {
-    backlog_.push_back(std::move(c));
-    while (!backlog_.empty() && completions_.push(backlog_.front())) {
-        backlog_.pop_front();
-    }
-}
-
 std::size_t HandoffTransport::pump_requests() {
-    while (!backlog_.empty() && completions_.push(backlog_.front())) {
-        backlog_.pop_front();
-    }
     std::size_t n = 0;
-    Request r;
-    while (requests_.pop(r)) {
+    std::uint8_t slot = 0;
+    while (requests_.pop(slot)) {
+        ObjectRequest& r = slots_[slot].request;
+        // The callbacks hold `this` and the slot's number: small enough for std::function's
+        // inline storage. The slot is not touched after the completion is pushed: from then on
+        // it belongs to the requesting thread again.
         if (r.is_write) {
             inner_.write(r.index, r.subindex, std::move(r.data),
-                         [this, done = std::move(r.write_done)](drives::DriveVoid res) mutable {
-                             Completion c;
-                             c.write_done = std::move(done);
-                             c.write_result = std::move(res);
-                             complete(std::move(c));
+                         [this, slot](drives::DriveVoid res) {
+                             slots_[slot].write_result = std::move(res);
+                             std::uint8_t s = slot;
+                             (void)completions_.push(s);
                          });
         } else {
-            inner_.read(r.index, r.subindex,
-                        [this, done = std::move(r.read_done)](
-                            drives::DriveResult<drives::Bytes> res) mutable {
-                            Completion c;
-                            c.read_done = std::move(done);
-                            c.read_result = std::move(res);
-                            complete(std::move(c));
-                        });
+            inner_.read(r.index, r.subindex, [this, slot](drives::DriveResult<drives::Bytes> res) {
+                slots_[slot].read_result = std::move(res);
+                std::uint8_t s = slot;
+                (void)completions_.push(s);
+            });
         }
-        r = Request{};
         ++n;
     }
     return n;

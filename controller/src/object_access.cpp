@@ -59,19 +59,14 @@ drives::DriveResult<drives::DriveTransport*> Controller::object_transport(std::s
                                  buses_.size(), segments_.size()));
     }
     EcatSegment& s = *segments_[seg];
-    drives::DriveTransport* t = s.transport(node);
+    // In Threading::DedicatedCyclic the slave's mailbox rides in the cyclic frame, which the
+    // cyclic thread owns: the access is handed to it lock-free and its completion comes back
+    // here (HandoffTransport); otherwise the loop runs the cycles and the CoE transport itself.
+    drives::DriveTransport* t = s.loop_transport(node);
     if (t == nullptr) {
         return error(ControllerErrc::NoSuchDevice,
                      fmt::format("slave {} is not in the bus file's EtherCAT segment on {}", node,
                                  s.config().iface));
-    }
-    if (dedicated()) {
-        // The CoE transfers ride in the cyclic frame, which the cyclic thread owns.
-        return error(ControllerErrc::NotAvailable,
-                     fmt::format("slave {}: object access from the loop thread is not available "
-                                 "for an EtherCAT segment in Threading::DedicatedCyclic (its "
-                                 "mailbox belongs to the cyclic thread)",
-                                 node));
     }
     return t;
 }

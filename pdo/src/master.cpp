@@ -259,11 +259,17 @@ void PdoMaster::flush_sends(TimePoint now) {
     batch_size_ = 0;
     const std::size_t accepted = bus_.send_many(std::span<const Frame>(batch_.data(), n));
     for (std::size_t i = 0; i < accepted && i < n; ++i) {
-        sent(*batch_channels_[i]);
+        if (batch_channels_[i] != nullptr) {
+            sent(*batch_channels_[i]);
+        }
     }
     // What the bus would not take, one by one: each refusal with its own error and event.
     for (std::size_t i = accepted; i < n; ++i) {
-        send(*batch_channels_[i], now);
+        if (batch_channels_[i] != nullptr) {
+            send(*batch_channels_[i], now);
+        } else {
+            lead_refused_ = true; // the SYNC: its producer counts the failure
+        }
     }
 }
 
@@ -301,6 +307,16 @@ void PdoMaster::check_window(detail::PdoChannel& p, std::uint64_t cycle, TimePoi
     }
     p.window_start = cycle;
     p.received_in_window = false;
+}
+
+bool PdoMaster::on_sync(std::uint64_t cycle, TimePoint now, const Frame& sync) {
+    flush_sends(now); // nothing is pending between cycles; keeps the SYNC first regardless
+    batch_[0] = sync;
+    batch_channels_[0] = nullptr;
+    batch_size_ = 1;
+    lead_refused_ = false;
+    on_sync(cycle, now);
+    return !lead_refused_;
 }
 
 void PdoMaster::on_sync(std::uint64_t cycle, TimePoint now) {

@@ -48,7 +48,9 @@ void SyncProducer::on_tick(TimePoint now) {
     }
     const TimePoint ideal = next_;
     const std::uint64_t cycle = k_;
-    if (bus_.send(f)) {
+    const bool taken = sender_ ? sender_(f, SyncInfo{cycle, counter, ideal, now})
+                               : static_cast<bool>(bus_.send(f));
+    if (taken) {
         ++sent_;
         last_counter_ = counter;
         if (config_.counter_overflow != 0) {

@@ -177,7 +177,7 @@ public:
 
     /// Result of read_object(): the object's bytes (little-endian, as on the wire), or a
     /// drives::DriveError: `code` to branch on (the transfer's own: an SDO abort code, a
-    /// timeout; or ControllerErrc::NotStarted, NoSuchDevice, NotAvailable) and `message`, a
+    /// timeout; or ControllerErrc::NotStarted, NoSuchDevice) and `message`, a
     /// sentence naming the node or slave, the object and the cause.
     using ObjectRead = std::function<void(drives::DriveResult<drives::Bytes>)>;
     /// Result of write_object(): nothing, or a drives::DriveError as for ObjectRead.
@@ -186,9 +186,10 @@ public:
     /// on CAN bus `bus`, or a CoE SDO upload from the slave at position `node` of an EtherCAT
     /// segment (bus indexes: CAN buses first, then the segments). Asynchronous: `done` runs
     /// later on the loop thread (never inside this call), from run()/run_for()/run_until(). Call
-    /// it on the loop thread after start(). Errors (as sentences): unknown bus, node or slave;
-    /// not started; an EtherCAT segment in Threading::DedicatedCyclic (its mailbox belongs to
-    /// the cyclic thread); the transfer's own failure (abort code, timeout).
+    /// it on the loop thread after start(), in either threading mode (in
+    /// Threading::DedicatedCyclic an EtherCAT slave's access is handed to the cyclic thread,
+    /// which owns its mailbox, and its completion handed back). Errors (as sentences): unknown
+    /// bus, node or slave; not started; the transfer's own failure (abort code, timeout).
     void read_object(std::size_t bus, NodeId node, std::uint16_t index, std::uint8_t subindex,
                      ObjectRead done);
     /// Writes one object (expedited, segmented or CoE as the size needs); as read_object().
@@ -221,7 +222,9 @@ private:
     void emit(const std::string& text);
     /// `key`: kind and source of the event, for the rate limiter.
     void emit(const std::string& text, const std::string& key);
-    void on_sync(Bus& bus, const CycleInfo& info);
+    /// One CAN cycle: callback, axes, then `sync` and the RPDOs in one batch. True if the bus
+    /// took the SYNC.
+    bool on_sync(Bus& bus, const CycleInfo& info, const Frame& sync);
     tl::expected<void, ControllerError> open_bus(Bus& b, std::size_t index);
     void setup_node(Bus& b, const master::NodeEntry& entry);
     void after_boot(Bus& b, Node& n);

@@ -25,7 +25,6 @@ enum class ControllerErrc {
     SyncFailed,           ///< the SYNC producer could not be configured
     NotStarted,           ///< read_object()/write_object() before start()
     NoSuchDevice,         ///< read_object()/write_object(): no such bus, node or slave
-    NotAvailable, ///< read_object()/write_object() on a segment whose mailbox another thread owns
 };
 
 const std::error_category& controller_category();

@@ -112,6 +112,13 @@ public:
     /// A SYNC went out (call from SyncProducer's hook with SyncInfo::cycle). Checks the TPDO
     /// windows that ended, then sends the RPDOs due at this SYNC.
     void on_sync(std::uint64_t cycle, TimePoint now);
+    /// The same, for a SYNC not sent yet: `sync` goes to the bus first and the RPDOs due at it
+    /// right behind, in the same ICanBus::send_many() call (one sendmmsg() per cycle on
+    /// SocketCAN). CiA 301 §7.2.2.2 / §7.2.5: synchronous RPDOs are received inside the
+    /// synchronous window that opens with a SYNC (1007h) and actuated at the next SYNC, so they
+    /// follow the SYNC, never precede it. True if the bus took the SYNC (a refused SYNC is not
+    /// retried: the producer counts it as a send error and the next one is due a period later).
+    bool on_sync(std::uint64_t cycle, TimePoint now, const Frame& sync);
     /// A received frame. True if it was a TPDO of a configured node.
     bool on_frame(const Frame& frame, TimePoint now);
     /// Sends event-driven RPDOs that changed (inhibit time permitting).
@@ -152,9 +159,11 @@ private:
     std::vector<detail::PdoChannel*> extended_tpdos_; ///< 29-bit TPDOs (linear search)
     static constexpr std::size_t kSendBatch = 32;
     std::array<Frame, kSendBatch> batch_{};
+    /// nullptr: the SYNC leading the batch (on_sync() with a frame).
     std::array<detail::PdoChannel*, kSendBatch> batch_channels_{};
     std::size_t batch_size_ = 0;
-    bool changed_ = false; ///< some image was written since the last flush
+    bool lead_refused_ = false; ///< the last batch's leading SYNC was not taken
+    bool changed_ = false;      ///< some image was written since the last flush
     TimePoint next_timer_ = kNever;
     EventHandler handler_;
     PdoMasterStats stats_;

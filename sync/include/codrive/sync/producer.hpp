@@ -31,6 +31,10 @@ struct SyncInfo {
 
 /// Called after each SYNC was handed to the bus. Runs on the cyclic path: it must not block.
 using SyncHook = std::function<void(const SyncInfo&)>;
+/// Sends the SYNC frame itself, together with what goes out with it (the controller: the
+/// cycle's RPDOs behind it in one ICanBus::send_many(), PdoMaster::on_sync(cycle, now, sync)).
+/// Returns whether the bus took the SYNC. Runs on the cyclic path: it must not block.
+using SyncSender = std::function<bool(const Frame& sync, const SyncInfo&)>;
 
 /// Sends SYNC every period at start + k·period (never "now + period", so late ticks do not
 /// accumulate into drift). A tick later than a whole period sends one SYNC and skips the
@@ -52,6 +56,9 @@ public:
     [[nodiscard]] bool running() const { return running_; }
 
     void set_hook(SyncHook hook) { hook_ = std::move(hook); }
+    /// Hands every SYNC frame to `sender` instead of ICanBus::send() (empty: send it alone).
+    /// The hook, if any, still runs after it.
+    void set_sender(SyncSender sender) { sender_ = std::move(sender); }
 
     [[nodiscard]] TimePoint next_deadline() const override { return running_ ? next_ : kNever; }
     void on_tick(TimePoint now) override;
@@ -75,6 +82,7 @@ private:
     std::uint8_t counter_ = 1;
     std::uint8_t last_counter_ = 0;
     SyncHook hook_;
+    SyncSender sender_;
     PeriodStats stats_;
     std::uint64_t sent_ = 0;
     std::uint64_t skipped_ = 0;
