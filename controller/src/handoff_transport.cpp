@@ -35,7 +35,15 @@ void HandoffTransport::refuse(ObjectRequest& r) const {
 }
 
 void HandoffTransport::read(std::uint16_t index, std::uint8_t subindex, ReadDone done) {
-    ObjectRequest r = ObjectRequest::read(index, subindex, std::move(done));
+    submit(ObjectRequest::read(index, subindex, std::move(done)));
+}
+
+void HandoffTransport::write(std::uint16_t index, std::uint8_t subindex, drives::Bytes data,
+                             WriteDone done) {
+    submit(ObjectRequest::write(index, subindex, std::move(data), std::move(done)));
+}
+
+void HandoffTransport::submit(ObjectRequest r) {
     std::uint8_t slot = 0;
     if (!take_slot(slot)) {
         refuse(r);
@@ -43,18 +51,6 @@ void HandoffTransport::read(std::uint16_t index, std::uint8_t subindex, ReadDone
     }
     slots_[slot].request = std::move(r);
     // Cannot fail: a slot number is in at most one ring at a time and there are kSlots of them.
-    (void)requests_.push(slot);
-}
-
-void HandoffTransport::write(std::uint16_t index, std::uint8_t subindex, drives::Bytes data,
-                             WriteDone done) {
-    ObjectRequest r = ObjectRequest::write(index, subindex, std::move(data), std::move(done));
-    std::uint8_t slot = 0;
-    if (!take_slot(slot)) {
-        refuse(r);
-        return;
-    }
-    slots_[slot].request = std::move(r);
     (void)requests_.push(slot);
 }
 

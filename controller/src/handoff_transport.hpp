@@ -73,6 +73,8 @@ private:
         drives::DriveVoid write_result;
     };
     /// Requesting thread: a free slot's number, or false when all are in use.
+    /// Queues one access in a free slot, or refuses it with its sentence.
+    void submit(ObjectRequest r);
     bool take_slot(std::uint8_t& slot);
     void refuse(ObjectRequest& r) const;
 
