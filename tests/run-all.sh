@@ -165,12 +165,11 @@ unit_run &
 unit_pid=$!
 
 echo "== build: Release (vcan and leak stages, allocation tests, Python module, install)"
-all_jobs=$jobs
-jobs=$((all_jobs > 1 ? all_jobs - 1 : 1))
+# All jobs, beside the unit tests: the build outlasts them (with one job fewer it ran alone on
+# one CPU for minutes after the unit stage ended).
 mkdir -p "$root/build-install"
 stage build-release configure_build "$release_build" Release "" \
     'vcan_tests|unit_pdo|unit_sync|unit_drives|unit_controller|codrive_python|codrive(-[a-z_-]+)?' || status=1
-jobs=$all_jobs
 echo "== unit tests (ASan+UBSan)"
 wait "$unit_pid" || true
 seconds[unit]=$(cat "$unit_dir/seconds" 2>/dev/null || echo 0)
