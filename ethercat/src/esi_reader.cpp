@@ -175,7 +175,14 @@ private:
         const pugi::xml_node dict = d.child("Profile").child("Dictionary");
         read_data_types(dict.child("DataTypes"));
         for (const pugi::xml_node o : dict.child("Objects").children("Object")) {
-            dev.objects.push_back(object(o));
+            EsiObject obj = object(o);
+            // An index names one object of the dictionary (ETG.2000 Dictionary/Objects): a second
+            // definition would be shadowed by the first in every lookup (found by fuzz_ecat_esi).
+            if (const EsiObject* first = dev.object(obj.index); first != nullptr) {
+                fail(o, fmt::format("object {:04X}h is defined twice (first at line {})", obj.index,
+                                    first->line));
+            }
+            dev.objects.push_back(std::move(obj));
         }
         return dev;
     }

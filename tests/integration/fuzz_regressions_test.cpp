@@ -5,6 +5,7 @@
 
 #include <codrive/core/cob_id.hpp>
 #include <codrive/core/virtual_bus.hpp>
+#include <codrive/ethercat/esi.hpp>
 #include <codrive/master/bus_config.hpp>
 #include <codrive/sdo/client.hpp>
 
@@ -65,6 +66,21 @@ TEST(FuzzRegression, BusConfigTruncatedFileGivesFindingsNotAnException) {
     if (result) {
         EXPECT_EQ(result->config.has_value(), result->errors.empty());
     }
+}
+
+// fuzz_ecat_esi (bench/fuzz_long.sh, 1,648,666 executions), regressions/ecat_esi/
+// object_defined_twice.xml: an ESI whose dictionary defines object 607Ah twice was accepted, and
+// every lookup found the first definition, so the second one's entries could not be found. The
+// file is refused with a sentence naming both lines.
+TEST(FuzzRegression, EsiObjectDefinedTwiceIsRefusedWithBothLines) {
+    const std::string path = std::string(CODRIVE_SOURCE_DIR) +
+                             "/tests/data/fuzz/regressions/ecat_esi/object_defined_twice.xml";
+    std::ifstream file(path, std::ios::binary);
+    ASSERT_TRUE(file) << path;
+    const std::string xml((std::istreambuf_iterator<char>(file)), std::istreambuf_iterator<char>());
+    const auto esi = ethercat::parse_esi(xml, "fio.xml");
+    ASSERT_FALSE(esi);
+    EXPECT_EQ(esi.error(), "fio.xml:26: object 607Ah is defined twice (first at line 25)");
 }
 
 // Found by the bus-off fault-injection test: while the bus refuses every send (bus-off), a
