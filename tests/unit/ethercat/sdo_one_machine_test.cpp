@@ -10,6 +10,7 @@
 #include <codrive/core/sdo_abort.hpp>
 #include <codrive/sdo/client.hpp>
 #include <codrive/sdo/protocol.hpp>
+#include <codrive/testing/recording_bus.hpp>
 
 #include <gtest/gtest.h>
 
@@ -26,24 +27,7 @@ constexpr NodeId kNode = 4;
 constexpr std::uint16_t kIndex = 0x2100;
 constexpr std::uint8_t kSub = 1;
 
-/// A CAN bus that records what the client sends; the test plays the server.
-class RecordingBus final : public ICanBus {
-public:
-    VoidResult send(const Frame& frame) override {
-        sent.push_back(frame);
-        return {};
-    }
-    void set_frame_handler(FrameHandler) override {}
-    void set_event_handler(EventHandler) override {}
-    [[nodiscard]] std::size_t tx_pending() const override { return 0; }
-    [[nodiscard]] const BusStats& stats() const override { return stats_; }
-    [[nodiscard]] const std::string& name() const override { return name_; }
-    std::vector<Frame> sent;
-
-private:
-    BusStats stats_;
-    std::string name_ = "scripted";
-};
+using codrive::testing::RecordingBus;
 
 /// How one transfer ended on one transport.
 struct Ending {
@@ -69,7 +53,7 @@ std::optional<Payload> abort_in(std::span<const std::uint8_t> frame) {
 Ending run_can(bool upload, const std::vector<std::uint8_t>& data,
                const std::vector<Payload>& script) {
     FakeClock clock;
-    RecordingBus bus;
+    RecordingBus bus{"scripted"};
     sdo::ClientConfig config;
     config.node = kNode;
     sdo::SdoClient client(bus, clock, config);

@@ -10,6 +10,7 @@
 #include <codrive/sdo/protocol.hpp>
 #include <codrive/sdo/server.hpp>
 #include <codrive/sim/ecat/coe_server.hpp>
+#include <codrive/testing/recording_bus.hpp>
 
 #include <gtest/gtest.h>
 
@@ -28,24 +29,7 @@ using sdo::Payload;
 constexpr NodeId kNode = 4;
 constexpr std::size_t kMailbox = 128; ///< SM1 size of the simulated slaves
 
-/// A CAN bus that records what the server sends.
-class RecordingBus final : public ICanBus {
-public:
-    VoidResult send(const Frame& frame) override {
-        sent.push_back(frame);
-        return {};
-    }
-    void set_frame_handler(FrameHandler) override {}
-    void set_event_handler(EventHandler) override {}
-    [[nodiscard]] std::size_t tx_pending() const override { return 0; }
-    [[nodiscard]] const BusStats& stats() const override { return stats_; }
-    [[nodiscard]] const std::string& name() const override { return name_; }
-    std::vector<Frame> sent;
-
-private:
-    BusStats stats_;
-    std::string name_ = "recording";
-};
+using codrive::testing::RecordingBus;
 
 /// The dictionary every case starts from: VARs rw/ro, a long string and a RECORD.
 void add_objects(ObjectDictionary& od) {
