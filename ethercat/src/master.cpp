@@ -179,6 +179,13 @@ VoidResult Master::scan() {
                                      "back with working counter 0",
                                      link_.name()));
     }
+    if (*count > config_.max_slaves) {
+        return set_error(make_error_code(EcatErrc::WorkingCounter),
+                         fmt::format("the broadcast read on {} counted {} slaves, more than the "
+                                     "{} this master accepts (MasterConfig::max_slaves): a "
+                                     "corrupted frame or a device that is not an EtherCAT slave",
+                                     link_.name(), *count, config_.max_slaves));
+    }
     // Before the reset: the state each slave was left in (by position, all in one frame).
     std::vector<Datagram> found;
     for (std::uint16_t i = 0; i < *count; ++i) {
@@ -193,6 +200,14 @@ VoidResult Master::scan() {
             return e;
         }
         for (std::size_t i = 0; i < chunk.size(); ++i) {
+            if (chunk[i].wkc == 0) {
+                // Positions are contiguous: nothing answers past the end of the segment.
+                return set_error(make_error_code(EcatErrc::WorkingCounter),
+                                 fmt::format("the broadcast read on {} counted {} slaves, but "
+                                             "position {} does not answer: a slave left the "
+                                             "segment during the scan or the count was corrupted",
+                                             link_.name(), *count, off + i));
+            }
             if (chunk[i].wkc == 1 && chunk[i].data.size() >= 6) {
                 const AlStatus st = AlStatus::decode(chunk[i].data);
                 SlaveInfo& f = found_info[off + i];

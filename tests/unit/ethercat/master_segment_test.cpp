@@ -55,6 +55,56 @@ TEST_F(EcatMasterSegment, ScanCountsSlavesAssignsAddressesAndReadsIdentityFromSi
     EXPECT_EQ(s[1].state, AlState::Init);
 }
 
+/// The segment's wire, with the first answer's first working counter overwritten: the broadcast
+/// read that counts the slaves comes back with a count the segment does not have.
+class MiscountingLink final : public IEcatLink {
+public:
+    MiscountingLink(SegmentLink& inner, std::uint16_t count) : inner_(inner), count_(count) {}
+    VoidResult send(std::span<const std::uint8_t> frame) override { return inner_.send(frame); }
+    Result<std::size_t> receive(std::span<std::uint8_t> buffer, TimePoint deadline) override {
+        auto got = inner_.receive(buffer, deadline);
+        // Ethernet header (14), EtherCAT header (2), datagram header (10), 2 data bytes: wkc.
+        if (got && !done_ && *got >= 30 && buffer[16] == 0x07) {
+            buffer[28] = static_cast<std::uint8_t>(count_);
+            buffer[29] = static_cast<std::uint8_t>(count_ >> 8);
+            done_ = true;
+        }
+        return got;
+    }
+    void idle(Duration d) override { inner_.idle(d); }
+    [[nodiscard]] std::string name() const override { return "eth9"; }
+
+private:
+    SegmentLink& inner_;
+    std::uint16_t count_;
+    bool done_ = false;
+};
+
+TEST_F(EcatMasterSegment, ACountPastTheEndOfTheSegmentIsNamedWithThePositionThatDoesNotAnswer) {
+    MiscountingLink wire(link_, 5);
+    Master master(wire, clock_);
+    auto scanned = master.scan();
+    ASSERT_FALSE(scanned);
+    EXPECT_EQ(scanned.error(), EcatErrc::WorkingCounter);
+    EXPECT_EQ(master.last_error(),
+              "the broadcast read on eth9 counted 5 slaves, but position 3 does not answer: a "
+              "slave left the segment during the scan or the count was corrupted");
+    EXPECT_TRUE(master.slaves().empty());
+}
+
+TEST_F(EcatMasterSegment, ACountAboveMaxSlavesIsRefusedBeforeAnyPositionIsProbed) {
+    MiscountingLink wire(link_, 48879);
+    Master master(wire, clock_);
+    link_.record(true);
+    auto scanned = master.scan();
+    ASSERT_FALSE(scanned);
+    EXPECT_NE(master.last_error().find("counted 48879 slaves, more than the 512 this master "
+                                       "accepts (MasterConfig::max_slaves)"),
+              std::string::npos)
+        << master.last_error();
+    EXPECT_EQ(link_.sent().size(), 1U); // the broadcast read alone, not 764 probing frames
+}
+
 TEST_F(EcatMasterSegment, ScanReportsTheStateThePreviousMasterLeftBeforeResettingToInit) {
     to_op();
     ASSERT_TRUE(master_.exchange_process_data()) << master_.last_error();

@@ -47,6 +47,10 @@ struct MasterConfig {
     Duration emergency_poll = milliseconds(10);
     Duration sii_timeout = milliseconds(100);
     std::uint16_t first_station_address = 0x1001;
+    /// scan() refuses a segment whose broadcast read counts more slaves than this: a count that
+    /// large comes from a corrupted frame or a wrong interface, and probing every position up
+    /// to 65535 would take thousands of frames before saying so.
+    std::uint16_t max_slaves = 512;
     /// After configure_dc(): every cyclic frame carries an FRMW of the reference clock's system
     /// time (0x0910) so that the other DC slaves keep steering their clocks to it (continuous
     /// drift compensation, ETG.1000.4 §9.1.3). Off only to show what drift does without it.
