@@ -96,7 +96,20 @@ std::uint64_t PeriodHistogram::above() const {
     return above;
 }
 
-Timeline::Timeline() : bus_(kBuckets), nodes_((kMaxNodeId + 1) * kBuckets) {}
+Timeline::Timeline() : bus_(kBuckets) {}
+
+Timeline::PerNode& Timeline::node(NodeId n, std::size_t i) {
+    auto& row = nodes_[n];
+    if (!row) {
+        row = std::make_unique<PerNode[]>(kBuckets);
+    }
+    return row[i];
+}
+
+const Timeline::PerNode& Timeline::node(NodeId n, std::size_t i) const {
+    static const PerNode kNever{};
+    return nodes_[n] ? nodes_[n][i] : kNever;
+}
 
 void Timeline::widen() {
     const std::size_t half = kBuckets / 2;
@@ -107,8 +120,11 @@ void Timeline::widen() {
                       a.anomalies + b.anomalies};
     }
     std::fill(bus_.begin() + static_cast<long>(half), bus_.end(), Bus{});
-    for (std::size_t n = 0; n <= kMaxNodeId; ++n) {
-        PerNode* row = &nodes_[n * kBuckets];
+    for (const auto& owned : nodes_) {
+        PerNode* row = owned.get();
+        if (row == nullptr) {
+            continue;
+        }
         for (std::size_t i = 0; i < half; ++i) {
             const PerNode& a = row[2 * i];
             const PerNode& b = row[2 * i + 1];

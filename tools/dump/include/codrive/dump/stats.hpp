@@ -94,7 +94,8 @@ public:
     Stats(const Stats&) = delete;
     Stats& operator=(const Stats&) = delete;
 
-    /// Also keeps the time series and histograms of `--report` (about 2.5 MiB, allocated once).
+    /// Also keeps the time series and histograms of `--report` (about 300 KiB, plus 16 KiB per node
+    /// seen).
     void enable_report();
     /// The report's data; null unless enable_report() was called.
     [[nodiscard]] const Detail* detail() const { return detail_.get(); }
