@@ -15,7 +15,7 @@ using F = Fact;
 // Fact{index, sub, type, access, default (nullopt: the manual gives none), section, manual line,
 //      lowest, highest (where the manual narrows the type's range), bus}
 // clang-format off
-const std::array kFacts{
+const std::array kAkd2gFacts{
     F{0x1000, 0, DT::Unsigned32, Acc::Ro, std::nullopt, "§5.2.1", 7948},
     F{0x1001, 0, DT::Unsigned8, Acc::Ro, std::nullopt, "§5.2.2", 7961},
     F{0x1003, 0, DT::Unsigned8, Acc::Rw, std::nullopt, "§5.2.3", 7974},
@@ -406,7 +406,7 @@ const std::array kFacts{
 
 // Facts the simulator gets wrong where the fix belongs to another part (docs/conformance.md).
 // clang-format off
-const std::array<KnownDivergence, 8> kKnown{{
+const std::array<KnownDivergence, 8> kAkd2gKnown{{
     {0x1A00, 0x20, "CAN: the simulator keeps 8 entries as §5.2.20 says for RxPDOs; §5.2.31 says 0 to 32 for TxPDOs without the CAN-bus note"},
     {0x1A01, 0x20, "CAN: the simulator keeps 8 entries as §5.2.20 says for RxPDOs; §5.2.31 says 0 to 32 for TxPDOs without the CAN-bus note"},
     {0x1A02, 0x20, "CAN: the simulator keeps 8 entries as §5.2.20 says for RxPDOs; §5.2.31 says 0 to 32 for TxPDOs without the CAN-bus note"},
@@ -423,11 +423,11 @@ const std::array<KnownDivergence, 8> kKnown{{
 } // namespace
 
 std::span<const Fact> akd2g_facts() {
-    return kFacts;
+    return kAkd2gFacts;
 }
 
 std::span<const KnownDivergence> akd2g_known() {
-    return kKnown;
+    return kAkd2gKnown;
 }
 
 } // namespace codrive::conformance

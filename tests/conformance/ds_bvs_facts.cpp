@@ -15,7 +15,7 @@ using F = Fact;
 // Fact{index, sub, type, access, default (nullopt: the manual gives none), section, manual line,
 //      lowest, highest (where the manual narrows the type's range), bus}
 // clang-format off
-const std::array kFacts{
+const std::array kDsBvsFacts{
     F{0x1605, 0, DT::Unsigned8, Acc::Ro, 4, "§6.2.16", 2225, {}, {}, Bus::Ecat},
     F{0x1605, 1, DT::Unsigned32, Acc::Ro, 0x60400010, "§6.2.16", 2226, {}, {}, Bus::Ecat},
     F{0x1605, 2, DT::Unsigned32, Acc::Ro, 0x607A0020, "§6.2.16", 2227, {}, {}, Bus::Ecat},
@@ -457,7 +457,7 @@ const std::array kFacts{
 
 // Facts the simulator gets wrong where the fix belongs to another part (docs/conformance.md).
 // clang-format off
-const std::array<KnownDivergence, 9> kKnown{{
+const std::array<KnownDivergence, 9> kDsBvsKnown{{
     {0x1604, 1, "CoE: §6.2.15 lists 3 entries but gives only the first; map not simulated"},
     {0x1604, 2, "CoE: §6.2.15 lists 3 entries but gives only the first; map not simulated"},
     {0x1604, 3, "CoE: §6.2.15 lists 3 entries but gives only the first; map not simulated"},
@@ -475,11 +475,11 @@ const std::array<KnownDivergence, 9> kKnown{{
 } // namespace
 
 std::span<const Fact> ds_bvs_facts() {
-    return kFacts;
+    return kDsBvsFacts;
 }
 
 std::span<const KnownDivergence> ds_bvs_known() {
-    return kKnown;
+    return kDsBvsKnown;
 }
 
 } // namespace codrive::conformance

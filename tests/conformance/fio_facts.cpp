@@ -15,7 +15,7 @@ using F = Fact;
 // Fact{index, sub, type, access, default (nullopt: the manual gives none), section, manual line,
 //      lowest, highest (where the manual narrows the type's range), bus}
 // clang-format off
-const std::array kFacts{
+const std::array kFioFacts{
     F{0x1000, 0, DT::Unsigned32, Acc::Ro, 0x60192, "§7.13.1", 2783},
     F{0x1001, 0, DT::Unsigned8, Acc::Ro, 0, "§7.13.2", 2808},
     F{0x1003, 0, DT::Unsigned8, Acc::Rw, 0, "§7.13.3", 2848},
@@ -293,16 +293,16 @@ const std::array kFacts{
 
 // No known divergence: the simulators, the profile and the device files agree with every fact
 // of the table (docs/conformance.md).
-const std::array<KnownDivergence, 0> kKnown{};
+const std::array<KnownDivergence, 0> kFioKnown{};
 
 } // namespace
 
 std::span<const Fact> fio_facts() {
-    return kFacts;
+    return kFioFacts;
 }
 
 std::span<const KnownDivergence> fio_known() {
-    return kKnown;
+    return kFioKnown;
 }
 
 } // namespace codrive::conformance

@@ -4,15 +4,13 @@
 // known drives (FIO, AKD2G) and CiA 402 slaves codrive has never seen, on veth.
 #include "veth_segment.hpp"
 
+#include <codrive/testing/text.hpp>
+
 #include <filesystem>
 #include <fstream>
 
 namespace codrive::testing {
 namespace {
-
-bool has(const std::string& text, const std::string& part) {
-    return text.find(part) != std::string::npos;
-}
 
 /// The transcript after the marker in docs/ethercat.md: `$ command` lines, each followed by the
 /// lines it prints.

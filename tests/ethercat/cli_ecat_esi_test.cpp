@@ -3,14 +3,12 @@
 // the slave's identity, and a slave the file does not describe refused with a sentence.
 #include "veth_segment.hpp"
 
+#include <codrive/testing/text.hpp>
+
 #include <fmt/format.h>
 
 namespace codrive::testing {
 namespace {
-
-bool has(const std::string& text, const std::string& part) {
-    return text.find(part) != std::string::npos;
-}
 
 const std::string kFioEsi = std::string(CODRIVE_SOURCE_DIR) + "/devices/fio.xml";
 

@@ -3,16 +3,14 @@
 // `-n` naming the slave by its position from 1 (issue 9, "Command line").
 #include "veth_segment.hpp"
 
+#include <codrive/testing/text.hpp>
+
 #include <codrive/sim/sim_device.hpp>
 
 #include <fmt/format.h>
 
 namespace codrive::testing {
 namespace {
-
-bool has(const std::string& text, const std::string& part) {
-    return text.find(part) != std::string::npos;
-}
 
 /// "0x2FF0:2"
 std::string fmt_control(std::uint16_t index, std::uint8_t sub) {

@@ -5,6 +5,8 @@
 // cycle; tshark dissects every frame as EtherCAT mailbox FoE, none malformed.
 #include "veth_segment.hpp"
 
+#include <codrive/testing/text.hpp>
+
 #include <codrive/ethercat/error.hpp>
 #include <codrive/ethercat/foe.hpp>
 #include <codrive/ethercat/pcap_writer.hpp>
@@ -29,10 +31,6 @@ using namespace std::chrono_literals;
 
 const std::string kSource = CODRIVE_SOURCE_DIR;
 constexpr Duration kCycle = 1ms;
-
-bool has(const std::string& text, const std::string& part) {
-    return text.find(part) != std::string::npos;
-}
 
 std::vector<std::uint8_t> slurp(const std::string& path) {
     std::ifstream in(path, std::ios::binary);

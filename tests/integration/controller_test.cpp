@@ -20,7 +20,7 @@ using namespace std::chrono_literals;
 
 namespace {
 
-struct Rig {
+struct ControllerRig {
     std::string profile = "akd2g";
     unsigned axes = 2;
     VirtualNetwork net{RealClock::instance()};
@@ -73,7 +73,7 @@ struct Rig {
         EXPECT_TRUE(r) << (r ? "" : r.error().detail);
         return r.has_value();
     }
-    ~Rig() {
+    ~ControllerRig() {
         if (controller) {
             controller->shutdown();
             controller->loop().remove_timed(&net);
@@ -95,7 +95,7 @@ struct Rig {
 // default, ds-bvs.md §4), the axis enables from SWITCH ON DISABLED (statusword 0x0240: bit 4
 // "voltage enabled" is 0 there, which is not a missing main voltage) and follows a ramp.
 TEST(Controller, BootsADsBvsInCspEnablesItAndFollowsARamp) {
-    Rig rig;
+    ControllerRig rig;
     rig.profile = "ds-bvs";
     rig.axes = 1;
     ASSERT_TRUE(rig.start()) << rig.all_events();
@@ -125,7 +125,7 @@ TEST(Controller, BootsADsBvsInCspEnablesItAndFollowsARamp) {
 }
 
 TEST(Controller, BootsConfiguresPdosAndRunsCspOnBothAxes) {
-    Rig rig;
+    ControllerRig rig;
     ASSERT_TRUE(rig.start()) << rig.all_events();
     ASSERT_EQ(rig.controller->boot_reports().size(), 1U);
     EXPECT_TRUE(rig.controller->boot_reports()[0].ok)
@@ -198,7 +198,7 @@ TEST(ControllerResources, DestroyedControllerLeavesNoFileDescriptorsOrThreads) {
     const int fds_before = open_fds();
     const int threads_before = threads();
     {
-        Rig rig;
+        ControllerRig rig;
         ASSERT_TRUE(rig.start()) << rig.all_events();
         rig.controller->run_for(50ms);
         EXPECT_GT(open_fds(), fds_before); // the loop's epoll and timer descriptors
@@ -208,7 +208,7 @@ TEST(ControllerResources, DestroyedControllerLeavesNoFileDescriptorsOrThreads) {
 }
 
 TEST(ControllerResources, StopRequestEndsRunWithSafeShutdownWithinOneSecond) {
-    Rig rig;
+    ControllerRig rig;
     ASSERT_TRUE(rig.start()) << rig.all_events();
     auto* a1 = rig.controller->axis(1, 1);
     ASSERT_NE(a1, nullptr);
@@ -302,7 +302,7 @@ TEST(ControllerErrors, ANodeThatDoesNotBootIsNodeBootFailedAndStartRunsOnce) {
 // start() on a running controller is refused and leaves it running: the drives keep their
 // SYNC, PDOs and axes.
 TEST(ControllerErrors, StartingARunningControllerIsAlreadyStartedAndKeepsItRunning) {
-    Rig rig;
+    ControllerRig rig;
     rig.axes = 1;
     ASSERT_TRUE(rig.start()) << rig.all_events();
     const auto cycles = rig.controller->stats().cycles;

@@ -2,6 +2,7 @@
 // `codrive eds show` on a real EDS (CANopenDemo's demo device): values the file does not give are
 // shown as absent, as python-canopen (an independent CiA 306 reader) reads them.
 #include <codrive/testing/process.hpp>
+#include <codrive/testing/text.hpp>
 
 #include <gtest/gtest.h>
 
@@ -9,15 +10,12 @@
 
 using namespace std::chrono_literals;
 namespace ct = codrive::testing;
+using codrive::testing::has;
 
 namespace {
 
 const std::string kDemo =
     std::string(CODRIVE_SOURCE_DIR) + "/tests/data/eds/real/canopendemo-demodevice.eds";
-
-bool has(const std::string& text, const std::string& part) {
-    return text.find(part) != std::string::npos;
-}
 
 } // namespace
 

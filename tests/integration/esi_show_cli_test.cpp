@@ -2,6 +2,7 @@
 // `codrive esi show FILE [INDEX]` on the shipped devices/*.xml and on a malformed file: what
 // docs/cli/codrive-esi.md promises, run as the user runs it.
 #include <codrive/testing/process.hpp>
+#include <codrive/testing/text.hpp>
 
 #include <gtest/gtest.h>
 
@@ -11,14 +12,11 @@
 
 using namespace std::chrono_literals;
 namespace ct = codrive::testing;
+using codrive::testing::has;
 
 namespace {
 
 const std::string kDevices = std::string(CODRIVE_SOURCE_DIR) + "/devices/";
-
-bool has(const std::string& text, const std::string& part) {
-    return text.find(part) != std::string::npos;
-}
 
 } // namespace
 

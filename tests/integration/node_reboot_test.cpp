@@ -69,8 +69,6 @@ Outcome block_transfer_interrupted_by_reboot(Rig& rig, bool upload, std::size_t 
 
 class NodeReboot : public ::testing::TestWithParam<bool> {};
 
-} // namespace
-
 TEST_P(NodeReboot, DuringBlockTransferEndsTransferAndMasterRecoversTheNode) {
     const bool upload = GetParam();
     Rig rig(2);
@@ -135,3 +133,5 @@ INSTANTIATE_TEST_SUITE_P(Integration, NodeReboot, ::testing::Values(false, true)
                          [](const ::testing::TestParamInfo<bool>& p) {
                              return p.param ? "Upload" : "Download";
                          });
+
+} // namespace

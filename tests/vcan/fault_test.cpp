@@ -22,16 +22,10 @@
 using namespace codrive;
 using namespace std::chrono_literals;
 using codrive::testing::Process;
+using codrive::testing::self_exe;
 using codrive::testing::tool_path;
 
 namespace {
-
-/// This test binary (readlink, not "/proc/self/exe" itself: under valgrind that names valgrind).
-std::string self_exe() {
-    char buf[PATH_MAX];
-    const ssize_t n = ::readlink("/proc/self/exe", buf, sizeof(buf) - 1);
-    return n > 0 ? std::string(buf, static_cast<std::size_t>(n)) : std::string();
-}
 
 /// The master process: SYNC every 4 ms, every axis enabled in CSP.
 std::unique_ptr<Process> start_master(const std::string& nodes, unsigned consumer_ms) {

@@ -9,14 +9,9 @@
 #include <csignal>
 
 using namespace std::chrono_literals;
+using codrive::testing::example_path;
 using codrive::testing::Process;
 using codrive::testing::tool_path;
-
-namespace {
-std::string example_path(const std::string& name) {
-    return std::string(CODRIVE_BUILD_DIR) + "/examples/" + name;
-}
-} // namespace
 
 TEST(VcanMaster, ScanFindsExactlyTheRunningNodes) {
     CODRIVE_REQUIRE_VCAN("vcan0");
@@ -56,8 +51,8 @@ TEST(VcanController, DemoScenarioBootsHomesMovesFaultsAndRecovers) {
     Process sim(
         {tool_path("codrive-sim"), "-i", "vcan0", "--node", "1:akd2g", "--node", "2:ds-bvs"});
     ASSERT_TRUE(sim.wait_for_output("node 2", 10s)) << sim.output();
-    Process demo({example_path("codrive-demo"),
-                  std::string(CODRIVE_SOURCE_DIR) + "/vcan-scripts/demo-bus.yml"});
+    Process demo(
+        {example_path("demo"), std::string(CODRIVE_SOURCE_DIR) + "/vcan-scripts/demo-bus.yml"});
     const auto status = demo.wait(120s);
     ASSERT_TRUE(status) << "demo hung: " << demo.output();
     const std::string out = demo.output();

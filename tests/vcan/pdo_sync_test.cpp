@@ -32,6 +32,7 @@ using namespace codrive::pdo;
 using namespace codrive::pdo::test;
 using namespace std::chrono_literals;
 using codrive::testing::Process;
+using codrive::testing::self_exe;
 
 namespace {
 
@@ -43,12 +44,6 @@ std::vector<PdoConfig> vcan_pdos() {
             rpdo(2, {entry(0x607A, 0, 32), entry(0x6060, 0, 8)}, 1),
             tpdo(1, {entry(0x2001, 0, 32), entry(0x6041, 0, 16)}, 1),
             tpdo(2, {entry(0x6064, 0, 32), entry(0x6061, 0, 8)}, 1)};
-}
-
-std::string self_exe() {
-    char buf[PATH_MAX];
-    const ssize_t n = ::readlink("/proc/self/exe", buf, sizeof(buf) - 1);
-    return n > 0 ? std::string(buf, static_cast<std::size_t>(n)) : std::string();
 }
 
 std::optional<std::uint64_t> field(const std::string& text, const std::string& key) {

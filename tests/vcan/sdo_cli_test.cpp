@@ -20,7 +20,7 @@ using codrive::testing::tool_path;
 namespace {
 
 // A node id no other vcan test uses, so suites sharing vcan0 do not collide.
-constexpr const char* kNode = "85";
+constexpr const char* kCliNode = "85";
 
 std::vector<std::string> sdo(std::vector<std::string> args) {
     std::vector<std::string> argv{tool_path("codrive"), "sdo"};
@@ -50,7 +50,7 @@ class SdoVcan : public ::testing::Test {
 protected:
     void SetUp() override {
         CODRIVE_REQUIRE_VCAN("vcan0");
-        server_ = std::make_unique<Process>(sdo({"serve", "-i", "vcan0", "-n", kNode}));
+        server_ = std::make_unique<Process>(sdo({"serve", "-i", "vcan0", "-n", kCliNode}));
         ASSERT_TRUE(server_->wait_for_output("ready", 10s)) << server_->output();
     }
     void TearDown() override {
@@ -69,25 +69,25 @@ protected:
 };
 
 TEST_F(SdoVcan, ExpeditedWriteAndReadOfTypedValues) {
-    auto w =
-        run(sdo({"write", "-i", "vcan0", "-n", kNode, "0x2000:0", "--type", "u32", "0xDEADBEEF"}));
+    auto w = run(
+        sdo({"write", "-i", "vcan0", "-n", kCliNode, "0x2000:0", "--type", "u32", "0xDEADBEEF"}));
     ASSERT_EQ(w.status, 0) << w.output;
-    auto r = run(sdo({"read", "-i", "vcan0", "-n", kNode, "2000:00", "--type", "u32"}));
+    auto r = run(sdo({"read", "-i", "vcan0", "-n", kCliNode, "2000:00", "--type", "u32"}));
     EXPECT_EQ(r.status, 0) << r.output;
     EXPECT_EQ(r.output, "3735928559\n");
-    auto untyped = run(sdo({"read", "-i", "vcan0", "-n", kNode, "0x1018:2"}));
+    auto untyped = run(sdo({"read", "-i", "vcan0", "-n", kCliNode, "0x1018:2"}));
     EXPECT_EQ(untyped.status, 0) << untyped.output;
     EXPECT_EQ(untyped.output, "1E D2 C0 00 (0x00C0D21E = 12636702)\n");
 }
 
 TEST_F(SdoVcan, SegmentedWriteAndReadOfAString) {
-    auto name = run(sdo({"read", "-i", "vcan0", "-n", kNode, "0x1008:0", "--type", "str"}));
+    auto name = run(sdo({"read", "-i", "vcan0", "-n", kCliNode, "0x1008:0", "--type", "str"}));
     EXPECT_EQ(name.status, 0) << name.output;
     EXPECT_EQ(name.output, "codrive sdo serve\n");
-    auto w = run(sdo({"write", "-i", "vcan0", "-n", kNode, "0x2001:0", "--type", "str",
+    auto w = run(sdo({"write", "-i", "vcan0", "-n", kCliNode, "0x2001:0", "--type", "str",
                       "a segmented string of some length"}));
     ASSERT_EQ(w.status, 0) << w.output;
-    auto r = run(sdo({"read", "-i", "vcan0", "-n", kNode, "0x2001:0", "--type", "str"}));
+    auto r = run(sdo({"read", "-i", "vcan0", "-n", kCliNode, "0x2001:0", "--type", "str"}));
     EXPECT_EQ(r.status, 0) << r.output;
     EXPECT_EQ(r.output, "a segmented string of some length\n");
 }
@@ -96,9 +96,9 @@ TEST_F(SdoVcan, SegmentedFileRoundTrip64KiB) {
     const auto in = temp_path("seg-in");
     const auto out = temp_path("seg-out");
     const auto data = make_file(in, 64 * 1024);
-    auto w = run(sdo({"write", "-i", "vcan0", "-n", kNode, "0x2001:0", "--file", in}), 120s);
+    auto w = run(sdo({"write", "-i", "vcan0", "-n", kCliNode, "0x2001:0", "--file", in}), 120s);
     ASSERT_EQ(w.status, 0) << w.output;
-    auto r = run(sdo({"read", "-i", "vcan0", "-n", kNode, "0x2001:0", "-o", out}), 120s);
+    auto r = run(sdo({"read", "-i", "vcan0", "-n", kCliNode, "0x2001:0", "-o", out}), 120s);
     ASSERT_EQ(r.status, 0) << r.output;
     EXPECT_TRUE(read_file(out) == data);
     std::remove(in.c_str());
@@ -109,10 +109,11 @@ TEST_F(SdoVcan, BlockFileRoundTrip1MiB) {
     const auto in = temp_path("blk-in");
     const auto out = temp_path("blk-out");
     const auto data = make_file(in, 1024 * 1024);
-    auto w =
-        run(sdo({"write", "-i", "vcan0", "-n", kNode, "0x2001:0", "--file", in, "--block"}), 120s);
+    auto w = run(sdo({"write", "-i", "vcan0", "-n", kCliNode, "0x2001:0", "--file", in, "--block"}),
+                 120s);
     ASSERT_EQ(w.status, 0) << w.output;
-    auto r = run(sdo({"read", "-i", "vcan0", "-n", kNode, "0x2001:0", "--block", "-o", out}), 120s);
+    auto r =
+        run(sdo({"read", "-i", "vcan0", "-n", kCliNode, "0x2001:0", "--block", "-o", out}), 120s);
     ASSERT_EQ(r.status, 0) << r.output;
     const auto got = read_file(out);
     EXPECT_EQ(got.size(), data.size());
@@ -122,11 +123,11 @@ TEST_F(SdoVcan, BlockFileRoundTrip1MiB) {
 }
 
 TEST_F(SdoVcan, ServerAbortIsOneSentenceAndNonZeroExit) {
-    auto r = run(sdo({"read", "-i", "vcan0", "-n", kNode, "0x6064:0"}));
+    auto r = run(sdo({"read", "-i", "vcan0", "-n", kCliNode, "0x6064:0"}));
     EXPECT_EQ(r.status, 1);
     EXPECT_EQ(r.output, "codrive: node 85: SDO upload 0x6064:00 aborted by server: 0x06020000 "
                         "object does not exist in the object dictionary\n");
-    auto ro = run(sdo({"write", "-i", "vcan0", "-n", kNode, "0x1018:1", "--type", "u32", "1"}));
+    auto ro = run(sdo({"write", "-i", "vcan0", "-n", kCliNode, "0x1018:1", "--type", "u32", "1"}));
     EXPECT_EQ(ro.status, 1);
     EXPECT_NE(ro.output.find("0x06010002 attempt to write a read only object"), std::string::npos)
         << ro.output;
@@ -140,7 +141,7 @@ TEST_F(SdoVcan, MissingNodeTimesOutWithTheConfiguredTimeout) {
 }
 
 TEST_F(SdoVcan, TypeSizeMismatchIsReported) {
-    auto r = run(sdo({"read", "-i", "vcan0", "-n", kNode, "0x1018:1", "--type", "u16"}));
+    auto r = run(sdo({"read", "-i", "vcan0", "-n", kCliNode, "0x1018:1", "--type", "u16"}));
     EXPECT_EQ(r.status, 1);
     EXPECT_EQ(r.output, "codrive: node 85: 0x1018:01: the object has 4 bytes, not the 2 of type "
                         "u16\n");

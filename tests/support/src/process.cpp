@@ -4,6 +4,7 @@
 
 #include <cerrno>
 #include <chrono>
+#include <climits>
 #include <csignal>
 #include <cstdlib>
 #include <fcntl.h>
@@ -130,6 +131,12 @@ std::string tool_path(const std::string& name) {
 
 std::string example_path(const std::string& name) {
     return std::string(CODRIVE_BUILD_DIR) + "/examples/codrive-" + name;
+}
+
+std::string self_exe() {
+    char buf[PATH_MAX];
+    const ssize_t n = ::readlink("/proc/self/exe", buf, sizeof(buf) - 1);
+    return n > 0 ? std::string(buf, static_cast<std::size_t>(n)) : std::string();
 }
 
 } // namespace codrive::testing

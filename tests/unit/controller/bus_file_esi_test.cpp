@@ -3,6 +3,8 @@
 // that cannot be read is a finding at the key's line.
 #include <codrive/controller/ethercat_segment.hpp>
 
+#include <codrive/testing/text.hpp>
+
 #include <gtest/gtest.h>
 
 #include <fstream>
@@ -10,16 +12,9 @@
 
 using namespace codrive;
 using namespace codrive::controller;
+using codrive::testing::joined;
 
 namespace {
-
-std::string joined(const std::vector<std::string>& v) {
-    std::string out;
-    for (const auto& s : v) {
-        out += s + "\n";
-    }
-    return out;
-}
 
 const std::string kDocs = std::string(CODRIVE_SOURCE_DIR) + "/docs/bus-file.md";
 

@@ -4,6 +4,8 @@
 #include <codrive/controller/ethercat_segment.hpp>
 #include <codrive/master/bus_config.hpp>
 
+#include <codrive/testing/text.hpp>
+
 #include <gtest/gtest.h>
 
 #include <fstream>
@@ -11,6 +13,7 @@
 
 using namespace codrive;
 using namespace codrive::controller;
+using codrive::testing::joined;
 
 TEST(ControllerBusFile, EthercatSectionParsesNextToTheCanBus) {
     const std::string text = "bus:\n"
@@ -105,16 +108,6 @@ TEST(ControllerBusFile, FileWithoutAnySectionIsRejected) {
     EXPECT_NE(s.errors[0].find("neither a `bus:` (CAN) nor an `ethercat:` section"),
               std::string::npos);
 }
-
-namespace {
-std::string joined(const std::vector<std::string>& errors) {
-    std::string all;
-    for (const auto& e : errors) {
-        all += e + "\n";
-    }
-    return all;
-}
-} // namespace
 
 TEST(ControllerBusFile, DcAndSync0ShiftPerSegmentWithASlaveOverride) {
     const std::string text = "ethercat:\n"

@@ -101,6 +101,15 @@ std::vector<ReadItem> frames_of(const std::vector<ReadItem>& items) {
     return out;
 }
 
+TraceRecord rec(std::int64_t ts_ns, const Frame& f) {
+    TraceRecord r;
+    r.frame = f;
+    r.ts_ns = ts_ns;
+    r.has_ts = true;
+    r.iface = "can0";
+    return r;
+}
+
 std::string slurp(const std::string& path) {
     std::ifstream in(path, std::ios::binary);
     std::stringstream ss;

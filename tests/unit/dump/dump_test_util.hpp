@@ -44,4 +44,12 @@ std::vector<ReadItem> frames_of(const std::vector<ReadItem>& items);
 /// The contents of a file.
 std::string slurp(const std::string& path);
 
+inline constexpr std::int64_t kUs = 1'000;
+inline constexpr std::int64_t kMs = 1'000'000;
+/// Where synthetic traces start (2023-11-14 22:13:20 UTC).
+inline constexpr std::int64_t kStart = 1'700'000'000'000 * kMs;
+
+/// A timestamped record of `f` on can0.
+TraceRecord rec(std::int64_t ts_ns, const Frame& f);
+
 } // namespace codrive::dump::testing

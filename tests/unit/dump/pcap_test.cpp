@@ -13,15 +13,10 @@
 
 using namespace codrive;
 using namespace codrive::dump;
+using codrive::dump::testing::rec;
+using codrive::dump::testing::slurp;
 
 namespace {
-std::string slurp(const std::string& path) {
-    std::ifstream in(path, std::ios::binary);
-    std::stringstream ss;
-    ss << in.rdbuf();
-    return ss.str();
-}
-
 std::string write_pcap(const std::vector<TraceRecord>& recs) {
     const auto path = ::testing::TempDir() + "/dump_test.pcap";
     {
@@ -34,14 +29,6 @@ std::string write_pcap(const std::vector<TraceRecord>& recs) {
     return slurp(path);
 }
 
-TraceRecord rec(std::int64_t ts, Frame f) {
-    TraceRecord r;
-    r.ts_ns = ts;
-    r.has_ts = true;
-    r.frame = f;
-    r.iface = "can0";
-    return r;
-}
 } // namespace
 
 TEST(DumpPcap, SocketCanIdIsBigEndianWithFlagsInTopBits) {

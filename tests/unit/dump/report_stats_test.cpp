@@ -17,23 +17,10 @@
 
 using namespace codrive;
 using namespace codrive::dump;
-
-namespace {
-
-constexpr std::int64_t kUs = 1'000;
-constexpr std::int64_t kMs = 1'000'000;
-constexpr std::int64_t kStart = 1'700'000'000'000 * kMs;
-
-TraceRecord rec(std::int64_t ts, const Frame& f) {
-    TraceRecord r;
-    r.frame = f;
-    r.ts_ns = ts;
-    r.has_ts = true;
-    r.iface = "can0";
-    return r;
-}
-
-} // namespace
+using codrive::dump::testing::kMs;
+using codrive::dump::testing::kStart;
+using codrive::dump::testing::kUs;
+using codrive::dump::testing::rec;
 
 TEST(FrameBits, AllDominantFrameHasTheStuffBitsCountedByHand) {
     // SYNC-like id 0, no data: SOF, 11 id bits, RTR, IDE, r0, DLC 0000 are 19 dominant bits and

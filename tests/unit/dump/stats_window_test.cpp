@@ -11,11 +11,10 @@
 
 using namespace codrive;
 using namespace codrive::dump;
+using codrive::dump::testing::kMs;
+using codrive::dump::testing::kStart;
 
 namespace {
-
-constexpr std::int64_t kMs = 1'000'000;
-constexpr std::int64_t kStart = 1'700'000'000'000 * kMs;
 
 // The row of `node` in a stats table.
 std::string row(const std::string& table, unsigned node) {

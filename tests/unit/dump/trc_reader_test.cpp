@@ -15,7 +15,7 @@ using codrive::dump::testing::run_dump_bytes;
 
 namespace {
 // 2026-11-24 00:00:00 UTC: STARTTIME 46350 (days since 1899-12-30).
-constexpr std::int64_t kStart = 1'795'478'400'000'000'000LL;
+constexpr std::int64_t kTrcStart = 1'795'478'400'000'000'000LL;
 } // namespace
 
 TEST(DumpTrc, Version11ColumnsRtrAndStartTime) {
@@ -27,7 +27,7 @@ TEST(DumpTrc, Version11ColumnsRtrAndStartTime) {
                                   "     3)      1843.0  Rx         0705  1  RTR\n");
     ASSERT_EQ(items.size(), 3U);
     EXPECT_EQ(items[0].frame, Frame::make(0x181, {0x37, 0x06}));
-    EXPECT_EQ(items[0].ts_ns, kStart + 43'200'000'000'000LL + 1'841'500'000LL);
+    EXPECT_EQ(items[0].ts_ns, kTrcStart + 43'200'000'000'000LL + 1'841'500'000LL);
     EXPECT_TRUE(items[0].has_ts);
     EXPECT_EQ(items[0].iface, "pcan");
     EXPECT_TRUE(items[1].frame.extended());
@@ -65,7 +65,7 @@ TEST(DumpTrc, Version13HasBusAndReservedColumns) {
     ASSERT_EQ(items.size(), 1U);
     EXPECT_EQ(items[0].frame, Frame::make(0x581, {0x43, 0, 0x10, 0, 0x92, 1, 2, 0}));
     EXPECT_EQ(items[0].iface, "pcan2");
-    EXPECT_EQ(items[0].ts_ns, kStart + 1'841'000'000LL);
+    EXPECT_EQ(items[0].ts_ns, kTrcStart + 1'841'000'000LL);
 }
 
 TEST(DumpTrc, Version20CanFdTypesAndRemoteRequests) {
@@ -82,7 +82,7 @@ TEST(DumpTrc, Version20CanFdTypesAndRemoteRequests) {
     for (const auto& i : items) {
         ASSERT_EQ(i.status, ReadStatus::Frame) << i.error;
     }
-    EXPECT_EQ(items[0].ts_ns, kStart + 1'059'900'000LL);
+    EXPECT_EQ(items[0].ts_ns, kTrcStart + 1'059'900'000LL);
     EXPECT_FALSE(items[0].frame.fd());
     EXPECT_TRUE(items[1].frame.fd());
     EXPECT_EQ(items[1].frame.len, 12);
@@ -111,7 +111,7 @@ TEST(DumpTrc, Version21ColumnsFromTheHeaderAndStatusLinesReported) {
     ASSERT_EQ(items.size(), 5U) << "the EV line carries no CAN data";
     EXPECT_EQ(items[0].iface, "pcan1");
     EXPECT_EQ(to_string(decode_error_frame(items[1].frame).at(0)), "bus state bus-off");
-    EXPECT_EQ(items[1].ts_ns, kStart + 2'000'000LL);
+    EXPECT_EQ(items[1].ts_ns, kTrcStart + 2'000'000LL);
     const auto prot = to_string(decode_error_frame(items[2].frame).at(0));
     EXPECT_NE(prot.find("stuff error"), std::string::npos) << prot;
     EXPECT_NE(prot.find("rx errors 129"), std::string::npos) << prot;

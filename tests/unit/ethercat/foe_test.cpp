@@ -18,7 +18,7 @@ using sim::ecat::EcatSegment;
 using sim::ecat::make_drive_slave;
 using sim::ecat::SegmentLink;
 
-constexpr Duration kCycle = milliseconds(1);
+constexpr Duration kFoeCycle = milliseconds(1);
 
 std::vector<std::uint8_t> pattern(std::size_t n) {
     std::vector<std::uint8_t> v(n);
@@ -43,18 +43,18 @@ protected:
     void cycle() {
         const TimePoint start = clock_.now();
         if (auto s = master_.send_process_data(); s) {
-            auto r = master_.receive_process_data(start + kCycle / 2);
+            auto r = master_.receive_process_data(start + kFoeCycle / 2);
             if (!r && r.error() == EcatErrc::NoResponse) {
                 ++lost_;
             }
         }
-        if (clock_.now() - start > kCycle / 2) {
+        if (clock_.now() - start > kFoeCycle / 2) {
             ++late_cycles_;
         }
         for (std::size_t i = 0; i < segment_.size(); ++i) {
             (void)segment_.slave(i).tick(clock_.now());
         }
-        clock_.set(start + kCycle);
+        clock_.set(start + kFoeCycle);
     }
     /// Cycles until `out` is set (at most `limit` cycles); returns the cycles it took.
     int run_until(const std::optional<CoeOutcome>& out, int limit = 5000) {
@@ -203,7 +203,7 @@ TEST_F(Foe, MuteMailboxDuringAWriteTimesOutAloneWithoutCostingACycle) {
     EXPECT_EQ(out->error, EcatErrc::MailboxTimeout);
     EXPECT_EQ(out->sentence, "slave 1 (AKD2G): FoE write 'drive.akd' (10240 bytes) timed out "
                              "after 1000 ms (mailbox silent)");
-    EXPECT_LE(clock_.now() - muted, seconds(1) + 3 * kCycle);
+    EXPECT_LE(clock_.now() - muted, seconds(1) + 3 * kFoeCycle);
     ASSERT_TRUE(fio) << "the other slave's mailbox went on";
     EXPECT_FALSE(fio->error) << fio->sentence;
     EXPECT_EQ(late_cycles_, 0);

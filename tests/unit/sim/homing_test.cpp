@@ -67,8 +67,6 @@ double expected_world_rev(const HomingMethod& m, const MachineConfig& mc, double
 
 class SimHoming : public ::testing::TestWithParam<Case> {};
 
-} // namespace
-
 TEST_P(SimHoming, MethodFindsHomeAndSetsAttained) {
     const Case c = GetParam();
     AxisFixture f(c.profile);
@@ -163,3 +161,5 @@ TEST(SimHomingControl, MissingHomeSwitchIsAHomingError) {
     EXPECT_NE(axis.statusword() & sw::kOpMode13, 0);
     EXPECT_EQ(axis.statusword() & sw::kOpMode12, 0);
 }
+
+} // namespace

@@ -11,8 +11,6 @@ namespace {
 
 class SimProfileOf : public ::testing::TestWithParam<const char*> {};
 
-} // namespace
-
 TEST_P(SimProfileOf, UsesTheDriveProfileOfTheSameName) {
     const sim::SimProfile* s = sim::find_profile(GetParam());
     ASSERT_NE(s, nullptr);
@@ -69,3 +67,5 @@ TEST(SimProfile, OptionCodeDefaultsComeFromTheDriveProfile) {
     EXPECT_EQ(s->object_default(0x605D, 0, -1), 1);
     EXPECT_EQ(s->object_default(0x1234, 0, -1), -1);
 }
+
+} // namespace

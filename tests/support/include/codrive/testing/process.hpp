@@ -48,5 +48,7 @@ RunResult run(std::vector<std::string> argv,
 std::string tool_path(const std::string& name);
 /// Path of a built example program: build_dir/examples/codrive-<name>.
 std::string example_path(const std::string& name);
+/// This test binary (readlink, not "/proc/self/exe" itself: under valgrind that names valgrind).
+std::string self_exe();
 
 } // namespace codrive::testing
