@@ -55,6 +55,14 @@ function(codrive_add_module)
 endfunction()
 
 # codrive_add_tool(NAME <exe> SOURCES ... DEPS ...)
+# codrive_unity(target): compile the target's sources in batches when CODRIVE_UNITY is on.
+function(codrive_unity target)
+    if(CODRIVE_UNITY)
+        set_target_properties(${target} PROPERTIES UNITY_BUILD ON
+                              UNITY_BUILD_BATCH_SIZE ${CODRIVE_UNITY_BATCH})
+    endif()
+endfunction()
+
 function(codrive_add_tool)
     cmake_parse_arguments(ARG "" "NAME" "SOURCES;DEPS" ${ARGN})
     add_executable(${ARG_NAME} ${ARG_SOURCES})
