@@ -15,7 +15,7 @@
 # A target that crashes on its first input has no coverage line: its row shows "-" (set -e must
 # not end the script there, or the summary line run-all.sh counts would be missing).
 # A crash leaves its input in <build>/fuzz-artifacts/<target>/; copy it to
-# tests/data/fuzz/regressions/<target>/ and add a test that replays it.
+# tests/data/fuzz/regressions/<name>/ (a seed of every later run) and add a test for the fix.
 set -euo pipefail
 
 root=$(cd "$(dirname "$0")/../.." && pwd)
@@ -68,9 +68,13 @@ for target in "${targets[@]}"; do
     corpus=$build/fuzz-corpus/$name
     artifacts=$build/fuzz-artifacts/$name
     mkdir -p "$corpus" "$artifacts"
-    if [[ -d $root/tests/data/fuzz/$name ]]; then
-        cp -n "$root/tests/data/fuzz/$name"/* "$corpus"/ 2>/dev/null || true
-    fi
+    # Every reproducer of a fixed crash (tests/data/fuzz/regressions/<name>/) is a seed too, so
+    # each run replays it first: a defect that comes back fails the run at once.
+    for seeds in "$root/tests/data/fuzz/$name" "$root/tests/data/fuzz/regressions/$name"; do
+        if [[ -d $seeds ]]; then
+            cp -n "$seeds"/* "$corpus"/ 2>/dev/null || true
+        fi
+    done
     log=$build/fuzz-logs/$target.log
     mkdir -p "$(dirname "$log")"
     status=0

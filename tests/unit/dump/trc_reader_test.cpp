@@ -158,6 +158,25 @@ TEST(DumpTrc, BadHeaderValuesAreReported) {
     EXPECT_EQ(items[2].error.rfind("3: unknown column 'Q'", 0), 0U) << items[2].error;
 }
 
+// fuzz_dump_traces (bench/fuzz_long.sh, 516,951 executions): a STARTTIME far in the future
+// overflowed the 64-bit nanosecond timestamp (signed overflow, undefined behaviour).
+TEST(DumpTrc, TimesPastTheYear2262AreRefusedNotWrapped) {
+    const auto items = read_trace(";$FILEVERSION=1.3\n"
+                                  ";$STARTTIME=463250.0\n"
+                                  ";$STARTTIME=132000.5\n"
+                                  ";$STARTTIME=131000\n"
+                                  "     1)      1841.0 1  Rx         0704 -  1  05\n"
+                                  "     2) 8999999999999.0 1  Rx         0704 -  1  05\n"
+                                  "     3)      1842.0 1  Rx         0704 -  1  05\n");
+    ASSERT_EQ(items.size(), 5U);
+    EXPECT_EQ(items[0].error.rfind("2: bad STARTTIME", 0), 0U) << items[0].error;
+    EXPECT_EQ(items[1].error.rfind("3: bad STARTTIME", 0), 0U) << items[1].error;
+    ASSERT_EQ(items[2].status, ReadStatus::Frame);
+    EXPECT_EQ(items[2].ts_ns, (131'000LL - 25'569) * 86'400'000'000'000LL + 1'841'000'000LL);
+    EXPECT_EQ(items[3].error.rfind("6: time offset too large", 0), 0U) << items[3].error;
+    EXPECT_EQ(items[4].status, ReadStatus::Frame); // reading goes on
+}
+
 TEST(DumpTrc, Version12HasABusColumnBeforeTheType) {
     const auto items = read_trace(";$FILEVERSION=1.2\n"
                                   ";$STARTTIME=46350\n"

@@ -26,11 +26,14 @@ constexpr const char* kColumns21 = "NOTBIdRLD";
 // epoch is day 25569.
 constexpr std::int64_t kEpochDay = 25569;
 constexpr std::int64_t kDayNs = 86'400'000'000'000LL;
+// Timestamps are 64-bit nanoseconds since 1970, which end in April 2262 (day 106,751): a start
+// after 2261 is refused rather than wrapped.
+constexpr std::int64_t kLastStartDay = kEpochDay + 106'000;
 
 bool parse_start_time(std::string_view s, std::int64_t& ns) {
     const auto dot = s.find('.');
     std::int64_t days = 0;
-    if (!scan::parse_digits(s.substr(0, dot), days) || days < kEpochDay || days > 200'000) {
+    if (!scan::parse_digits(s.substr(0, dot), days) || days < kEpochDay || days > kLastStartDay) {
         return false;
     }
     double frac = 0;
@@ -85,6 +88,14 @@ TraceBusState status_state(std::uint32_t v) {
 }
 
 } // namespace
+
+bool TrcReader::add_start(std::int64_t& ts_ns, std::string& why) const {
+    if (__builtin_add_overflow(ts_ns, start_ns_, &ts_ns)) {
+        why = "time offset too large: with STARTTIME it is past the year 2262";
+        return false;
+    }
+    return true;
+}
 
 TrcReader::TrcReader(BufferedInput& input)
     : TextTraceReader(input), columns_(kColumns10), iface_("pcan") {}
@@ -271,7 +282,9 @@ LineStatus TrcReader::parse_line(std::string_view line, TraceRecord& out, std::s
                 }
                 const auto st = parse_status(type, 0, bytes, n, f, why);
                 if (st == LineStatus::Frame) {
-                    out.ts_ns += start_ns_;
+                    if (!add_start(out.ts_ns, why)) {
+                        return LineStatus::Error;
+                    }
                     out.has_ts = true;
                     out.iface = iface_;
                 }
@@ -331,7 +344,9 @@ LineStatus TrcReader::parse_line(std::string_view line, TraceRecord& out, std::s
         why = "missing id or length column";
         return LineStatus::Error;
     }
-    out.ts_ns += start_ns_;
+    if (!add_start(out.ts_ns, why)) {
+        return LineStatus::Error;
+    }
     out.has_ts = true;
     iface_ = bus == 0 ? std::string("pcan") : fmt::format("pcan{}", bus);
     out.iface = iface_;

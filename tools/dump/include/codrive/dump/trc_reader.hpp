@@ -30,6 +30,8 @@ protected:
 
 private:
     LineStatus parse_header(std::string_view line, std::string& why);
+    /// Adds STARTTIME to a line's time offset; false (with `why`) past the 64-bit range.
+    bool add_start(std::int64_t& ts_ns, std::string& why) const;
     LineStatus parse_status(std::string_view type, std::uint32_t id, const std::uint8_t* bytes,
                             std::size_t n, Frame& f, std::string& why);
     void set_version(unsigned major, unsigned minor);
