@@ -75,7 +75,7 @@ void parse_compact(std::uint16_t index, Section& s, Object& obj, std::uint8_t co
     entries(cat.values.count(index) != 0 ? cat.values[index] : nullptr,
             [&](SubObject& sub, Entry& e, Section& sec) {
                 // In an EDS these are the default values of the sub-objects.
-                sub.default_text = e.value;
+                sub.default_text = stored_text(sec, e, sub.type, f);
                 sub.default_value = value_key(sec, e, sub.type, f, node);
                 sub.value = sub.default_value ? *sub.default_value : Value::zero(sub.type);
             });

@@ -118,6 +118,16 @@ std::optional<Value> value_key(Section& s, Entry& e, DataType type, Findings& f,
     return std::move(vt.value);
 }
 
+// The value text kept for display and for $NODEID re-evaluation: a number's trailing `; comment`
+// (maxon, Elmo) is dropped as number_text() does; VISIBLE_STRING / UNICODE_STRING text is kept
+// whole, because ';' is an ordinary character of a string value.
+std::string stored_text(const Section& s, Entry& e, DataType type, Findings& f) {
+    if (type == DataType::VisibleString || type == DataType::UnicodeString) {
+        return e.value;
+    }
+    return std::string(number_text(s, e, f));
+}
+
 namespace {
 
 // -1, 0, 1 comparing two numeric values of the same type; nullopt when not comparable.
@@ -144,16 +154,6 @@ std::optional<int> compare(const Value& a, const Value& b) {
         return std::nullopt;
     }
     return *x < *y ? -1 : (*x > *y ? 1 : 0);
-}
-
-// The value text kept for display and for $NODEID re-evaluation: a number's trailing `; comment`
-// (maxon, Elmo) is dropped as number_text() does; VISIBLE_STRING / UNICODE_STRING text is kept
-// whole, because ';' is an ordinary character of a string value.
-std::string stored_text(const Section& s, Entry& e, DataType type, Findings& f) {
-    if (type == DataType::VisibleString || type == DataType::UnicodeString) {
-        return e.value;
-    }
-    return std::string(number_text(s, e, f));
 }
 
 void check_limits(Section& s, const SubObject& sub, const Value& v, const char* what,

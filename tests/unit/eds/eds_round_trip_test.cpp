@@ -138,6 +138,23 @@ TEST(EdsWrite, CompactArraysAreWrittenExpanded) {
     EXPECT_NE(text.find("[1003sub0]\nParameterName=NrOfObjects\n"), std::string::npos) << text;
 }
 
+// fuzz_eds (bench/fuzz_long.sh, 44,346 executions): a compact sub-object's default value in
+// [xxxxValue] kept its trailing `; comment` in the text that is written, so the written file
+// read back differently and the second write was not the first.
+TEST(EdsWrite, ACompactValueWithATrailingCommentIsWrittenWithoutIt) {
+    const DeviceDescription first = parse_eds("[OptionalObjects]\nSupportedObjects=1\n1=0x1016\n"
+                                              "[1016]\nParameterName=HB\nObjectType=0x8\n"
+                                              "DataType=0x0007\nAccessType=rw\nCompactSubObj=3\n"
+                                              "[1016Value]\nNrOfEntries=1\n2=0x00050064; 100 ms\n",
+                                              "hb.eds", std::nullopt);
+    const Object* hb = first.od.find(0x1016);
+    ASSERT_NE(hb, nullptr);
+    ASSERT_GT(hb->subs.size(), 2U);
+    EXPECT_EQ(hb->subs.at(2).default_text, "0x00050064");
+    const std::string written = write_eds(first);
+    EXPECT_EQ(write_eds(parse_eds(written, "written.eds", std::nullopt)), written);
+}
+
 TEST(EdsWrite, SaveThenLoad) {
     const DeviceDescription d = load("full.eds", 4);
     char path[] = "/tmp/codrive-eds-XXXXXX";
