@@ -5,6 +5,8 @@
 // re-encode to the same bytes.
 #include "fuzz_input.hpp"
 
+#include <codrive/testing/recording_bus.hpp>
+
 #include <codrive/core/cob_id.hpp>
 #include <codrive/emcy/consumer.hpp>
 #include <codrive/emcy/error_codes.hpp>
@@ -36,7 +38,7 @@ constexpr std::array<emcy::EmcyTextEntry, 3> kVendorRows{{
 
 /// Every service under test, fed the same frames.
 struct Services {
-    fuzz::CaptureBus bus;
+    codrive::testing::RecordingBus bus{"fuzz"};
     emcy::EmcyConsumer emcy;
     nmt::HeartbeatConsumer heartbeats;
     nmt::NodeGuardingMaster guarding{bus};

@@ -1,8 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
-// Helpers shared by the fuzz targets: a byte reader over the fuzzer input and a capturing bus.
+// Helpers shared by the fuzz targets: a byte reader over the fuzzer input and an invariant check.
+// A target that plays the other side of a service records its frames with testing::RecordingBus.
 #pragma once
-
-#include <codrive/core/can_bus.hpp>
 
 #include <algorithm>
 #include <cstddef>
@@ -40,27 +39,6 @@ private:
     const std::uint8_t* data_;
     std::size_t size_;
     std::size_t pos_ = 0;
-};
-
-/// An ICanBus that records what a service sends, so the harness can check every frame.
-class CaptureBus final : public ICanBus {
-public:
-    VoidResult send(const Frame& frame) override {
-        sent.push_back(frame);
-        ++stats_.tx_frames;
-        return {};
-    }
-    void set_frame_handler(FrameHandler /*handler*/) override {}
-    void set_event_handler(EventHandler /*handler*/) override {}
-    [[nodiscard]] std::size_t tx_pending() const override { return 0; }
-    [[nodiscard]] const BusStats& stats() const override { return stats_; }
-    [[nodiscard]] const std::string& name() const override { return name_; }
-
-    std::vector<Frame> sent;
-
-private:
-    BusStats stats_;
-    std::string name_ = "fuzz";
 };
 
 /// A broken invariant: print why, then abort so libFuzzer saves the input as a crash.

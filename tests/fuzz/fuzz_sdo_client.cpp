@@ -5,6 +5,8 @@
 // sentence naming the node and the object.
 #include "fuzz_input.hpp"
 
+#include <codrive/testing/recording_bus.hpp>
+
 #include <codrive/core/cob_id.hpp>
 #include <codrive/sdo/client.hpp>
 #include <codrive/sdo/protocol.hpp>
@@ -70,7 +72,7 @@ void check_request(const Frame& f) {
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
     fuzz::Input in(data, size);
-    fuzz::CaptureBus bus;
+    codrive::testing::RecordingBus bus{"fuzz"};
     FakeClock clock;
 
     sdo::ClientConfig config;

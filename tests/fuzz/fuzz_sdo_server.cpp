@@ -3,6 +3,8 @@
 // must be well-formed and no request may get more answers than the protocol allows.
 #include "fuzz_input.hpp"
 
+#include <codrive/testing/recording_bus.hpp>
+
 #include <codrive/core/cob_id.hpp>
 #include <codrive/core/object_dictionary.hpp>
 #include <codrive/sdo/protocol.hpp>
@@ -90,7 +92,7 @@ void check_response(const Frame& f, bool block_upload_context) {
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
     fuzz::Input in(data, size);
-    fuzz::CaptureBus bus;
+    codrive::testing::RecordingBus bus{"fuzz"};
     ObjectDictionary od;
     build_od(od);
 
