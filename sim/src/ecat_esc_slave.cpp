@@ -1,14 +1,14 @@
 // SPDX-License-Identifier: Apache-2.0
 // Simulated ESC: datagram processing with working counters (ETG.1000.4 §5.4), sync manager
-// mailbox/buffer rules and FMMUs (ET1100 datasheet §2/§8), the ESM (ETG.1000.6 §6.4), SII
-// EEPROM interface and DC registers (ETG.1000.4 §9).
+// mailbox/buffer rules and FMMUs (ET1100 datasheet §2/§8), SII EEPROM interface, DC registers
+// (ETG.1000.4 §9) and the process data watchdog. The ESM is in ecat_esc_state_machine.cpp, the
+// mailbox queue in ecat_esc_mailbox.cpp.
 #include <codrive/sim/ecat/esc_slave.hpp>
 
 #include <codrive/core/endian.hpp>
 #include <codrive/ethercat/mailbox.hpp>
 
 #include <algorithm>
-#include <cstring>
 
 namespace codrive::sim::ecat {
 
@@ -327,169 +327,6 @@ void EscSlave::on_sii_control() {
     }
 }
 
-std::size_t EscSlave::pdo_bytes(std::uint16_t assign_index) {
-    ObjectDictionary& od = app_->od();
-    std::size_t bits = 0;
-    const auto count = od.get<std::uint8_t>(assign_index, 0).value_or(0);
-    for (std::uint8_t i = 1; i <= count; ++i) {
-        const auto pdo = od.get<std::uint16_t>(assign_index, i).value_or(0);
-        const auto n = od.get<std::uint8_t>(pdo, 0).value_or(0);
-        for (std::uint8_t e = 1; e <= n; ++e) {
-            bits += od.get<std::uint32_t>(pdo, e).value_or(0) & 0xFFU;
-        }
-    }
-    return (bits + 7) / 8;
-}
-
-std::uint16_t EscSlave::check_transition(AlState to) {
-    if (to == AlState::PreOp && state_ == AlState::Init && sii_.has_mailbox()) {
-        const SyncManager s0 = sm(0);
-        const SyncManager s1 = sm(1);
-        if (!s0.enabled() || !s1.enabled() || !s0.is_mailbox() || !s1.is_mailbox() ||
-            s0.start != sii_.rx_mailbox_offset || s0.length != sii_.rx_mailbox_size ||
-            s1.start != sii_.tx_mailbox_offset || s1.length != sii_.tx_mailbox_size ||
-            !s0.master_writes() || s1.master_writes()) {
-            return al_code::kInvalidMailboxConfigPreop;
-        }
-    }
-    if (to == AlState::SafeOp && state_ == AlState::PreOp) {
-        const std::size_t out = pdo_bytes(0x1C12);
-        const std::size_t in = pdo_bytes(0x1C13);
-        const SyncManager s2 = sm(2);
-        const SyncManager s3 = sm(3);
-        if (s2.length != out || (out > 0 && !s2.enabled())) {
-            return al_code::kInvalidOutputConfig;
-        }
-        if (s3.length != in || (in > 0 && !s3.enabled())) {
-            return al_code::kInvalidInputConfig;
-        }
-    }
-    return al_code::kNoError;
-}
-
-void EscSlave::on_al_control(std::uint16_t value) {
-    const bool ack = (value & kAlErrorFlag) != 0;
-    const bool error_pending = (reg16(reg::kAlStatus) & kAlErrorFlag) != 0;
-    // A pending error must be acknowledged before any other state is requested (ETG.1000.6
-    // §6.4.1.3), except INIT: a request for INIT is always carried out, acknowledged or not
-    // (masters reset a slave with a plain INIT: SOEM's ecx_reconfig_slave() writes 0x0001).
-    const bool to_init = (value & 0x0F) == static_cast<unsigned>(AlState::Init);
-    if (error_pending && !ack && !to_init) {
-        return;
-    }
-    if (ack) {
-        set_al_status(state_, false, 0);
-    }
-    const auto to = al_state_from_bits(value);
-    if (!to) {
-        set_al_status(state_, true, al_code::kUnknownState);
-        return;
-    }
-    if (*to == state_) {
-        return;
-    }
-    if (*to == AlState::Boot) {
-        set_al_status(state_, true, al_code::kBootstrapNotSupported);
-        return;
-    }
-    if (!transition_allowed(state_, *to)) {
-        set_al_status(state_, true, al_code::kInvalidStateChange);
-        return;
-    }
-    if (auto it = faults_.refuse.find(*to); it != faults_.refuse.end()) {
-        set_al_status(state_, true, it->second, true);
-        return;
-    }
-    if (*to == AlState::Op && faults_.refuse_op_requests > 0) {
-        --faults_.refuse_op_requests;
-        set_al_status(state_, true, faults_.refuse_op_code, true);
-        return;
-    }
-    if (const std::uint16_t code = check_transition(*to); code != al_code::kNoError) {
-        set_al_status(state_, true, code);
-        return;
-    }
-    const AlState from = state_;
-    state_ = *to;
-    set_al_status(state_, false, 0);
-    if (state_ == AlState::Init) {
-        clear_mailboxes();
-    }
-    app_->on_state_change(from, state_);
-}
-
-void EscSlave::clear_mailboxes() {
-    mailbox_in_full_ = false;
-    mailbox_out_full_ = false;
-    outbox_.clear();
-    sm1_message_.clear();
-    last_read_.clear();
-    last_request_counter_ = 0; // a new master session starts counting again
-    if (foe_) {
-        foe_->reset();
-    }
-    set_sm_status(0, 0);
-    set_sm_status(1, 0);
-}
-
-void EscSlave::load_mailbox_out() {
-    if (mailbox_out_full_ || outbox_.empty()) {
-        return;
-    }
-    const SyncManager s1 = sm(1);
-    if (!s1.enabled() || s1.length == 0) {
-        return;
-    }
-    std::vector<std::uint8_t> msg = std::move(outbox_.front());
-    outbox_.pop_front();
-    msg.resize(s1.length, 0);
-    std::memcpy(mem_.data() + s1.start, msg.data(), msg.size());
-    sm1_message_ = std::move(msg);
-    mailbox_out_full_ = true;
-    set_sm_status(1, SyncManager::kStatusMailboxFull);
-}
-
-void EscSlave::serve_mailbox_repeat() {
-    // The application's side of the repeat protocol (ETG.1000.4 §6.7.2): on a toggled repeat
-    // request write the last message the master read into SM1 again; a newer one waiting there
-    // goes back to the head of the queue. Then acknowledge with the same toggle.
-    const auto act = static_cast<std::uint16_t>(reg::sm(1) + SyncManager::kActivateOffset);
-    const auto pdi = static_cast<std::uint16_t>(reg::sm(1) + SyncManager::kPdiControlOffset);
-    const bool request = (mem_[act] & SyncManager::kActivateRepeatRequest) != 0;
-    const bool ack = (mem_[pdi] & SyncManager::kPdiRepeatAck) != 0;
-    if (request == ack) {
-        return;
-    }
-    const SyncManager s1 = sm(1);
-    if (s1.enabled() && s1.length != 0 && !last_read_.empty()) {
-        if (mailbox_out_full_) {
-            outbox_.push_front(std::move(sm1_message_));
-        }
-        sm1_message_ = last_read_;
-        sm1_message_.resize(s1.length, 0);
-        std::memcpy(mem_.data() + s1.start, sm1_message_.data(), sm1_message_.size());
-        mailbox_out_full_ = true;
-        set_sm_status(1, SyncManager::kStatusMailboxFull);
-        ++mailbox_repeats_;
-    }
-    mem_[pdi] = static_cast<std::uint8_t>(request ? mem_[pdi] | SyncManager::kPdiRepeatAck
-                                                  : mem_[pdi] & ~SyncManager::kPdiRepeatAck);
-}
-
-void EscSlave::send_mailbox(std::vector<std::uint8_t> payload, MailboxType type) {
-    MailboxMessage m;
-    m.header.type = type;
-    mailbox_counter_ = static_cast<std::uint8_t>(mailbox_counter_ % 7 + 1);
-    m.header.counter = mailbox_counter_;
-    m.payload = std::move(payload);
-    auto bytes = m.encode();
-    if (bytes.size() > sii_.tx_mailbox_size) {
-        return; // the CoE server never builds more than the mailbox holds
-    }
-    outbox_.push_back(std::move(bytes));
-    load_mailbox_out();
-}
-
 void EscSlave::pack_inputs() {
     const SyncManager s3 = sm(3);
     if (!s3.enabled() || s3.length == 0) {
@@ -547,17 +384,6 @@ void EscSlave::unpack_outputs(TimePoint now) {
 Duration EscSlave::watchdog_time() const {
     return nanoseconds(static_cast<std::int64_t>(reg16(reg::kWatchdogDivider) + 2) * 40 *
                        reg16(reg::kWatchdogProcessData));
-}
-
-bool EscSlave::leave_op(std::uint16_t code) {
-    if (state_ != AlState::Op) {
-        return false;
-    }
-    watchdog_armed_ = false;
-    state_ = AlState::SafeOp;
-    set_al_status(state_, true, code, true);
-    app_->on_state_change(AlState::Op, AlState::SafeOp);
-    return true;
 }
 
 bool EscSlave::tick(TimePoint now) {
