@@ -130,7 +130,8 @@ Profile make_ds_bvs() {
     p.abort_connection_options = kAbortConnection;
     p.default_mode = 3;
     p.faults = kFaults;
-    p.error_history_depth = 10; // §6.2.44: 4080h error codes 01h..0Ah
+    p.error_history_index = 0x4080; // §6.2.44; the manual's object list has no 1003h
+    p.error_history_depth = 10;     // §6.2.44: 4080h error codes 01h..0Ah
     p.layouts = kLayouts;
     // The profile's own objects, then those of the manual's tables (objects_ds_bvs.cpp).
     static const std::vector<ObjectSpec> objects = joined(kOverrides, ds_bvs_table_objects());

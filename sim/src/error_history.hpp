@@ -78,31 +78,34 @@ inline tl::expected<void, SdoAbort> clear_error_history(std::uint16_t, std::uint
     return {};
 }
 
-/// The drive's error objects as its manual lists them, on either transport: 1003h (AKD2G, FIO),
-/// 4080h (DS-BVS §6.2.44) with their clear-on-0 hooks, and 1029h (DS-BVS §6.2.12) from the
-/// drive profile.
+/// The drive's error objects as its manual lists them, on either transport: the error history
+/// the drive profile names (1003h for AKD2G and FIO, 4080h for DS-BVS §6.2.44) with its
+/// clear-on-0 hook, and 1029h (DS-BVS §6.2.12) from the drive profile.
 inline void add_error_objects(ObjectDictionary& od, const SimProfile& p) {
-    if (p.has_error_history_1003) {
+    const std::uint16_t history = p.drive->error_history_index;
+    if (history == 0x1003) {
         od.insert(error_history_object(0x1003, "Pre-defined error field", "Number of errors",
                                        "Standard error field", DataType::Unsigned32,
                                        p.drive->error_history_depth));
-        od.on_write(0x1003, clear_error_history);
-    }
-    drives::add_error_behaviour_object(od, *p.drive); // DS-BVS 1029h, as the master has it
-    if (p.has_error_history_4080) {
-        od.insert(error_history_object(0x4080, "Error history", "Number of entries", "Error code",
+    } else {
+        od.insert(error_history_object(history, "Error history", "Number of entries", "Error code",
                                        DataType::Unsigned16, p.drive->error_history_depth, true));
-        od.on_write(0x4080, clear_error_history);
     }
+    od.on_write(history, clear_error_history);
+    drives::add_error_behaviour_object(od, *p.drive); // DS-BVS 1029h, as the master has it
 }
 
-/// Records a fault in every history the drive keeps: 1003h in the drive's own layout
-/// (SimProfile::error_history_entry) and DS-BVS 4080h (the EMCY code). `reg` is 1001h with the
-/// fault already in it.
+/// Records a fault in the drive's error history: 1003h in the drive's own layout
+/// (SimProfile::error_history_entry), a vendor array (DS-BVS 4080h) the EMCY code. `reg` is 1001h
+/// with the fault already in it.
 inline void record_error_history(ObjectDictionary& od, const SimProfile& p, const FaultCode& code,
                                  std::uint8_t reg) {
-    push_error_history(od, 0x1003, p.error_history_entry(code, reg));
-    push_error_history(od, 0x4080, code.emcy);
+    const std::uint16_t history = p.drive->error_history_index;
+    if (history == 0x1003) {
+        push_error_history(od, history, p.error_history_entry(code, reg));
+    } else {
+        push_error_history(od, history, code.emcy);
+    }
 }
 
 } // namespace codrive::sim

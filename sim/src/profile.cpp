@@ -225,7 +225,6 @@ SimProfile make_akd2g() {
     p.heartbeat_loss_code = 0x8130;
     p.heartbeat_loss_is_fault = true;
     p.error_register_generic_only = true; // §5.2.2
-    p.has_error_history_1003 = true;
     p.rpdo_default_type = 0xFF; // AMB-9
     p.tpdo_default_type = 0xFF;
     p.default_can_maps = true; // AMB-10 suggestion
@@ -291,8 +290,6 @@ SimProfile make_ds_bvs() {
     p.following_error_code = 0x8611;
     p.heartbeat_loss_code = 0x8130;
     p.heartbeat_loss_is_fault = false; // reaction per 1029h:01 and 6007h
-    p.has_error_history_1003 = false;
-    p.has_error_history_4080 = true;
     p.tpdo_no_rtr_bit = true;
     p.rpdo_default_type = 0xFF;
     p.tpdo_default_type = 0;
@@ -409,7 +406,6 @@ SimProfile make_fio() {
     p.following_error_code = 0x8611;
     p.heartbeat_loss_code = 0x8000;
     p.heartbeat_loss_is_fault = false;
-    p.has_error_history_1003 = true;
     return p;
 }
 
@@ -426,7 +422,6 @@ SimProfile make_generic() {
     p.homing_behaviour = {hm(35, HomingRef::CurrentPosition, 1, false, 0, "current position"),
                           hm(37, HomingRef::CurrentPosition, 1, false, 0, "current position")};
     p.default_homing_method = 35;
-    p.has_error_history_1003 = true;
     // Simulator choices (no manual): 4096 counts per revolution, velocities in counts/s, a
     // profile of 100 rev/s² that a PP move of a few revolutions ends within a second.
     p.counts_per_rev = 4096;

@@ -17,16 +17,16 @@ namespace {
 
 // The objects a device description takes from the stack rather than the profile: the CiA 301
 // communication area 1000h-1FFFh (error register and history, SYNC/EMCY/guarding, store and
-// restore, SDO server, PDO communication and mapping, ETG.1000.6 sync-manager objects), the
-// DS-BVS error history 4080h (§6.2.44) and 60E3h of every axis, which the drive core builds
-// from the profile's homing list (Profile::homing_methods). Everything else the simulators
-// add (simulation control records, scratch objects, objects a profile does not describe) is
-// the simulator's, not the drive's, and stays out of the files.
+// restore, SDO server, PDO communication and mapping, ETG.1000.6 sync-manager objects), a vendor
+// error history (Profile::error_history_index: DS-BVS 4080h, §6.2.44) and 60E3h of every axis,
+// which the drive core builds from the profile's homing list (Profile::homing_methods). Everything
+// else the simulators add (simulation control records, scratch objects, objects a profile does not
+// describe) is the simulator's, not the drive's, and stays out of the files.
 bool is_stack_object(const drives::Profile& p, unsigned axes, std::uint16_t index) {
     if (index >= 0x1000 && index <= 0x1FFF) {
         return true;
     }
-    if (index == 0x4080) {
+    if (index == p.error_history_index) {
         return true;
     }
     for (unsigned axis = 1; axis <= axes; ++axis) {

@@ -201,7 +201,11 @@ struct Profile {
     std::int8_t default_mode = 0; ///< 6060h after power-on
     std::span<const FaultRow> faults;
     std::span<const ErrorNumberRow> error_numbers;
-    /// Entries of the error history (1003h, DS-BVS 4080h) the manual gives; 0 = not documented.
+    /// The object holding the error history: the pre-defined error field 1003h (CiA 301
+    /// §7.5.2.4, UNSIGNED32 entries) or a vendor array of error codes (DS-BVS 4080h, §6.2.44,
+    /// UNSIGNED16 entries, instead of 1003h).
+    std::uint16_t error_history_index = 0x1003;
+    /// Entries of the error history the manual gives; 0 = not documented.
     std::uint8_t error_history_depth = 0;
     std::span<const ModeLayout> layouts;
     Quirks quirks;
@@ -266,6 +270,10 @@ struct Profile {
 [[nodiscard]] const Profile& ds_bvs_profile();
 [[nodiscard]] const Profile& fio_profile();
 [[nodiscard]] const Profile& generic_profile();
+/// A CANopen device that is not a CiA 402 drive (1000h names another device profile, or none):
+/// no axes, only the CiA 301 store/restore of all parameters (1010h/1011h sub-index 1). Not in
+/// all_profiles(); identify_device() gives it so that messages do not call such a device a drive.
+[[nodiscard]] const Profile& canopen_device_profile();
 [[nodiscard]] std::span<const Profile* const> all_profiles();
 
 /// A profile by name ("akd2g", "ds-bvs", "fio", "generic"; case-insensitive, "dsbvs" and

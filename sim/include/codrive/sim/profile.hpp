@@ -115,8 +115,6 @@ struct SimProfile {
     std::uint16_t heartbeat_loss_code = 0;
     bool heartbeat_loss_is_fault = true; ///< AKD2G F7002; DS-BVS reacts per 1029h/6007h instead
     bool error_register_generic_only = false; ///< AKD2G: only 1001h bit 0 is used
-    bool has_error_history_1003 = true;
-    bool has_error_history_4080 = false; ///< DS-BVS
     /// The 1003h entry this drive records for an error, on CAN and EtherCAT alike: with an
     /// error-number table (FIO §7.13.3) the number in bits 31..24, the error class in 23..16 and
     /// the code; otherwise the first four EMCY bytes, code and 1001h `reg` (AKD2G, AMB-7).
