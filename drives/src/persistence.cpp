@@ -112,50 +112,83 @@ void restore_default_parameters(DriveTransport& t, const Profile& p, std::string
     write_signature(t, p, what, 0x1011, kLoadSignature, std::move(done));
 }
 
-void identify_profile(DriveTransport& t, std::function<void(DriveResult<const Profile*>)> done) {
+std::string DeviceIdentity::label() const {
+    if (is_drive()) {
+        return std::string(profile != nullptr ? profile->title : generic_profile().title);
+    }
+    const unsigned number = device_type & 0xFFFFU;
+    return number == 0
+               ? fmt::format("CANopen device, device type {:08X}h (no standard profile)",
+                             device_type)
+               : fmt::format("CANopen device, device type {:08X}h (CiA {} profile)", device_type,
+                             number);
+}
+
+void identify_device(DriveTransport& t, std::function<void(DriveResult<DeviceIdentity>)> done) {
     struct State {
         int pending = 4;
-        std::optional<std::uint32_t> device_type;
-        std::uint32_t vendor = 0;
-        std::uint32_t product = 0;
-        std::string name;
+        bool have_type = false;
+        DeviceIdentity id;
         std::string error;
-        std::function<void(DriveResult<const Profile*>)> done;
+        std::function<void(DriveResult<DeviceIdentity>)> done;
         void finish() {
             if (--pending != 0) {
                 return;
             }
-            if (!device_type) {
+            if (!have_type) {
                 done(drive_fail(DriveErrc::Transport, error));
                 return;
             }
-            const Profile* p = match_identity(*device_type, vendor, product, name);
-            done(p != nullptr ? p : &generic_profile());
+            if (!id.is_drive()) {
+                id.profile = &canopen_device_profile();
+            } else {
+                const Profile* p =
+                    match_identity(id.device_type, id.vendor_id, id.product_code, id.device_name);
+                id.profile = p != nullptr ? p : &generic_profile();
+            }
+            done(std::move(id));
         }
     };
     auto s = std::make_shared<State>();
     s->done = std::move(done);
     t.read(0x1008, 0, [s](DriveResult<Bytes> r) {
         if (r) {
-            s->name.assign(r->begin(), r->end());
+            s->id.device_name.assign(r->begin(), r->end());
         }
         s->finish();
     });
     t.read_as<std::uint32_t>(0x1018, 1, [s](DriveResult<std::uint32_t> r) {
-        s->vendor = r.value_or(0);
+        s->id.vendor_id = r.value_or(0);
         s->finish();
     });
     t.read_as<std::uint32_t>(0x1018, 2, [s](DriveResult<std::uint32_t> r) {
-        s->product = r.value_or(0);
+        s->id.product_code = r.value_or(0);
         s->finish();
     });
     t.read_as<std::uint32_t>(0x1000, 0, [s](DriveResult<std::uint32_t> r) {
         if (r) {
-            s->device_type = *r;
+            s->id.device_type = *r;
+            s->have_type = true;
         } else {
             s->error = r.error().message;
         }
         s->finish();
+    });
+}
+
+void identify_profile(DriveTransport& t, std::function<void(DriveResult<const Profile*>)> done) {
+    identify_device(t, [name = t.name(), done = std::move(done)](DriveResult<DeviceIdentity> r) {
+        if (!r) {
+            done(tl::unexpected(r.error()));
+            return;
+        }
+        if (!r->is_drive()) {
+            done(drive_fail(DriveErrc::NotSupported,
+                            fmt::format("{} is not a CiA 402 drive: it is a {}", name,
+                                        r->label())));
+            return;
+        }
+        done(r->profile);
     });
 }
 

@@ -130,4 +130,15 @@ const Profile& generic_profile() {
     return p;
 }
 
+const Profile& canopen_device_profile() {
+    static const Profile p = [] {
+        Profile d;
+        d.name = "canopen-device";
+        d.title = "CANopen device, not a CiA 402 drive";
+        d.max_axes = 0;
+        return d;
+    }();
+    return p;
+}
+
 } // namespace codrive::drives

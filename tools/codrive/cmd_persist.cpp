@@ -32,9 +32,11 @@ using RunUntil = std::function<bool(const std::function<bool()>&, Duration)>;
 
 /// Identifies the drive, then stores or restores one category; prints one line.
 int persist(const PersistArgs& a, bool save, drives::DriveTransport& t, const RunUntil& run) {
-    std::optional<drives::DriveResult<const drives::Profile*>> id;
-    drives::identify_profile(
-        t, [&id](drives::DriveResult<const drives::Profile*> r) { id = std::move(r); });
+    // Any CANopen device stores and restores through 1010h/1011h (CiA 301 §7.5.2.13/14), a
+    // drive or not: identify_device() labels it by what its 1000h says.
+    std::optional<drives::DriveResult<drives::DeviceIdentity>> id;
+    drives::identify_device(
+        t, [&id](drives::DriveResult<drives::DeviceIdentity> r) { id = std::move(r); });
     run([&id] { return id.has_value(); }, milliseconds(a.timeout_ms));
     if (!id) {
         fmt::print(stderr, "codrive: {}: no answer to 1000h within {} ms\n", t.name(),
@@ -45,7 +47,8 @@ int persist(const PersistArgs& a, bool save, drives::DriveTransport& t, const Ru
         fmt::print(stderr, "codrive: {}\n", id->error().message);
         return kExitFailure;
     }
-    const drives::Profile& p = ***id;
+    const drives::Profile& p = *(*id)->profile;
+    const std::string label = (*id)->label();
     std::optional<drives::DriveVoid> done;
     auto on_done = [&done](drives::DriveVoid r) { done = std::move(r); };
     if (save) {
@@ -66,12 +69,12 @@ int persist(const PersistArgs& a, bool save, drives::DriveTransport& t, const Ru
     }
     const drives::StoreCategory* c = p.store_category(a.what);
     if (save) {
-        fmt::print("{} ({}): saved {} ({:04X}h:{:02X}h)\n", t.name(), p.title, c->title, 0x1010,
+        fmt::print("{} ({}): saved {} ({:04X}h:{:02X}h)\n", t.name(), label, c->title, 0x1010,
                    c->subindex);
     } else {
         fmt::print("{} ({}): factory defaults of {} restored ({:04X}h:{:02X}h); they take effect "
                    "{}\n",
-                   t.name(), p.title, c->title, 0x1011, c->subindex,
+                   t.name(), label, c->title, 0x1011, c->subindex,
                    p.persistence.restore_restarts ? "now: the drive restarts"
                                                   : "at the next reset node or power-on");
     }
