@@ -5,6 +5,7 @@
 #include <codrive/dump/line_format.hpp>
 #include <codrive/nmt/state.hpp>
 
+#include <fmt/compile.h>
 #include <fmt/format.h>
 
 #include <cmath>
@@ -37,15 +38,19 @@ public:
     }
     void num(double v) {
         sep();
-        if (std::isfinite(v)) {
-            fmt::format_to(std::back_inserter(b_), "{:.6g}", v);
-        } else {
+        if (!std::isfinite(v)) {
             raw("null");
+        } else if (v == std::trunc(v) && std::fabs(v) < 1e6 && !std::signbit(v)) {
+            // Most values of a series are whole (counts, empty buckets): below 10^6 "{:.6g}"
+            // prints them exactly as an integer does, and integers print several times faster.
+            digits(static_cast<std::uint64_t>(v));
+        } else {
+            fmt::format_to(std::back_inserter(b_), FMT_COMPILE("{:.6g}"), v);
         }
     }
     void uint(std::uint64_t v) {
         sep();
-        fmt::format_to(std::back_inserter(b_), "{}", v);
+        digits(v);
     }
     void null() {
         sep();
@@ -69,6 +74,10 @@ public:
     }
 
 private:
+    void digits(std::uint64_t v) {
+        const fmt::format_int text(v);
+        b_.append(text.data(), text.data() + text.size());
+    }
     void sep() {
         if (!fresh_) {
             b_.push_back(',');
