@@ -14,17 +14,6 @@ using namespace codrive::sim::testing;
 
 namespace {
 
-template <typename T, typename Call>
-T settle(OdTransport& t, Call call) {
-    std::optional<T> out;
-    call([&out](T r) { out = std::move(r); });
-    for (int i = 0; i < 10 && !out; ++i) {
-        t.process();
-    }
-    EXPECT_TRUE(out.has_value());
-    return out.value_or(T{tl::unexpected(drives::DriveError{})});
-}
-
 /// A CANopen device with 1000h = `device_type`, 1018h:1/:2 and the CiA 301 store/restore
 /// objects (sub-index 1: all parameters), the way an I/O module's dictionary has them.
 ObjectDictionary plain_device(std::uint32_t device_type) {
@@ -48,13 +37,13 @@ ObjectDictionary plain_device(std::uint32_t device_type) {
 TEST(Identify, ASimulatedDriveIsFoundByItsIdentity) {
     DeviceFixture f("ds-bvs");
     OdTransport t(f.device.od());
-    auto id = settle<drives::DriveResult<drives::DeviceIdentity>>(
+    auto id = await<drives::DriveResult<drives::DeviceIdentity>>(
         t, [&](auto done) { drives::identify_device(t, done); });
     ASSERT_TRUE(id) << id.error().message;
     EXPECT_TRUE(id->is_drive());
     EXPECT_EQ(id->profile, &drives::ds_bvs_profile());
     EXPECT_EQ(id->label(), drives::ds_bvs_profile().title);
-    auto p = settle<drives::DriveResult<const drives::Profile*>>(
+    auto p = await<drives::DriveResult<const drives::Profile*>>(
         t, [&](auto done) { drives::identify_profile(t, done); });
     ASSERT_TRUE(p) << p.error().message;
     EXPECT_EQ(*p, &drives::ds_bvs_profile());
@@ -63,7 +52,7 @@ TEST(Identify, ASimulatedDriveIsFoundByItsIdentity) {
 TEST(Identify, AnIoModuleIsACanopenDeviceNotADrive) {
     ObjectDictionary od = plain_device(0x00030191); // CiA 401: digital inputs and outputs
     OdTransport t(od);
-    auto id = settle<drives::DriveResult<drives::DeviceIdentity>>(
+    auto id = await<drives::DriveResult<drives::DeviceIdentity>>(
         t, [&](auto done) { drives::identify_device(t, done); });
     ASSERT_TRUE(id) << id.error().message;
     EXPECT_FALSE(id->is_drive());
@@ -74,7 +63,7 @@ TEST(Identify, AnIoModuleIsACanopenDeviceNotADrive) {
     EXPECT_EQ(id->label(), "CANopen device, device type 00030191h (CiA 401 profile)");
 
     // A caller that needs a drive gets a sentence, not the generic CiA 402 profile.
-    auto p = settle<drives::DriveResult<const drives::Profile*>>(
+    auto p = await<drives::DriveResult<const drives::Profile*>>(
         t, [&](auto done) { drives::identify_profile(t, done); });
     ASSERT_FALSE(p);
     EXPECT_EQ(p.error().code, drives::DriveErrc::NotSupported);
@@ -82,14 +71,12 @@ TEST(Identify, AnIoModuleIsACanopenDeviceNotADrive) {
                                  "type 00030191h (CiA 401 profile)");
 
     // It still saves its parameters (CiA 301 §7.5.2.13: "save" at 1010h:01).
-    auto saved = settle<drives::DriveVoid>(t, [&](auto done) {
-        drives::store_parameters(t, *id->profile, "all", done);
-    });
+    auto saved = await<drives::DriveVoid>(
+        t, [&](auto done) { drives::store_parameters(t, *id->profile, "all", done); });
     ASSERT_TRUE(saved) << saved.error().message;
     EXPECT_EQ(od.get<std::uint32_t>(0x1010, 1), 0x65766173U);
-    auto wrong = settle<drives::DriveVoid>(t, [&](auto done) {
-        drives::store_parameters(t, *id->profile, "comm", done);
-    });
+    auto wrong = await<drives::DriveVoid>(
+        t, [&](auto done) { drives::store_parameters(t, *id->profile, "comm", done); });
     ASSERT_FALSE(wrong);
     EXPECT_EQ(wrong.error().message, "node 7 (CANopen device, not a CiA 402 drive): no parameter "
                                      "category 'comm' in 1010h (it has: all)");
@@ -98,7 +85,7 @@ TEST(Identify, AnIoModuleIsACanopenDeviceNotADrive) {
 TEST(Identify, ADeviceTypeOfZeroSaysNoStandardProfile) {
     ObjectDictionary od = plain_device(0);
     OdTransport t(od);
-    auto id = settle<drives::DriveResult<drives::DeviceIdentity>>(
+    auto id = await<drives::DriveResult<drives::DeviceIdentity>>(
         t, [&](auto done) { drives::identify_device(t, done); });
     ASSERT_TRUE(id) << id.error().message;
     EXPECT_EQ(id->label(), "CANopen device, device type 00000000h (no standard profile)");
@@ -107,7 +94,7 @@ TEST(Identify, ADeviceTypeOfZeroSaysNoStandardProfile) {
 TEST(Identify, ADeviceWithout1000hIsATransportError) {
     ObjectDictionary od; // CiA 301 §7.5.2.1: 1000h is mandatory; this device breaks that
     OdTransport t(od);
-    auto id = settle<drives::DriveResult<drives::DeviceIdentity>>(
+    auto id = await<drives::DriveResult<drives::DeviceIdentity>>(
         t, [&](auto done) { drives::identify_device(t, done); });
     ASSERT_FALSE(id);
     EXPECT_EQ(id.error().code, drives::DriveErrc::Transport);

@@ -7,6 +7,9 @@
 
 #include <deque>
 #include <functional>
+#include <optional>
+
+#include <gtest/gtest.h>
 
 namespace codrive::sim::testing {
 
@@ -60,5 +63,18 @@ private:
     ObjectDictionary& od_;
     std::deque<std::function<void()>> queue_;
 };
+
+/// Starts `call(done)` and answers the queued accesses until `done` has run (a few rounds: one
+/// call may chain reads); the result, or a default T with a test failure if it never came.
+template <typename T, typename Call>
+T await(OdTransport& t, Call call) {
+    std::optional<T> out;
+    call([&out](T r) { out = std::move(r); });
+    for (int i = 0; i < 10 && !out; ++i) {
+        t.process();
+    }
+    EXPECT_TRUE(out.has_value());
+    return out.value_or(T{});
+}
 
 } // namespace codrive::sim::testing

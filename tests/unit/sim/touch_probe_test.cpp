@@ -17,17 +17,6 @@ namespace sw = cia::sw;
 
 namespace {
 
-template <typename T, typename Call>
-T await(OdTransport& t, Call call) {
-    std::optional<T> out;
-    call([&out](T r) { out = std::move(r); });
-    for (int i = 0; i < 10 && !out; ++i) {
-        t.process();
-    }
-    EXPECT_TRUE(out.has_value());
-    return out.value_or(T{});
-}
-
 drives::DriveVoid arm(OdTransport& t, TouchProbes& p, unsigned probe, ProbeEdge e,
                       ProbeTrigger trig) {
     return await<drives::DriveVoid>(t, [&](auto done) { p.arm(probe, e, trig, done); });
