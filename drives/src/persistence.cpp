@@ -117,11 +117,10 @@ std::string DeviceIdentity::label() const {
         return std::string(profile != nullptr ? profile->title : generic_profile().title);
     }
     const unsigned number = device_type & 0xFFFFU;
-    return number == 0
-               ? fmt::format("CANopen device, device type {:08X}h (no standard profile)",
-                             device_type)
-               : fmt::format("CANopen device, device type {:08X}h (CiA {} profile)", device_type,
-                             number);
+    return number == 0 ? fmt::format("CANopen device, device type {:08X}h (no standard profile)",
+                                     device_type)
+                       : fmt::format("CANopen device, device type {:08X}h (CiA {} profile)",
+                                     device_type, number);
 }
 
 void identify_device(DriveTransport& t, std::function<void(DriveResult<DeviceIdentity>)> done) {
@@ -183,9 +182,9 @@ void identify_profile(DriveTransport& t, std::function<void(DriveResult<const Pr
             return;
         }
         if (!r->is_drive()) {
-            done(drive_fail(DriveErrc::NotSupported,
-                            fmt::format("{} is not a CiA 402 drive: it is a {}", name,
-                                        r->label())));
+            done(
+                drive_fail(DriveErrc::NotSupported,
+                           fmt::format("{} is not a CiA 402 drive: it is a {}", name, r->label())));
             return;
         }
         done(r->profile);

@@ -225,7 +225,7 @@ SimProfile make_akd2g() {
     p.heartbeat_loss_code = 0x8130;
     p.heartbeat_loss_is_fault = true;
     p.error_register_generic_only = true; // §5.2.2
-    p.rpdo_default_type = 0xFF; // AMB-9
+    p.rpdo_default_type = 0xFF;           // AMB-9
     p.tpdo_default_type = 0xFF;
     p.default_can_maps = true; // AMB-10 suggestion
     p.node_guarding = true;
