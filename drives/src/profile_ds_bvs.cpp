@@ -130,7 +130,7 @@ Profile make_ds_bvs() {
     p.abort_connection_options = kAbortConnection;
     p.default_mode = 3;
     p.faults = kFaults;
-    p.error_history_index = 0x4080; // §6.2.44; the manual's object list has no 1003h
+    p.error_history_index = 0x4080; // §6.2.44; the §6.1.3 entries overview lists no 1003h
     p.error_history_depth = 10;     // §6.2.44: 4080h error codes 01h..0Ah
     p.layouts = kLayouts;
     // The profile's own objects, then those of the manual's tables (objects_ds_bvs.cpp).

@@ -144,11 +144,11 @@ void parse_lists(IniFile& ini, Catalog& cat, Findings& findings);
 
 /// ObjectType of an object section (VAR when absent); nullopt (with an error) if invalid.
 [[nodiscard]] std::optional<ObjectCode> object_code(Section& s, Findings& findings);
-/// Reads a value key (DefaultValue, ParameterValue, LowLimit, HighLimit, [xxxxValue] entries)
-/// for `type`; nullopt with an error finding if it cannot be read.
 /// The value text kept for display, for writing and for $NODEID re-evaluation: a number's
 /// trailing `; comment` dropped (as number_text()), string text whole.
 [[nodiscard]] std::string stored_text(const Section& s, Entry& e, DataType type, Findings& f);
+/// Reads a value key (DefaultValue, ParameterValue, LowLimit, HighLimit, [xxxxValue] entries)
+/// for `type`; nullopt with an error finding if it cannot be read.
 [[nodiscard]] std::optional<Value> value_key(Section& s, Entry& e, DataType type,
                                              Findings& findings, std::optional<NodeId> node);
 /// Parses the keys describing one value (a VAR object section, a sub-object section, or the
