@@ -19,10 +19,6 @@ namespace {
 constexpr std::string_view kServiceNames[] = {"nmt", "sync", "time", "emcy",  "hb",
                                               "sdo", "pdo",  "lss",  "other", "error"};
 
-void append(fmt::memory_buffer& out, std::string_view s) {
-    out.append(s.data(), s.data() + s.size());
-}
-
 } // namespace
 
 std::string_view to_string(Service s) {
@@ -131,12 +127,12 @@ void Decoder::decode(const TraceRecord& r, Decoded& out, std::vector<Note>& note
     if (f.error()) {
         out.service = Service::Error;
         out.severity = Severity::Warning;
-        append(out.text, "error frame:");
+        text::put(out.text, "error frame:");
         bool first = true;
         for (const auto& e : decode_error_frame(f)) {
-            append(out.text, first ? " " : "; ");
+            text::put(out.text, first ? " " : "; ");
             first = false;
-            append(out.text, to_string(e));
+            text::put(out.text, to_string(e));
         }
         return;
     }
@@ -204,7 +200,7 @@ void Decoder::decode_nmt(const Frame& f, Decoded& out) {
     out.severity = Severity::Notice;
     fmt::format_to(it, "NMT {} ", nmt::to_string(cmd->command));
     if (cmd->node == nmt::kAllNodes) {
-        append(out.text, "all nodes");
+        text::put(out.text, "all nodes");
     } else if (cmd->command == nmt::NmtCommand::ResetNode) {
         fmt::format_to(it, "{}", cmd->node); // "reset node 15", not "reset node node 15"
     } else {
@@ -215,9 +211,9 @@ void Decoder::decode_nmt(const Frame& f, Decoded& out) {
 void Decoder::decode_sync(const Frame& f, Decoded& out) {
     out.service = Service::Sync;
     if (f.len == 0) {
-        append(out.text, "SYNC");
+        text::put(out.text, "SYNC");
     } else if (f.len == 1) {
-        append(out.text, "SYNC counter ");
+        text::put(out.text, "SYNC counter ");
         text::put_uint(out.text, f.data[0]);
     } else {
         out.severity = Severity::Warning;
@@ -255,7 +251,7 @@ void Decoder::decode_emcy(const Frame& f, NodeId node, Decoded& out) {
     const auto* prof = nodes_[node].profile;
     const auto* vendor = prof != nullptr ? prof->emcy_text() : nullptr;
     const auto text = emcy::describe(*m, vendor);
-    append(out.text, text);
+    text::put(out.text, text);
     out.severity = m->is_reset() ? Severity::Notice : Severity::Error;
     if (stats_ != nullptr) {
         stats_->on_emcy(node, m->error_code, emcy::error_code_text(m->error_code));
@@ -298,10 +294,10 @@ void Decoder::decode_error_control(const Frame& f, NodeId node, std::int64_t ts,
         fmt::format_to(it, "node {} heartbeat invalid state 0x{:02X}", node, b);
         return;
     } else {
-        append(out.text, "node ");
+        text::put(out.text, "node ");
         text::put_uint(out.text, node);
-        append(out.text, " heartbeat ");
-        append(out.text, name);
+        text::put(out.text, " heartbeat ");
+        text::put(out.text, name);
     }
     if (state && stats_ != nullptr) {
         stats_->on_heartbeat(node, static_cast<std::uint8_t>(b & 0x7F), ts);
@@ -322,7 +318,7 @@ void Decoder::decode_lss(const Frame& f, bool from_master, Decoded& out) {
     static constexpr std::string_view kIdent[] = {"vendor-ID", "product code", "revision number",
                                                   "serial number"};
     if (from_master) {
-        append(out.text, "LSS ");
+        text::put(out.text, "LSS ");
         if (cs == 0x04) {
             fmt::format_to(it, "switch state global: {}",
                            f.data[1] == 1 ? "configuration" : "waiting");
@@ -336,7 +332,7 @@ void Decoder::decode_lss(const Frame& f, bool from_master, Decoded& out) {
             fmt::format_to(it, "activate bit timing (switch delay {} ms)",
                            get_le<std::uint16_t>(f.data.data() + 1));
         } else if (cs == 0x17) {
-            append(out.text, "store configuration");
+            text::put(out.text, "store configuration");
         } else if (cs >= 0x46 && cs <= 0x4B) {
             static constexpr std::string_view kRange[] = {
                 "vendor-ID",           "product code",
@@ -344,21 +340,21 @@ void Decoder::decode_lss(const Frame& f, bool from_master, Decoded& out) {
                 "serial number low",   "serial number high"};
             fmt::format_to(it, "identify remote slave {} 0x{:08X}", kRange[cs - 0x46], u32);
         } else if (cs == 0x4C) {
-            append(out.text, "identify non-configured remote slave");
+            text::put(out.text, "identify non-configured remote slave");
         } else if (cs == 0x51) {
             fmt::format_to(it, "fastscan id 0x{:08X} bit {} sub {} next {}", u32, f.data[5],
                            f.data[6], f.data[7]);
         } else if (cs >= 0x5A && cs <= 0x5D) {
             fmt::format_to(it, "inquire {}", kIdent[cs - 0x5A]);
         } else if (cs == 0x5E) {
-            append(out.text, "inquire node-ID");
+            text::put(out.text, "inquire node-ID");
         } else {
             fmt::format_to(it, "unknown master command 0x{:02X}", cs);
             out.severity = Severity::Warning;
         }
         return;
     }
-    append(out.text, "LSS slave: ");
+    text::put(out.text, "LSS slave: ");
     static constexpr std::string_view kResult[] = {"ok", "not supported / out of range",
                                                    "storage access error"};
     const auto result = [&](std::uint8_t code) {
@@ -373,11 +369,11 @@ void Decoder::decode_lss(const Frame& f, bool from_master, Decoded& out) {
             out.severity = Severity::Warning;
         }
     } else if (cs == 0x44) {
-        append(out.text, "switch state selective confirmed");
+        text::put(out.text, "switch state selective confirmed");
     } else if (cs == 0x4F) {
-        append(out.text, "identify slave");
+        text::put(out.text, "identify slave");
     } else if (cs == 0x50) {
-        append(out.text, "identify non-configured slave");
+        text::put(out.text, "identify non-configured slave");
     } else if (cs >= 0x5A && cs <= 0x5D) {
         fmt::format_to(it, "{} 0x{:08X}", kIdent[cs - 0x5A], u32);
     } else if (cs == 0x5E) {

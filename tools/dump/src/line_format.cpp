@@ -14,10 +14,6 @@ constexpr char kHex[] = "0123456789ABCDEF";
 constexpr std::string_view kReset = "\033[0m";
 constexpr std::string_view kDim = "\033[2m";
 
-void append(fmt::memory_buffer& out, std::string_view s) {
-    out.append(s.data(), s.data() + s.size());
-}
-
 std::string_view color_of(const Decoded& d) {
     switch (d.severity) {
     case Severity::Error:
@@ -96,40 +92,40 @@ void LineFormatter::timestamp(fmt::memory_buffer& out, bool has_ts, std::int64_t
         if (has_ts) {
             seconds(out, ts, 1);
         } else {
-            append(out, "(no timestamp)");
+            text::put(out, "(no timestamp)");
         }
         break;
     case TimeMode::Delta:
         if (has_ts) {
             seconds(out, ts - prev_ns_, 3);
         } else {
-            append(out, "(-)");
+            text::put(out, "(-)");
         }
         break;
     case TimeMode::Zero:
         if (has_ts) {
             seconds(out, ts - first_ns_, 3);
         } else {
-            append(out, "(-)");
+            text::put(out, "(-)");
         }
         break;
     }
     if (has_ts && advance) {
         prev_ns_ = ts;
     }
-    append(out, "  ");
+    text::put(out, "  ");
 }
 
 void LineFormatter::frame(fmt::memory_buffer& out, const TraceRecord& r, const Decoded& d) {
     const Frame& f = r.frame;
     if (options_.json) {
         auto it = std::back_inserter(out);
-        append(out, "{");
+        text::put(out, "{");
         if (r.has_ts) {
             fmt::format_to(it, "\"ts\":{}.{:06},", r.ts_ns / 1'000'000'000,
                            (r.ts_ns % 1'000'000'000) / 1000);
         }
-        append(out, "\"iface\":");
+        text::put(out, "\"iface\":");
         append_json_string(out, r.iface);
         fmt::format_to(it, ",\"id\":{},\"ext\":{},\"rtr\":{},\"fd\":{},\"len\":{},\"data\":\"",
                        f.id, f.extended(), f.rtr(), f.fd(), f.len);
@@ -145,15 +141,15 @@ void LineFormatter::frame(fmt::memory_buffer& out, const TraceRecord& r, const D
         }
         fmt::format_to(it, ",\"severity\":\"{}\",\"text\":", to_string(d.severity));
         append_json_string(out, std::string_view(d.text.data(), d.text.size()));
-        append(out, "}\n");
+        text::put(out, "}\n");
         return;
     }
     if (options_.color && options_.time != TimeMode::None) {
-        append(out, kDim);
+        text::put(out, kDim);
     }
     timestamp(out, r.has_ts, r.ts_ns, true);
     if (options_.color && options_.time != TimeMode::None) {
-        append(out, kReset);
+        text::put(out, kReset);
     }
     {
         // Frame columns, written in one reserved region (this is the hot path).
@@ -192,11 +188,11 @@ void LineFormatter::frame(fmt::memory_buffer& out, const TraceRecord& r, const D
         c.spaces(used < kColumn ? kColumn - used : 2);
     }
     if (options_.color) {
-        append(out, color_of(d));
+        text::put(out, color_of(d));
     }
     out.append(d.text.data(), d.text.data() + d.text.size());
     if (options_.color) {
-        append(out, kReset);
+        text::put(out, kReset);
     }
     out.push_back('\n');
 }
@@ -210,7 +206,7 @@ void LineFormatter::note(fmt::memory_buffer& out, const Note& n) {
         append_json_string(out, n.event);
         fmt::format_to(it, ",\"severity\":\"{}\",\"text\":", to_string(n.severity));
         append_json_string(out, n.text);
-        append(out, "}\n");
+        text::put(out, "}\n");
         return;
     }
     timestamp(out, true, n.ts_ns, false);
@@ -221,11 +217,11 @@ void LineFormatter::note(fmt::memory_buffer& out, const Note& n) {
         out.push_back(' ');
     }
     if (options_.color) {
-        append(out, "\033[1;31m");
+        text::put(out, "\033[1;31m");
     }
-    append(out, n.text);
+    text::put(out, n.text);
     if (options_.color) {
-        append(out, kReset);
+        text::put(out, kReset);
     }
     out.push_back('\n');
 }

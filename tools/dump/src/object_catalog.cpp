@@ -2,6 +2,8 @@
 // Built-in CiA 301 / CiA 402 object names and types, and EDS-backed lookup.
 #include <codrive/dump/object_catalog.hpp>
 
+#include <codrive/dump/text_append.hpp>
+
 #include <algorithm>
 #include <iterator>
 
@@ -170,10 +172,6 @@ const BuiltinObject* find_builtin(std::uint16_t index, std::uint8_t sub) {
     return any;
 }
 
-void append(fmt::memory_buffer& out, std::string_view s) {
-    out.append(s.data(), s.data() + s.size());
-}
-
 } // namespace
 
 std::span<const BuiltinObject> builtin_objects() {
@@ -204,10 +202,10 @@ ObjectInfo ObjectCatalog::lookup(NodeId node, std::uint16_t index, std::uint8_t 
                 const auto* b = find_builtin(index, subindex);
                 info.hex = b != nullptr && b->hex;
                 if (name_out != nullptr) {
-                    append(*name_out, obj->name);
+                    text::put(*name_out, obj->name);
                     if (obj->code != ObjectCode::Var && !sub->name.empty()) {
                         name_out->push_back('.');
-                        append(*name_out, sub->name);
+                        text::put(*name_out, sub->name);
                     }
                 }
                 return info;
@@ -236,17 +234,17 @@ ObjectInfo ObjectCatalog::lookup(NodeId node, std::uint16_t index, std::uint8_t 
         const bool pdo = b->index >= 0x1400 && b->index < 0x1C00;
         if (pdo) {
             // "RPDO communication parameter" → "RPDO3 communication parameter".
-            append(*name_out, b->object.substr(0, 4));
+            text::put(*name_out, b->object.substr(0, 4));
             fmt::format_to(std::back_inserter(*name_out), "{}", (index & 0x1FFU) + 1U);
-            append(*name_out, b->object.substr(4));
+            text::put(*name_out, b->object.substr(4));
         } else if (b->index != b->last) {
             fmt::format_to(std::back_inserter(*name_out), "{} {}", b->object, index - b->index + 1);
         } else {
-            append(*name_out, b->object);
+            text::put(*name_out, b->object);
         }
         if (!b->name.empty()) {
             name_out->push_back('.');
-            append(*name_out, b->name);
+            text::put(*name_out, b->name);
             if (b->sub == kAny) {
                 fmt::format_to(std::back_inserter(*name_out), " {}", subindex);
             }

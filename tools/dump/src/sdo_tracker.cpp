@@ -3,6 +3,7 @@
 #include <codrive/dump/sdo_tracker.hpp>
 
 #include <codrive/core/sdo_abort.hpp>
+#include <codrive/dump/text_append.hpp>
 #include <codrive/dump/value_format.hpp>
 #include <codrive/sdo/crc16.hpp>
 
@@ -13,10 +14,6 @@ namespace codrive::dump {
 namespace {
 
 using sdo::FrameKind;
-
-void append(fmt::memory_buffer& out, std::string_view s) {
-    out.append(s.data(), s.data() + s.size());
-}
 
 double to_ms(std::int64_t ns) {
     return static_cast<double>(ns) / 1e6;
@@ -83,9 +80,9 @@ void SdoTracker::add_data(Channel& ch, std::span<const std::uint8_t> bytes) {
 SdoOutcome SdoTracker::complete(NodeId node, Channel& ch, std::int64_t ts, SdoMode mode,
                                 fmt::memory_buffer& out) {
     const bool upload = ch.op == Op::Upload || ch.op == Op::BlockUpload;
-    append(out, upload ? "upload " : "download ");
+    text::put(out, upload ? "upload " : "download ");
     object_name(out, node, ch.index, ch.subindex);
-    append(out, " = ");
+    text::put(out, " = ");
     const auto info = catalog_.lookup(node, ch.index, ch.subindex, nullptr);
     format_value(out, info, ch.data);
     if (ch.data.size() <= 8 && !ch.data.empty()) {
@@ -142,8 +139,8 @@ SdoOutcome SdoTracker::on_frame(NodeId node, sdo::Sender sender,
         ch.short_response = ch.short_response && client;
     }
     const auto unexpected = [&] {
-        append(out, "SDO ");
-        append(out, sdo::to_string(fi.kind));
+        text::put(out, "SDO ");
+        text::put(out, sdo::to_string(fi.kind));
         if (fi.kind == FrameKind::InitiateDownloadResponse ||
             fi.kind == FrameKind::InitiateUploadResponse ||
             fi.kind == FrameKind::BlockDownloadInitiateResponse ||
@@ -151,7 +148,7 @@ SdoOutcome SdoTracker::on_frame(NodeId node, sdo::Sender sender,
             out.push_back(' ');
             object_name(out, node, fi.index, fi.subindex);
         }
-        append(out, " without a matching request");
+        text::put(out, " without a matching request");
         if (ch.op != Op::None) {
             fmt::format_to(it, " (open: {}", kOpNames[static_cast<int>(ch.op)]);
             object_name(out, node, ch.index, ch.subindex);
@@ -192,13 +189,13 @@ SdoOutcome SdoTracker::on_frame(NodeId node, sdo::Sender sender,
             none.kind = SdoOutcome::Kind::ProtocolError;
         }
         ch.client_spoke_last = true;
-        append(out, "SDO download request ");
+        text::put(out, "SDO download request ");
         object_name(out, node, fi.index, fi.subindex);
         if (fi.expedited) {
             ch.expedited = true;
             const std::size_t n = fi.size_indicated ? fi.data_len : sdo::kExpeditedMax;
             add_data(ch, std::span(fi.data.data(), n));
-            append(out, " = ");
+            text::put(out, " = ");
             format_value(out, catalog_.lookup(node, fi.index, fi.subindex, nullptr), ch.data);
             if (!ch.data.empty()) {
                 format_cia402_meaning(out, fi.index, get_le_n(ch.data.data(), ch.data.size()));
@@ -206,7 +203,7 @@ SdoOutcome SdoTracker::on_frame(NodeId node, sdo::Sender sender,
         } else if (fi.size_indicated) {
             fmt::format_to(it, " (segmented, {} bytes)", fi.size);
         } else {
-            append(out, " (segmented, size not indicated)");
+            text::put(out, " (segmented, size not indicated)");
         }
         return none;
     }
@@ -217,9 +214,9 @@ SdoOutcome SdoTracker::on_frame(NodeId node, sdo::Sender sender,
         if (ch.expedited) {
             return complete(node, ch, ts, SdoMode::Expedited, out);
         }
-        append(out, "SDO download response ");
+        text::put(out, "SDO download response ");
         object_name(out, node, fi.index, fi.subindex);
-        append(out, ", segments follow");
+        text::put(out, ", segments follow");
         return none;
     case FrameKind::DownloadSegmentRequest:
         if (ch.op != Op::Download || ch.expedited) {
@@ -230,7 +227,7 @@ SdoOutcome SdoTracker::on_frame(NodeId node, sdo::Sender sender,
         fmt::format_to(it, "SDO download segment {} ({} byte{}{}", ch.segments, fi.data_len,
                        fi.data_len == 1 ? "" : "s", fi.last ? ", last" : "");
         if (fi.toggle != ch.toggle) {
-            append(out, ", toggle error");
+            text::put(out, ", toggle error");
         }
         out.push_back(')');
         ch.end_seen = fi.last;
@@ -251,7 +248,7 @@ SdoOutcome SdoTracker::on_frame(NodeId node, sdo::Sender sender,
             none.kind = SdoOutcome::Kind::ProtocolError;
         }
         ch.client_spoke_last = true;
-        append(out, "SDO upload request ");
+        text::put(out, "SDO upload request ");
         object_name(out, node, fi.index, fi.subindex);
         return none;
     case FrameKind::InitiateUploadResponse:
@@ -269,12 +266,12 @@ SdoOutcome SdoTracker::on_frame(NodeId node, sdo::Sender sender,
         ch.size_known = fi.size_indicated;
         ch.size = fi.size;
         ch.confirmed = true;
-        append(out, "SDO upload response ");
+        text::put(out, "SDO upload response ");
         object_name(out, node, fi.index, fi.subindex);
         if (fi.size_indicated) {
             fmt::format_to(it, " (segmented, {} bytes)", fi.size);
         } else {
-            append(out, " (segmented, size not indicated)");
+            text::put(out, " (segmented, size not indicated)");
         }
         return none;
     case FrameKind::UploadSegmentRequest:
@@ -283,7 +280,7 @@ SdoOutcome SdoTracker::on_frame(NodeId node, sdo::Sender sender,
         }
         fmt::format_to(it, "SDO upload segment {} request", ch.segments + 1);
         if (fi.toggle != ch.toggle) {
-            append(out, " (toggle error)");
+            text::put(out, " (toggle error)");
         }
         return none;
     case FrameKind::UploadSegmentResponse: {
@@ -293,9 +290,9 @@ SdoOutcome SdoTracker::on_frame(NodeId node, sdo::Sender sender,
         if (!ch.confirmed) {
             // CiA 301 §7.2.4.3.6: the initiate upload request is answered by an initiate upload
             // response (scs 2) or an abort, never by a segment.
-            append(out, "SDO upload segment answers upload request ");
+            text::put(out, "SDO upload segment answers upload request ");
             object_name(out, node, ch.index, ch.subindex);
-            append(out, ": expected the initiate upload response (0x4n) or an abort");
+            text::put(out, ": expected the initiate upload response (0x4n) or an abort");
             none.kind = SdoOutcome::Kind::ProtocolError;
             return none;
         }
@@ -322,7 +319,7 @@ SdoOutcome SdoTracker::on_frame(NodeId node, sdo::Sender sender,
         }
         ch.client_spoke_last = true;
         ch.size_known = fi.size_indicated;
-        append(out, "SDO block download request ");
+        text::put(out, "SDO block download request ");
         object_name(out, node, fi.index, fi.subindex);
         if (fi.size_indicated) {
             fmt::format_to(it, " ({} bytes{})", fi.size, fi.crc ? ", CRC" : "");
@@ -337,7 +334,7 @@ SdoOutcome SdoTracker::on_frame(NodeId node, sdo::Sender sender,
         ch.in_block = true;
         ch.sub_len = 0;
         ch.last_seq = 0;
-        append(out, "SDO block download response ");
+        text::put(out, "SDO block download response ");
         object_name(out, node, fi.index, fi.subindex);
         fmt::format_to(it, " (blksize {})", fi.block_size);
         return none;
@@ -347,7 +344,7 @@ SdoOutcome SdoTracker::on_frame(NodeId node, sdo::Sender sender,
         }
         ch.client_spoke_last = true;
         ch.block_size = fi.block_size;
-        append(out, "SDO block upload request ");
+        text::put(out, "SDO block upload request ");
         object_name(out, node, fi.index, fi.subindex);
         fmt::format_to(it, " (blksize {}{})", fi.block_size, fi.crc ? ", CRC" : "");
         return none;
@@ -358,7 +355,7 @@ SdoOutcome SdoTracker::on_frame(NodeId node, sdo::Sender sender,
         ch.crc = ch.crc && fi.crc;
         ch.size_known = fi.size_indicated;
         ch.size = fi.size;
-        append(out, "SDO block upload response ");
+        text::put(out, "SDO block upload response ");
         object_name(out, node, fi.index, fi.subindex);
         if (fi.size_indicated) {
             fmt::format_to(it, " ({} bytes)", fi.size);
@@ -371,7 +368,7 @@ SdoOutcome SdoTracker::on_frame(NodeId node, sdo::Sender sender,
         ch.in_block = true;
         ch.sub_len = 0;
         ch.last_seq = 0;
-        append(out, "SDO block upload start");
+        text::put(out, "SDO block upload start");
         return none;
     case FrameKind::BlockSegment: {
         const std::uint8_t seq = fi.seqno;

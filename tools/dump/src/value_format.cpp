@@ -5,6 +5,7 @@
 #include <codrive/core/endian.hpp>
 #include <codrive/core/value.hpp>
 #include <codrive/drives/cia402.hpp>
+#include <codrive/dump/text_append.hpp>
 
 #include <array>
 #include <cstring>
@@ -16,10 +17,6 @@ namespace {
 
 constexpr char kHexDigits[] = "0123456789ABCDEF";
 
-void append(fmt::memory_buffer& out, std::string_view s) {
-    out.append(s.data(), s.data() + s.size());
-}
-
 void format_string(fmt::memory_buffer& out, std::span<const std::uint8_t> data) {
     constexpr std::size_t kMax = 64;
     out.push_back('"');
@@ -30,7 +27,7 @@ void format_string(fmt::memory_buffer& out, std::span<const std::uint8_t> data) 
         }
         if (n++ == kMax) {
             out.push_back('"');
-            append(out, "…");
+            text::put(out, "…");
             return;
         }
         if (c == '"' || c == '\\') {
@@ -85,7 +82,7 @@ void format_hex_bytes(fmt::memory_buffer& out, std::span<const std::uint8_t> dat
                       std::size_t max) {
     for (std::size_t i = 0; i < data.size(); ++i) {
         if (i == max) {
-            append(out, " …");
+            text::put(out, " …");
             return;
         }
         if (i != 0) {
@@ -108,7 +105,7 @@ void format_value(fmt::memory_buffer& out, const ObjectInfo& info,
         }
         if (t == DataType::OctetString || t == DataType::Domain) {
             if (data.empty()) {
-                append(out, "(empty)");
+                text::put(out, "(empty)");
             } else {
                 format_hex_bytes(out, data);
             }
@@ -121,7 +118,7 @@ void format_value(fmt::memory_buffer& out, const ObjectInfo& info,
             } else if (t == DataType::Real64) {
                 fmt::format_to(it, "{}", get_le<double>(data.data()));
             } else if (t == DataType::Boolean) {
-                append(out, raw != 0 ? "true" : "false");
+                text::put(out, raw != 0 ? "true" : "false");
             } else if (is_signed_integer(t)) {
                 fmt::format_to(it, "{}", sign_extend(raw, size));
             } else if (info.hex) {
@@ -143,7 +140,7 @@ void format_value(fmt::memory_buffer& out, const ObjectInfo& info,
         return;
     }
     if (data.empty()) {
-        append(out, "(empty)");
+        text::put(out, "(empty)");
         return;
     }
     format_hex_bytes(out, data);
@@ -157,19 +154,19 @@ void format_cia402_meaning(fmt::memory_buffer& out, std::uint16_t index, std::ui
     using namespace drives::cia402;
     switch (base) {
     case obj::kControlword:
-        append(out, " (");
-        append(out, command_text(static_cast<std::uint16_t>(raw)));
+        text::put(out, " (");
+        text::put(out, command_text(static_cast<std::uint16_t>(raw)));
         out.push_back(')');
         break;
     case obj::kStatusword: {
         const auto sw16 = static_cast<std::uint16_t>(raw);
-        append(out, " (");
-        append(out, to_string(decode_state(sw16)));
+        text::put(out, " (");
+        text::put(out, to_string(decode_state(sw16)));
         if ((sw16 & sw::kWarning) != 0) {
-            append(out, ", warning");
+            text::put(out, ", warning");
         }
         if ((sw16 & sw::kTargetReached) != 0) {
-            append(out, ", target reached");
+            text::put(out, ", target reached");
         }
         out.push_back(')');
         break;
@@ -184,8 +181,8 @@ void format_cia402_meaning(fmt::memory_buffer& out, std::uint16_t index, std::ui
             return n;
         }();
         const auto m = static_cast<std::int8_t>(static_cast<std::uint8_t>(raw));
-        append(out, " (");
-        append(out, names[static_cast<std::size_t>(m + 128)]);
+        text::put(out, " (");
+        text::put(out, names[static_cast<std::size_t>(m + 128)]);
         out.push_back(')');
         break;
     }
