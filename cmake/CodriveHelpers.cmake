@@ -50,6 +50,7 @@ function(codrive_add_module)
     # exported target even when its own project does not ask for it.
     target_compile_features(${target} PUBLIC cxx_std_20)
     codrive_set_warnings(${target})
+    codrive_unity(${target})
     install(DIRECTORY include/ DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
     set_property(GLOBAL APPEND PROPERTY CODRIVE_EXPORTED_TARGETS ${target})
 endfunction()
