@@ -146,7 +146,8 @@ release_stage() {
 
 # ThreadSanitizer on the tests where threads meet: the in-process controller and hand-off tests
 # (integration_tests) and the controller over veth EtherCAT with its dedicated cyclic thread (its
-# object accesses from the loop thread included: DemoScenarioOverEthercat.ObjectAccess*).
+# object accesses from the loop thread included: DemoScenarioOverEthercat.ObjectAccess*, and
+# those a shutdown ends: ObjectAccessAtShutdown).
 # TSan cannot run in the UML guest, so the vcan suite has no TSan run. Left out under TSan: the
 # allocation count (TSan slows the cycle until frames are lost) and the thread count (TSan runs a
 # background thread of its own); both run in the ASan+UBSan EtherCAT stage.
@@ -154,7 +155,7 @@ tsan_stage() {
     export TSAN_OPTIONS="halt_on_error=1 second_deadlock_stack=1 ${TSAN_OPTIONS:-}"
     run_gtest tsan "$root/build-tsan/tests/integration_tests"
     run_gtest tsan "$root/build-tsan/tests/ethercat_tests" \
-        --gtest_filter='ControllerOverEthercat.*:DemoScenarioOverEthercat.ObjectAccess*:-*EcatDemoProgram*:*AllocatesNothing*:*LeavesNoFdsOrThreads*'
+        --gtest_filter='ControllerOverEthercat.*:DemoScenarioOverEthercat.ObjectAccess*:Threading/ObjectAccessAtShutdown.*:-*EcatDemoProgram*:*AllocatesNothing*:*LeavesNoFdsOrThreads*'
 }
 
 echo "== build: ASan+UBSan (unit, virtual-bus and EtherCAT tests, and the tools they start)"

@@ -165,6 +165,11 @@ void Controller::shutdown() {
                              to_ms(options_.shutdown_timeout)));
         }
     });
+    // No thread cycles the segments any more (the cyclic thread has been joined, or the loop
+    // ran the cycles): an object access still waiting for its slave would never call back.
+    for (auto& seg : segments_) {
+        (void)seg->abandon_object_accesses("the controller shut down before the slave answered");
+    }
     stop_buses();
     if (caller_schedule_) {
         caller_schedule_->restore();

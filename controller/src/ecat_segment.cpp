@@ -464,6 +464,24 @@ void EcatSegment::stop() {
     }
 }
 
+std::size_t EcatSegment::abandon_object_accesses(std::string_view why) {
+    std::size_t n = 0;
+    for (auto& s : slaves_) {
+        if (s->loop_access) {
+            n += s->loop_access->abandon_requests(why); // handed over, never started
+        }
+        if (master_ && s->transport) {
+            n += master_->mailbox_transfers(s->index);
+            master_->cancel_mailbox_transfers(s->index, why);
+            (void)s->transport->poll(); // their completions: into the hand-off, or the caller's
+        }
+        if (s->loop_access) {
+            (void)s->loop_access->deliver_completions();
+        }
+    }
+    return n;
+}
+
 drives::Axis* EcatSegment::axis(unsigned position, unsigned number) {
     for (auto& s : slaves_) {
         if (s->index != position) {

@@ -63,6 +63,12 @@ public:
     [[nodiscard]] TimePoint next_cycle() const { return next_; }
     /// Stops cycling (next_deadline() = never) and steps the slaves down to PRE-OP.
     void stop();
+    /// Shutdown, once no thread cycles the segment any more (the cyclic thread has been joined,
+    /// or single-thread mode): every object access still queued or in flight ends now with a
+    /// sentence naming the slave, the object and `why`, and its callback runs, so that no
+    /// read_object()/write_object() callback waits for a frame that will never come. Returns
+    /// how many accesses were ended.
+    std::size_t abandon_object_accesses(std::string_view why);
 
     [[nodiscard]] drives::Axis* axis(unsigned position, unsigned number);
     /// The transport the loop thread uses for object accesses to the slave at `position`: its

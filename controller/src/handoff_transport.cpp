@@ -3,6 +3,8 @@
 // slots.
 #include "handoff_transport.hpp"
 
+#include <fmt/format.h>
+
 #include <utility>
 
 namespace codrive::controller {
@@ -73,6 +75,27 @@ std::size_t HandoffTransport::deliver_completions() {
             free_[free_count_++] = slot;
             r.read_done(std::move(res));
         }
+        ++n;
+    }
+    return n;
+}
+
+std::size_t HandoffTransport::abandon_requests(std::string_view why) {
+    std::size_t n = 0;
+    std::uint8_t slot = 0;
+    while (requests_.pop(slot)) {
+        Slot& s = slots_[slot];
+        auto failed =
+            drives::drive_fail(drives::DriveErrc::Transport,
+                               fmt::format("{}: {} of object {:04X}h:{:02X}h cancelled: {}", name_,
+                                           s.request.is_write ? "write" : "read", s.request.index,
+                                           s.request.subindex, why));
+        if (s.request.is_write) {
+            s.write_result = std::move(failed);
+        } else {
+            s.read_result = std::move(failed);
+        }
+        (void)completions_.push(slot);
         ++n;
     }
     return n;

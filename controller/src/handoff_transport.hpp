@@ -11,6 +11,7 @@
 #include <array>
 #include <cstdint>
 #include <string>
+#include <string_view>
 
 namespace codrive::controller {
 
@@ -65,6 +66,11 @@ public:
     /// Starts the queued accesses on the wrapped transport; their results go back when it
     /// completes them. Returns how many were started.
     std::size_t pump_requests();
+    /// Ends the queued accesses that were never started, each with DriveErrc::Transport and a
+    /// sentence naming the device, the object and `why`; deliver_completions() runs their
+    /// callbacks. For an executing thread that stops for good (shutdown): call it on the
+    /// thread that owns the executing side from then on. Returns how many were ended.
+    std::size_t abandon_requests(std::string_view why);
 
 private:
     struct Slot {

@@ -42,6 +42,9 @@ drives::DriveResult<drives::DriveTransport*> Controller::object_transport(std::s
         return error(ControllerErrc::NotStarted,
                      "the controller is not started (call start() first)");
     }
+    if (stopped_) {
+        return error(ControllerErrc::NotStarted, "the controller has shut down");
+    }
     if (bus < buses_.size()) {
         auto it = buses_[bus]->nodes.find(node);
         if (it == buses_[bus]->nodes.end() || !it->second->transport) {

@@ -44,6 +44,8 @@ public:
             return "malformed EtherCAT frame";
         case EcatErrc::PermissionDenied:
             return "raw EtherCAT sockets need CAP_NET_RAW (run as root or grant cap_net_raw)";
+        case EcatErrc::Cancelled:
+            return "mailbox transfer cancelled before the slave answered";
         }
         return "unknown EtherCAT error";
     }

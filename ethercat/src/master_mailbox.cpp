@@ -458,6 +458,25 @@ VoidResult Master::run_mailbox_cycle() {
     return {};
 }
 
+void Master::cancel_mailbox_transfers(std::size_t slave, std::string_view why) {
+    if (slave >= slaves_.size()) {
+        return;
+    }
+    MailboxChannel& ch = channel(slave);
+    const TimePoint now = clock_.now();
+    while (!ch.queue.empty()) { // a callback may queue another transfer: cancelled in turn
+        while (!ch.queue.empty()) {
+            const auto& t = *ch.queue.front();
+            mailbox_fail(slave, make_error_code(EcatErrc::Cancelled),
+                         fmt::format("{}: {}{} cancelled: {}", t.label,
+                                     t.mailbox_type() == MailboxType::Coe ? "CoE " : "", t.what,
+                                     why),
+                         now);
+        }
+        deliver_finished();
+    }
+}
+
 void Master::run_mailbox_until_idle(std::size_t slave) {
     while (mailbox_transfers(slave) > 0) {
         if (auto r = run_mailbox_cycle(); !r) {

@@ -223,5 +223,50 @@ TEST_F(MailboxChannels, RequestsToASlaveWithoutCoeAreRefusedAtOnce) {
     EXPECT_EQ(master_.last_error(), "there is no slave at position 7 (3 slaves found)");
 }
 
+TEST_F(MailboxChannels, CancelEndsEveryTransferOnceWithItsSentenceAndTheChannelGoesOn) {
+    to_op();
+    segment_.slave(2).faults().mailbox_silent = true; // DS-BVS: its request is under way for ever
+    std::vector<CoeOutcome> outcomes;
+    int chained = 0;
+    ASSERT_TRUE(master_.sdo_upload_async(2, 0x1018, 1, [&](CoeOutcome o) {
+        outcomes.push_back(std::move(o));
+        // A callback that queues the next access: cancelled in turn, not left waiting.
+        ASSERT_TRUE(master_.sdo_upload_async(2, 0x1018, 2, [&](CoeOutcome n) {
+            ++chained;
+            outcomes.push_back(std::move(n));
+        }));
+    }));
+    ASSERT_TRUE(master_.sdo_download_async(2, 0x6081, 0, {0xE8, 0x03, 0x00, 0x00},
+                                           [&](CoeOutcome o) { outcomes.push_back(o); }));
+    for (int i = 0; i < 5; ++i) {
+        ASSERT_TRUE(cycle()) << master_.last_error(); // the first request is under way
+    }
+    ASSERT_TRUE(outcomes.empty());
+    master_.cancel_mailbox_transfers(2, "the controller shut down before the slave answered");
+    ASSERT_EQ(outcomes.size(), 3U) << "every callback ran inside the call";
+    EXPECT_EQ(chained, 1);
+    EXPECT_EQ(master_.mailbox_transfers(2), 0U);
+    for (const auto& o : outcomes) {
+        EXPECT_EQ(o.error, make_error_code(EcatErrc::Cancelled));
+        EXPECT_NE(o.sentence.find("slave 2 (DS-BVS): CoE SDO "), std::string::npos) << o.sentence;
+        EXPECT_NE(o.sentence.find(" cancelled: the controller shut down before the slave "
+                                  "answered"),
+                  std::string::npos)
+            << o.sentence;
+    }
+    EXPECT_NE(outcomes[0].sentence.find("upload 0x1018:01"), std::string::npos)
+        << outcomes[0].sentence;
+    // The cancelled channel takes new work: once the mailbox speaks again (the simulated slave
+    // dropped the requests it never answered), the next transfer is answered.
+    segment_.slave(2).faults().mailbox_silent = false;
+    std::optional<CoeOutcome> after;
+    ASSERT_TRUE(master_.sdo_upload_async(2, 0x1018, 1, [&](CoeOutcome o) { after = o; }));
+    for (int i = 0; i < 50 && !after; ++i) {
+        ASSERT_TRUE(cycle()) << master_.last_error();
+    }
+    ASSERT_TRUE(after);
+    EXPECT_FALSE(after->error) << after->sentence;
+}
+
 } // namespace
 } // namespace codrive::ethercat

@@ -23,7 +23,7 @@ enum class ControllerErrc {
     BootTimeout,          ///< the boot-up did not finish within boot_timeout
     NodeBootFailed,       ///< at least one node failed its boot-up (see boot_reports())
     SyncFailed,           ///< the SYNC producer could not be configured
-    NotStarted,           ///< read_object()/write_object() before start()
+    NotStarted,           ///< read_object()/write_object() before start() or after shutdown()
     NoSuchDevice,         ///< read_object()/write_object(): no such bus, node or slave
 };
 

@@ -25,6 +25,7 @@ enum class EcatErrc {
     FrameTooLarge,       ///< datagrams do not fit one Ethernet frame
     InvalidFrame,        ///< a received frame is not a well-formed EtherCAT frame
     PermissionDenied,    ///< raw sockets need CAP_NET_RAW
+    Cancelled,           ///< the master ended a mailbox transfer before the slave answered
 };
 
 const std::error_category& ecat_category();

@@ -23,6 +23,7 @@
 #include <optional>
 #include <span>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace codrive::ethercat {
@@ -299,6 +300,14 @@ public:
                                   bool complete_access = false);
     /// Transfers queued or running on one slave's mailbox channel.
     [[nodiscard]] std::size_t mailbox_transfers(std::size_t slave) const;
+    /// Ends every transfer queued or running on the slave's mailbox channel now, without another
+    /// frame: each `done` runs once, inside this call, with EcatErrc::Cancelled and a sentence
+    /// naming the slave, the transfer and `why` ("slave 1 (AKD2G): CoE SDO upload 0x6502:00
+    /// cancelled: the controller shut down before the slave answered"). For a master that stops
+    /// exchanging frames (shutdown) and must not leave callbacks waiting for ever: a slave that
+    /// had taken a request may still put its answer in its mailbox. Transfers a callback queues
+    /// meanwhile are cancelled too.
+    void cancel_mailbox_transfers(std::size_t slave, std::string_view why);
     /// One mailbox-only frame (blocking up to frame_timeout): for use when no cyclic exchange
     /// runs (bring-up, tools). Errors: link errors.
     VoidResult run_mailbox_cycle();
