@@ -126,6 +126,14 @@ std::optional<std::uint64_t> CoeTransport::get_raw(drives::CyclicHandle h) const
         return std::nullopt;
     }
     const Slot& s = slots_[static_cast<std::size_t>(h.slot)];
+    // An input counts only once a frame brought the inputs in (the expected working counter):
+    // until then the image holds its initial zeros, not the slave's values. A slave still in
+    // SAFE-OP short of OP gives frames with a short working counter, and an Axis that took the
+    // zeros for a statusword (NOT READY TO SWITCH ON) ended a fault reset at once ("ok") on a
+    // drive still in FAULT. The CANopen transport waits for the first TPDO the same way.
+    if (!s.output && input_count(h).value_or(0) == 0) {
+        return std::nullopt;
+    }
     const auto in =
         s.output ? std::span<const std::uint8_t>(const_cast<Master&>(master_).outputs(slave_))
                  : master_.inputs(slave_);

@@ -187,5 +187,33 @@ TEST_F(CoeTransportTest, InputCountAdvancesOnlyWithFramesWhoseInputsWereTaken) {
     EXPECT_EQ(t.input_count(sw), *before + 1);
 }
 
+TEST_F(CoeTransportTest, NoInputBeforeAFrameBroughtTheInputsIn) {
+    // The slaves stay in SAFE-OP, where they take no outputs: every frame comes back with a
+    // working counter short of OP's, and the master keeps its image of zeros, which is no
+    // statusword (the fault reset of `codrive drive reset` took it for NOT READY TO SWITCH ON
+    // and ended "ok" on a drive still in FAULT when the slave was slow to reach OP).
+    ASSERT_TRUE(master_.scan()) << master_.last_error();
+    ASSERT_TRUE(master_.set_state_all(AlState::SafeOp)) << master_.last_error();
+    CoeTransport t(master_, 0);
+    drives::Axis axis(t, drives::AxisConfig{});
+    axis.bind();
+    const auto sw = t.input(0x6041, 0);
+    ASSERT_TRUE(sw.valid());
+    for (int i = 0; i < 5; ++i) {
+        EXPECT_FALSE(master_.exchange_process_data());
+        axis.on_cycle(clock_.now());
+        clock_.advance(milliseconds(1));
+    }
+    EXPECT_EQ(t.input_count(sw), 0U);
+    EXPECT_FALSE(t.get_raw(sw)) << "zeros from no frame read as a statusword";
+    EXPECT_FALSE(axis.has_statusword());
+    ASSERT_TRUE(master_.set_state_all(AlState::Op)) << master_.last_error();
+    ASSERT_TRUE(master_.exchange_process_data()) << master_.last_error();
+    axis.on_cycle(clock_.now());
+    ASSERT_TRUE(t.get_raw(sw));
+    EXPECT_TRUE(axis.has_statusword());
+    EXPECT_NE(axis.statusword(), 0U) << "the AKD2G's real statusword";
+}
+
 } // namespace
 } // namespace codrive::ethercat
