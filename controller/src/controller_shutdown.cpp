@@ -168,7 +168,7 @@ void Controller::shutdown() {
     // No thread cycles the segments any more (the cyclic thread has been joined, or the loop
     // ran the cycles): an object access still waiting for its slave would never call back.
     for (auto& seg : segments_) {
-        (void)seg->abandon_object_accesses("the controller shut down before the slave answered");
+        seg->abandon_object_accesses("the controller shut down before the slave answered");
     }
     stop_buses();
     if (caller_schedule_) {

@@ -464,14 +464,12 @@ void EcatSegment::stop() {
     }
 }
 
-std::size_t EcatSegment::abandon_object_accesses(std::string_view why) {
-    std::size_t n = 0;
+void EcatSegment::abandon_object_accesses(std::string_view why) {
     for (auto& s : slaves_) {
         if (s->loop_access) {
-            n += s->loop_access->abandon_requests(why); // handed over, never started
+            (void)s->loop_access->abandon_requests(why); // handed over, never started
         }
         if (master_ && s->transport) {
-            n += master_->mailbox_transfers(s->index);
             master_->cancel_mailbox_transfers(s->index, why);
             (void)s->transport->poll(); // their completions: into the hand-off, or the caller's
         }
@@ -479,7 +477,6 @@ std::size_t EcatSegment::abandon_object_accesses(std::string_view why) {
             (void)s->loop_access->deliver_completions();
         }
     }
-    return n;
 }
 
 drives::Axis* EcatSegment::axis(unsigned position, unsigned number) {

@@ -66,9 +66,8 @@ public:
     /// Shutdown, once no thread cycles the segment any more (the cyclic thread has been joined,
     /// or single-thread mode): every object access still queued or in flight ends now with a
     /// sentence naming the slave, the object and `why`, and its callback runs, so that no
-    /// read_object()/write_object() callback waits for a frame that will never come. Returns
-    /// how many accesses were ended.
-    std::size_t abandon_object_accesses(std::string_view why);
+    /// read_object()/write_object() callback waits for a frame that will never come.
+    void abandon_object_accesses(std::string_view why);
 
     [[nodiscard]] drives::Axis* axis(unsigned position, unsigned number);
     /// The transport the loop thread uses for object accesses to the slave at `position`: its

@@ -18,6 +18,16 @@ namespace codrive::ethercat {
 using detail::MailboxChannel;
 using detail::MailboxPhase;
 
+namespace {
+
+/// How a failure sentence names a transfer: "slave 2 (DS-BVS): CoE SDO upload 0x6064:00".
+std::string transfer_name(const detail::CoeTransfer& t) {
+    return fmt::format("{}: {}{}", t.label, t.mailbox_type() == MailboxType::Coe ? "CoE " : "",
+                       t.what);
+}
+
+} // namespace
+
 Master::~Master() = default;
 
 MailboxChannel& Master::channel(std::size_t slave) {
@@ -159,8 +169,7 @@ void Master::mailbox_add(TimePoint now) {
                               : ch.phase == MailboxPhase::Write ? "request frames lost"
                                                                 : "mailbox silent";
             mailbox_fail(i, make_error_code(EcatErrc::MailboxTimeout),
-                         fmt::format("{}: {}{} timed out after {:.0f} ms ({})", t.label,
-                                     t.mailbox_type() == MailboxType::Coe ? "CoE " : "", t.what,
+                         fmt::format("{} timed out after {:.0f} ms ({})", transfer_name(t),
                                      to_ms(config_.mailbox_timeout), why),
                          now);
         } else if (!ch.active && ch.phase != MailboxPhase::Idle && now >= ch.deadline) {
@@ -466,11 +475,8 @@ void Master::cancel_mailbox_transfers(std::size_t slave, std::string_view why) {
     const TimePoint now = clock_.now();
     while (!ch.queue.empty()) { // a callback may queue another transfer: cancelled in turn
         while (!ch.queue.empty()) {
-            const auto& t = *ch.queue.front();
             mailbox_fail(slave, make_error_code(EcatErrc::Cancelled),
-                         fmt::format("{}: {}{} cancelled: {}", t.label,
-                                     t.mailbox_type() == MailboxType::Coe ? "CoE " : "", t.what,
-                                     why),
+                         fmt::format("{} cancelled: {}", transfer_name(*ch.queue.front()), why),
                          now);
         }
         deliver_finished();

@@ -4,6 +4,8 @@
 // executing thread and its own result comes back to the requesting thread, none lost or mixed up.
 #include "../../controller/src/handoff_transport.hpp"
 
+#include <codrive/testing/no_cyclic_transport.hpp>
+
 #include <gtest/gtest.h>
 
 #include <atomic>
@@ -16,7 +18,7 @@ namespace {
 
 /// The executing thread's transport: answers a read of index i, sub s with the bytes
 /// {i low, i high, s}, accepts every write and records its data.
-class EchoTransport final : public drives::DriveTransport {
+class EchoTransport final : public codrive::testing::NoCyclicTransport {
 public:
     [[nodiscard]] std::string name() const override { return "node 5"; }
     void read(std::uint16_t index, std::uint8_t subindex, ReadDone done) override {
@@ -28,16 +30,6 @@ public:
     void write(std::uint16_t, std::uint8_t, drives::Bytes data, WriteDone done) override {
         written_sum_ += data.empty() ? 0 : data[0];
         pending_.push_back([d = std::move(done)] { d(drives::DriveVoid{}); });
-    }
-    [[nodiscard]] drives::CyclicHandle output(std::uint16_t, std::uint8_t) const override {
-        return {};
-    }
-    [[nodiscard]] drives::CyclicHandle input(std::uint16_t, std::uint8_t) const override {
-        return {};
-    }
-    void set_raw(drives::CyclicHandle, std::uint64_t) override {}
-    [[nodiscard]] std::optional<std::uint64_t> get_raw(drives::CyclicHandle) const override {
-        return std::nullopt;
     }
     /// Completes the oldest access, as a bus would some time later.
     bool complete_one() {

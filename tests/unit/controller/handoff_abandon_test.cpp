@@ -4,6 +4,8 @@
 // the executing end abandons them; accesses already started complete as usual.
 #include "../../../controller/src/handoff_transport.hpp"
 
+#include <codrive/testing/no_cyclic_transport.hpp>
+
 #include <gtest/gtest.h>
 
 #include <functional>
@@ -15,7 +17,7 @@ namespace codrive::controller {
 namespace {
 
 /// The executing side's transport: remembers each started access and answers it on answer().
-class ParkingTransport final : public drives::DriveTransport {
+class ParkingTransport final : public codrive::testing::NoCyclicTransport {
 public:
     [[nodiscard]] std::string name() const override { return "slave 1 (AKD2G)"; }
     void read(std::uint16_t, std::uint8_t, ReadDone done) override {
@@ -23,16 +25,6 @@ public:
     }
     void write(std::uint16_t, std::uint8_t, drives::Bytes, WriteDone done) override {
         writes.push_back(std::move(done));
-    }
-    [[nodiscard]] drives::CyclicHandle output(std::uint16_t, std::uint8_t) const override {
-        return {};
-    }
-    [[nodiscard]] drives::CyclicHandle input(std::uint16_t, std::uint8_t) const override {
-        return {};
-    }
-    void set_raw(drives::CyclicHandle, std::uint64_t) override {}
-    [[nodiscard]] std::optional<std::uint64_t> get_raw(drives::CyclicHandle) const override {
-        return std::nullopt;
     }
     std::vector<ReadDone> reads;
     std::vector<WriteDone> writes;

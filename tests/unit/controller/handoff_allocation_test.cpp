@@ -6,6 +6,8 @@
 // optimiser could remove an allocation only the Debug build makes.
 #include "../../../controller/src/handoff_transport.hpp"
 
+#include <codrive/testing/no_cyclic_transport.hpp>
+
 #include <gtest/gtest.h>
 
 #include <array>
@@ -24,7 +26,7 @@ using codrive::testing::g_counting;
 /// The executing side's transport: keeps each access's callback in a fixed array and completes
 /// them all on process(), answering reads with byte vectors built before the count starts (so
 /// what is counted is the hand-off, not this fake's own allocations).
-class FixedTransport final : public drives::DriveTransport {
+class FixedTransport final : public codrive::testing::NoCyclicTransport {
 public:
     static constexpr std::size_t kMax = HandoffTransport::kSlots;
     explicit FixedTransport(std::size_t answers) {
@@ -39,16 +41,6 @@ public:
     void write(std::uint16_t, std::uint8_t, drives::Bytes data, WriteDone done) override {
         written_bytes_ += data.size();
         writes_[n_writes_++] = std::move(done);
-    }
-    [[nodiscard]] drives::CyclicHandle output(std::uint16_t, std::uint8_t) const override {
-        return {};
-    }
-    [[nodiscard]] drives::CyclicHandle input(std::uint16_t, std::uint8_t) const override {
-        return {};
-    }
-    void set_raw(drives::CyclicHandle, std::uint64_t) override {}
-    [[nodiscard]] std::optional<std::uint64_t> get_raw(drives::CyclicHandle) const override {
-        return std::nullopt;
     }
     void process() {
         for (std::size_t i = 0; i < n_reads_; ++i) {

@@ -4,6 +4,7 @@
 
 #include <codrive/core/object_dictionary.hpp>
 #include <codrive/drives/transport.hpp>
+#include <codrive/testing/no_cyclic_transport.hpp>
 
 #include <deque>
 #include <functional>
@@ -15,7 +16,7 @@ namespace codrive::sim::testing {
 
 /// Object access on the simulator's dictionary, as an SDO server answers it: queued, answered
 /// on process() (between simulation steps).
-class OdTransport final : public drives::DriveTransport {
+class OdTransport final : public codrive::testing::NoCyclicTransport {
 public:
     explicit OdTransport(ObjectDictionary& od) : od_(od) {}
     [[nodiscard]] std::string name() const override { return "node 7"; }
@@ -40,16 +41,6 @@ public:
             }
             done({});
         });
-    }
-    [[nodiscard]] drives::CyclicHandle output(std::uint16_t, std::uint8_t) const override {
-        return {};
-    }
-    [[nodiscard]] drives::CyclicHandle input(std::uint16_t, std::uint8_t) const override {
-        return {};
-    }
-    void set_raw(drives::CyclicHandle, std::uint64_t) override {}
-    [[nodiscard]] std::optional<std::uint64_t> get_raw(drives::CyclicHandle) const override {
-        return std::nullopt;
     }
     void process() {
         while (!queue_.empty()) {
