@@ -442,6 +442,7 @@ Result<std::uint16_t> Master::receive_process_data(TimePoint deadline) {
             return fail(EcatErrc::WorkingCounter);
         }
         last_wkc_mismatch_.reset();
+        ++stats_.input_frames;
         std::copy(frame_[0].data.begin() + static_cast<long>(output_size_), frame_[0].data.end(),
                   image_.begin() + static_cast<long>(output_size_));
         deliver_finished();

@@ -126,11 +126,12 @@ std::optional<std::uint64_t> CoeTransport::get_raw(drives::CyclicHandle h) const
         return std::nullopt;
     }
     const Slot& s = slots_[static_cast<std::size_t>(h.slot)];
-    // An input counts only once a frame brought the inputs in (the expected working counter):
-    // until then the image holds its initial zeros, not the slave's values. A slave still in
-    // SAFE-OP short of OP gives frames with a short working counter, and an Axis that took the
-    // zeros for a statusword (NOT READY TO SWITCH ON) ended a fault reset at once ("ok") on a
-    // drive still in FAULT. The CANopen transport waits for the first TPDO the same way.
+    // An input counts only once a frame brought the inputs in (the expected working counter,
+    // ProcessDataStats::input_frames): until then the image holds its initial zeros, not the
+    // slave's values. Frames short of OP's working counter (a slave still in SAFE-OP, the two
+    // frames set_state_all() sends before OP) bring none, and an Axis that took the zeros for a
+    // statusword (NOT READY TO SWITCH ON) ended a fault reset at once ("ok") on a drive still
+    // in FAULT. The CANopen transport waits for the first TPDO the same way.
     if (!s.output && input_count(h).value_or(0) == 0) {
         return std::nullopt;
     }
@@ -148,8 +149,7 @@ std::optional<std::uint64_t> CoeTransport::input_count(drives::CyclicHandle h) c
         slots_[static_cast<std::size_t>(h.slot)].output) {
         return std::nullopt;
     }
-    const ProcessDataStats& st = master_.stats();
-    return st.cycles - st.wkc_errors;
+    return master_.stats().input_frames;
 }
 
 } // namespace codrive::ethercat

@@ -215,5 +215,28 @@ TEST_F(CoeTransportTest, NoInputBeforeAFrameBroughtTheInputsIn) {
     EXPECT_NE(axis.statusword(), 0U) << "the AKD2G's real statusword";
 }
 
+TEST_F(CoeTransportTest, NoInputFromTheFramesThatTookTheSlavesToOp) {
+    // set_state_all(Op) sends two frames in SAFE-OP first (valid outputs before OP), whose short
+    // working counter is expected and not counted as an error: they bring no inputs in. When the
+    // first frame in OP was then lost (a loaded host), `codrive drive reset` took the image of
+    // zeros for a statusword and ended "ok" on an AKD2G still in FAULT.
+    bring_up();
+    CoeTransport t(master_, 0);
+    drives::Axis axis(t, drives::AxisConfig{});
+    axis.bind();
+    const auto sw = t.input(0x6041, 0);
+    ASSERT_TRUE(sw.valid());
+    EXPECT_EQ(master_.stats().wkc_errors, 0U);
+    EXPECT_EQ(t.input_count(sw), 0U);
+    EXPECT_FALSE(t.get_raw(sw)) << "zeros from the frames before OP read as a statusword";
+    axis.on_cycle(clock_.now());
+    EXPECT_FALSE(axis.has_statusword());
+    ASSERT_TRUE(master_.exchange_process_data()) << master_.last_error();
+    EXPECT_EQ(t.input_count(sw), 1U);
+    axis.on_cycle(clock_.now());
+    ASSERT_TRUE(axis.has_statusword());
+    EXPECT_NE(axis.statusword(), 0U) << "the AKD2G's real statusword";
+}
+
 } // namespace
 } // namespace codrive::ethercat

@@ -156,6 +156,10 @@ struct ProcessDataStats {
     std::uint64_t mailbox_datagrams = 0;      ///< mailbox datagrams carried in cyclic frames
     std::uint64_t stray_mailbox_messages = 0; ///< SM1 messages nobody waited for (dropped)
     std::uint64_t wkc_errors = 0;
+    /// Frames that brought the inputs in (the expected working counter): the input image holds
+    /// the newest one's. Not `cycles − wkc_errors`: the frames before OP (whose short working
+    /// counter is expected, see set_state_all()) count as cycles but bring no inputs in.
+    std::uint64_t input_frames = 0;
     std::uint64_t stale_frames = 0; ///< frames with an index we were not waiting for
     /// Cyclic frames that carried the reference clock's system time (FRMW 0x0910).
     std::uint64_t dc_time_distributions = 0;
