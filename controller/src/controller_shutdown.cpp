@@ -170,6 +170,14 @@ void Controller::shutdown() {
     for (auto& seg : segments_) {
         seg->abandon_object_accesses("the controller shut down before the slave answered");
     }
+    // The same on CAN: an SDO still waiting for its node would end only if someone ran the
+    // loop on to its timeout (not after a stop request), and then as "timed out". Its server
+    // gets the abort (0x08000000) while the bus is still up.
+    for (auto& b : buses_) {
+        if (b->master) {
+            (void)b->master->sdo().cancel_all("the controller shut down before the node answered");
+        }
+    }
     stop_buses();
     if (caller_schedule_) {
         caller_schedule_->restore();

@@ -214,15 +214,43 @@ bool SdoClient::cancel(TransferId id) {
     }
     std::unique_ptr<Transfer> t = std::move(*it);
     queue_.erase(it);
-    SdoError e = make_error(*t, make_error_code(SdoErrc::Cancelled), "cancelled before it started",
-                            AbortOrigin::None);
+    end_queued(std::move(t), make_error_code(SdoErrc::Cancelled), "cancelled before it started");
+    return true;
+}
+
+void SdoClient::end_queued(std::unique_ptr<Transfer> t, std::error_code cause, std::string detail) {
+    SdoError e = make_error(*t, cause, std::move(detail), AbortOrigin::None);
     ++stats_.failed;
     if (t->on_upload) {
         t->on_upload(tl::unexpected(std::move(e)));
     } else if (t->on_done) {
         t->on_done(tl::unexpected(std::move(e)));
     }
-    return true;
+}
+
+std::size_t SdoClient::cancel_all(std::string_view why) {
+    // start_next() does nothing while draining_ is set: the running transfer's end starts no
+    // queued one (whose request would go out only to be aborted), and a callback that submits
+    // again only queues. The loop ends what those callbacks queue too.
+    const bool was_draining = std::exchange(draining_, true);
+    const auto cancelled = make_error_code(SdoErrc::Cancelled);
+    std::size_t ended = 0;
+    while (active_ || !queue_.empty()) {
+        if (active_) {
+            (void)send(make_abort(active_->index, active_->subindex,
+                                  static_cast<std::uint32_t>(SdoAbort::General)));
+            fail(cancelled, std::string(why));
+        } else {
+            std::unique_ptr<Transfer> t = std::move(queue_.front());
+            queue_.pop_front();
+            end_queued(std::move(t), cancelled, std::string(why));
+        }
+        ++ended;
+    }
+    draining_ = was_draining;
+    deferred_start_ = false;
+    reschedule();
+    return ended;
 }
 
 void SdoClient::start_next(TimePoint now) {

@@ -26,6 +26,17 @@ SdoClient& SdoClientManager::add_channel(ClientConfig config) {
     return *extra_.back();
 }
 
+std::size_t SdoClientManager::cancel_all(std::string_view why) {
+    std::size_t ended = 0;
+    for (auto& c : by_node_) {
+        ended += c ? c->cancel_all(why) : 0;
+    }
+    for (auto& c : extra_) {
+        ended += c->cancel_all(why);
+    }
+    return ended;
+}
+
 bool SdoClientManager::on_frame(const Frame& frame, TimePoint now) {
     if (frame.extended() || frame.error()) {
         return false;

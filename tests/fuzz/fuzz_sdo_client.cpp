@@ -1,8 +1,8 @@
 // SPDX-License-Identifier: Apache-2.0
 // libFuzzer target: an SdoClient with queued uploads and downloads of several sizes and modes is
-// fed arbitrary response frames; once time passes the timeout every transfer must have ended
-// (success, abort or timeout) with exactly one callback, and every failure must read as a
-// sentence naming the node and the object.
+// fed arbitrary response frames, cancels and cancel_all(); once time passes the timeout every
+// transfer must have ended (success, abort or timeout) with exactly one callback, and every
+// failure must read as a sentence naming the node and the object.
 #include "fuzz_input.hpp"
 
 #include <codrive/testing/recording_bus.hpp>
@@ -179,8 +179,12 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
                 client.on_frame(f, clock.now());
                 break;
             }
-            default: // the application cancels a transfer
-                if (!ids.empty()) {
+            default: // the application cancels a transfer, rarely all of them (shutdown)
+                if (op == 0xFF) {
+                    (void)client.cancel_all("shut down");
+                    CODRIVE_FUZZ_CHECK(tracker.all_fired());
+                    CODRIVE_FUZZ_CHECK(!client.busy() && client.queued() == 0);
+                } else if (!ids.empty()) {
                     (void)client.cancel(ids[in.byte() % ids.size()]);
                 }
                 break;

@@ -2,7 +2,8 @@
 // Controller shutdown when the drives never answer (in-process virtual bus, a simulated AKD2G
 // that goes silent while enabled): shutdown() keeps to its budget, names the axes left enabled,
 // and leaves no operation behind whose callback a later run_for() would run (issue 16: the
-// single-thread shutdown's counter was a local the callbacks held by reference).
+// single-thread shutdown's counter was a local the callbacks held by reference), and ends the
+// object accesses still waiting for the silent node inside shutdown(), each with a sentence.
 #include <codrive/controller/controller.hpp>
 #include <codrive/core/virtual_bus.hpp>
 #include <codrive/sim/profile.hpp>
@@ -79,6 +80,14 @@ TEST(ControllerShutdown, DrivesThatNeverAnswerDoNotHoldTheShutdownOrOutliveIt) {
     // The drive goes silent: no TPDO, no SDO answer, no heartbeat from now on.
     mute = true;
     c.loop().remove_timed(&drive);
+    // Two object reads the silent drive never answers: the first runs, the second waits behind
+    // it (so it cannot time out during the shutdown). Both must end inside shutdown().
+    std::vector<std::string> reads;
+    for (const std::uint8_t sub : {std::uint8_t{1}, std::uint8_t{2}}) {
+        c.read_object(0, 1, 0x1018, sub, [&reads](drives::DriveResult<drives::Bytes> r) {
+            reads.push_back(r ? "ok" : r.error().message);
+        });
+    }
     const auto t0 = SteadyClock::now();
     c.shutdown();
     const double ms = std::chrono::duration<double, std::milli>(SteadyClock::now() - t0).count();
@@ -89,6 +98,12 @@ TEST(ControllerShutdown, DrivesThatNeverAnswerDoNotHoldTheShutdownOrOutliveIt) {
                           "drive did not confirm quick stop and disable within 400 ms"),
               std::string::npos)
         << events;
+    ASSERT_EQ(reads.size(), 2U) << "an object access left without a callback at shutdown";
+    EXPECT_NE(reads[0], "ok");
+    EXPECT_NE(reads[1].find("node 1: SDO upload 0x1018:02 failed: cancelled (the controller shut "
+                            "down before the node answered)"),
+              std::string::npos)
+        << reads[1];
     // Nothing of the shutdown is left running on the axis (before the fix a disable with the
     // axis's 2 s default timeout was, and its callback decremented a dead stack slot later).
     EXPECT_FALSE(axis->busy());
@@ -97,6 +112,7 @@ TEST(ControllerShutdown, DrivesThatNeverAnswerDoNotHoldTheShutdownOrOutliveIt) {
     EXPECT_FALSE(c.running());
     EXPECT_EQ(events.substr(events_after_shutdown).find("safe stop"), std::string::npos)
         << events.substr(events_after_shutdown);
+    EXPECT_EQ(reads.size(), 2U) << "no callback runs twice";
     c.loop().remove_timed(&net);
 }
 

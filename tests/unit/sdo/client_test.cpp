@@ -99,6 +99,52 @@ TEST(SdoClient, CancelQueuedAndRunningTransfers) {
     EXPECT_FALSE(h.client.busy());
 }
 
+TEST(SdoClient, CancelAllEndsEveryTransferOnceAndStartsNone) {
+    Harness h;
+    h.node.set_connected(false); // the node never answers
+    h.net.set_recording(true);
+    std::vector<std::string> ended;
+    auto note = [&ended](const SdoError& e) { ended.push_back(e.to_string()); };
+    h.client.upload(0x1018, 1, [&](SdoResult<Bytes> r) {
+        ASSERT_FALSE(r);
+        note(r.error());
+        // An application that submits again from its callback: ended too, never sent.
+        h.client.upload(0x1018, 4, [&](SdoResult<Bytes> r2) {
+            ASSERT_FALSE(r2);
+            note(r2.error());
+        });
+    });
+    h.client.write<std::uint32_t>(0x2000, 0, 7U, [&](SdoResult<void> r) {
+        ASSERT_FALSE(r);
+        EXPECT_EQ(r.error().cause, make_error_code(SdoErrc::Cancelled));
+        note(r.error());
+    });
+    h.run(std::chrono::milliseconds(1));
+    ASSERT_EQ(h.net.recorded().size(), 1U) << "one request out, the second queued";
+    EXPECT_EQ(h.client.cancel_all("the controller shut down before the node answered"), 3U);
+    EXPECT_EQ(ended, (std::vector<std::string>{
+                         "node 4: SDO upload 0x1018:01 failed: cancelled (the controller shut down "
+                         "before the node answered)",
+                         "node 4: SDO download 0x2000:00 failed: cancelled (the controller shut "
+                         "down before the node answered)",
+                         "node 4: SDO upload 0x1018:04 failed: cancelled (the controller shut down "
+                         "before the node answered)"}));
+    EXPECT_FALSE(h.client.busy());
+    EXPECT_EQ(h.client.queued(), 0U);
+    EXPECT_EQ(h.client.next_deadline(), kNever);
+    h.run(std::chrono::seconds(2)); // far past the timeout: no callback runs twice
+    EXPECT_EQ(ended.size(), 3U);
+    const auto& frames = h.net.recorded();
+    ASSERT_EQ(frames.size(), 2U) << "the running request and its abort; nothing else started";
+    EXPECT_EQ(frames[1].id, 0x604U);
+    EXPECT_EQ(frames[1].data[0], 0x80U);
+    EXPECT_EQ(get_le<std::uint32_t>(frames[1].data.data() + 4), 0x08000000U);
+    // The client goes on afterwards.
+    h.node.set_connected(true);
+    auto r = h.upload(0x1018, 1);
+    EXPECT_TRUE(r && *r) << message(r);
+}
+
 TEST(SdoClient, CountsUnrelatedAndLateFrames) {
     Harness h;
     VirtualBus& other = h.net.endpoint("other");
@@ -192,6 +238,26 @@ TEST(SdoClientManager, TimeoutOfOneNodeDoesNotDelayOthers) {
     EXPECT_EQ(*alive_at, start);
     ASSERT_TRUE(dead && !*dead);
     EXPECT_EQ(dead->error().node, 9);
+}
+
+TEST(SdoClientManager, CancelAllEndsTheTransfersOfEveryNode) {
+    FakeClock clock;
+    VirtualNetwork net(clock);
+    VirtualBus& master = net.endpoint("master");
+    SdoClientManager manager(master, clock);
+    int ended = 0;
+    for (NodeId n : {NodeId{3}, NodeId{9}}) {
+        for (int i = 0; i < 2; ++i) {
+            manager.client(n).upload(0x1000, 0, [&ended](SdoResult<Bytes> r) {
+                EXPECT_EQ(r.error().cause, make_error_code(SdoErrc::Cancelled));
+                ++ended;
+            });
+        }
+    }
+    EXPECT_EQ(manager.cancel_all("shut down"), 4U);
+    EXPECT_EQ(ended, 4);
+    EXPECT_FALSE(manager.busy());
+    EXPECT_EQ(manager.next_deadline(), kNever);
 }
 
 } // namespace

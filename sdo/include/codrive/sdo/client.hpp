@@ -18,6 +18,7 @@
 #include <deque>
 #include <memory>
 #include <string>
+#include <string_view>
 #include <type_traits>
 
 namespace codrive::sdo {
@@ -102,6 +103,11 @@ public:
     /// Cancels a queued transfer, or aborts the running one (abort 0x08000000 to the server).
     /// The callback is called with SdoErrc::Cancelled. False if the id is unknown.
     bool cancel(TransferId id);
+    /// Ends every transfer at once, the queued ones in order and the running one (abort
+    /// 0x08000000 to the server), each callback once with SdoErrc::Cancelled and `why` as the
+    /// detail ("node 5: SDO upload 0x1018:01 failed: cancelled (why)"). Transfers a callback
+    /// submits meanwhile end the same way; nothing starts until it returns. The number ended.
+    std::size_t cancel_all(std::string_view why);
 
     /// Feeds a received frame. True if it belonged to this channel.
     bool on_frame(const Frame& frame, TimePoint now);
@@ -123,6 +129,8 @@ private:
     bool send(const std::array<std::uint8_t, 8>& payload);
     void finish(SdoResult<void> outcome);
     void fail(std::error_code cause, std::string detail, AbortOrigin origin = AbortOrigin::None);
+    /// A queued transfer that never started ends: its callback with `cause` and `detail`.
+    void end_queued(std::unique_ptr<Transfer> t, std::error_code cause, std::string detail);
     void abort_and_fail(std::uint32_t code, std::string detail);
     void arm(TimePoint now);
     void reschedule();

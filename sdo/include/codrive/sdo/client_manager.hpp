@@ -26,6 +26,8 @@ public:
     bool on_frame(const Frame& frame, TimePoint now);
     [[nodiscard]] TimePoint next_deadline() const override;
     void on_tick(TimePoint now) override;
+    /// SdoClient::cancel_all() on every client; the number of transfers ended.
+    std::size_t cancel_all(std::string_view why);
     /// True if any client has a transfer running or queued.
     [[nodiscard]] bool busy() const;
 
