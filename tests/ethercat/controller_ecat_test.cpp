@@ -14,11 +14,9 @@
 #include <chrono>
 #include <csignal>
 #include <cstdio>
-#include <fstream>
 #include <optional>
 #include <sched.h>
 #include <thread>
-#include <unistd.h>
 
 // One program-wide counting operator new (included once per program): the dedicated cyclic
 // thread's allocations are counted from its cycle callback.
@@ -39,21 +37,20 @@ constexpr std::uint64_t kLostPerCycles = 50;
 
 using namespace std::chrono_literals;
 
-std::string write_bus_file(const std::string& iface, unsigned cycle_us, bool dc = false) {
-    const std::string path = fmt::format("/tmp/codrive-ecat-ctl-{}-{}.yml", ::getpid(), iface);
-    std::ofstream(path) << fmt::format("# written by controller_ecat_test\n"
-                                       "ethercat:\n"
-                                       "  interface: {}\n"
-                                       "  cycle_us: {}\n"
-                                       "  dc: {}\n"
-                                       "  slaves:\n"
-                                       "    - position: 0\n"
-                                       "      name: table\n"
-                                       "      profile: fio\n"
-                                       "      axes:\n"
-                                       "        - {{axis: 1, mode: csp}}\n",
-                                       iface, cycle_us, dc);
-    return path;
+/// The bus file of one FIO on `iface` (for EcatVethTest::write_temp_file()).
+std::string bus_file_text(const std::string& iface, unsigned cycle_us, bool dc = false) {
+    return fmt::format("# written by controller_ecat_test\n"
+                       "ethercat:\n"
+                       "  interface: {}\n"
+                       "  cycle_us: {}\n"
+                       "  dc: {}\n"
+                       "  slaves:\n"
+                       "    - position: 0\n"
+                       "      name: table\n"
+                       "      profile: fio\n"
+                       "      axes:\n"
+                       "        - {{axis: 1, mode: csp}}\n",
+                       iface, cycle_us, dc);
 }
 
 int open_fds() {
@@ -87,7 +84,7 @@ protected:
     }
     std::unique_ptr<controller::Controller>
     make(std::string& events, controller::Threading mode = controller::Threading::Single) {
-        path_ = write_bus_file(veth_->master_if(), 2000, dc());
+        path_ = write_temp_file("ctl", bus_file_text(veth_->master_if(), 2000, dc()));
         controller::ControllerOptions o;
         o.threading = mode;
         // The dedicated cyclic thread runs at SCHED_FIFO, as on a machine (root here).
@@ -139,12 +136,6 @@ protected:
         stats = c->stats();
     }
 
-    void TearDown() override {
-        if (!path_.empty()) {
-            std::remove(path_.c_str());
-        }
-        EcatVethTest::TearDown();
-    }
     std::string path_;
 };
 
@@ -241,7 +232,7 @@ TEST_F(ControllerOverEthercat, KilledMasterProcessLeavesTheFioInItsBusLossReacti
     auto option =
         codrive({"sdo", "write", "--ethercat", iface, "-n", "1", "0x6007:0", "1", "--type", "i16"});
     ASSERT_EQ(option.status, 0) << option.output;
-    path_ = write_bus_file(iface, 2000);
+    path_ = write_temp_file("ctl", bus_file_text(iface, 2000));
     Process master({tool_path("codrive"), "run", path_, "--enable", "--refresh", "100"});
     ASSERT_TRUE(master.wait_for_output("OPERATION ENABLED", 20s)) << master.output();
     ASSERT_TRUE(master.running()) << master.output();
@@ -280,7 +271,7 @@ TEST_F(ControllerOverEthercat, SignalToRunStopsTheFioSafelyBackToPreOp) {
         return;
     }
     const std::string iface = veth_->master_if();
-    path_ = write_bus_file(iface, 2000);
+    path_ = write_temp_file("ctl", bus_file_text(iface, 2000));
     for (const int sig : {SIGINT, SIGTERM}) {
         SCOPED_TRACE(sig == SIGINT ? "SIGINT" : "SIGTERM");
         Process master({tool_path("codrive"), "run", path_, "--enable", "--refresh", "100"});
@@ -524,7 +515,7 @@ TEST_F(ControllerOverEthercat, TheEcatDemoProgramEnablesMovesAndEndsOk) {
     if (IsSkipped() || HasFatalFailure()) {
         return;
     }
-    path_ = write_bus_file(veth_->master_if(), 2000);
+    path_ = write_temp_file("ctl", bus_file_text(veth_->master_if(), 2000));
     const std::string demo = example_path("ecat_demo");
     auto r = run({demo, path_, "20000"}, 60s);
     std::printf("%s", r.output.c_str());

@@ -8,9 +8,6 @@
 
 #include <fmt/format.h>
 
-#include <fstream>
-#include <unistd.h>
-
 namespace codrive::testing {
 namespace {
 
@@ -24,20 +21,16 @@ protected:
     }
     /// A bus file; `slave` is the text after `- position: 0` (DEVICES: the devices/ folder).
     std::string bus_file(std::string slave) {
-        const std::string path = fmt::format("/tmp/codrive-esi-test-{}-{}-{}.yml", ::getpid(),
-                                             veth_->master_if(), files_.size());
         for (auto at = slave.find("DEVICES"); at != std::string::npos; at = slave.find("DEVICES")) {
             slave.replace(at, 7, std::string(CODRIVE_SOURCE_DIR) + "/devices");
         }
-        std::ofstream(path) << fmt::format("ethercat:\n"
-                                           "  interface: {}\n"
-                                           "  cycle_us: 2000\n"
-                                           "  slaves:\n"
-                                           "    - position: 0\n"
-                                           "{}",
-                                           veth_->master_if(), slave);
-        files_.push_back(path);
-        return path;
+        return write_temp_file("esi", fmt::format("ethercat:\n"
+                                                  "  interface: {}\n"
+                                                  "  cycle_us: 2000\n"
+                                                  "  slaves:\n"
+                                                  "    - position: 0\n"
+                                                  "{}",
+                                                  veth_->master_if(), slave));
     }
     /// Starts a controller on `path`; its events, or the start error after "start failed: ".
     std::string run(const std::string& path) {
@@ -54,13 +47,6 @@ protected:
         c->reset(); // shuts the segment down before the next run opens it
         return events;
     }
-    void TearDown() override {
-        for (const auto& f : files_) {
-            std::remove(f.c_str());
-        }
-        EcatVethTest::TearDown();
-    }
-    std::vector<std::string> files_;
 };
 
 std::string op_line(const std::string& events) {

@@ -10,9 +10,7 @@
 
 #include <csignal>
 #include <cstdio>
-#include <fstream>
 #include <sched.h>
-#include <unistd.h>
 
 namespace codrive::testing {
 namespace {
@@ -22,12 +20,6 @@ using namespace std::chrono_literals;
 class ControllerRecovery : public EcatVethTest {
 protected:
     void SetUp() override { start_for_controller({"--slave", "fio"}); }
-    void TearDown() override {
-        if (!path_.empty()) {
-            std::remove(path_.c_str());
-        }
-        EcatVethTest::TearDown();
-    }
     [[nodiscard]] std::size_t count(const std::string& text) const {
         std::size_t n = 0;
         for (auto at = events_.find(text); at != std::string::npos;
@@ -44,14 +36,13 @@ TEST_F(ControllerRecovery, ASlaveThatLeftOpIsReportedOnceAndBroughtBack) {
     if (IsSkipped() || HasFatalFailure()) {
         return;
     }
-    path_ = fmt::format("/tmp/codrive-ecat-recover-{}-{}.yml", ::getpid(), veth_->master_if());
-    std::ofstream(path_) << fmt::format("ethercat:\n"
-                                        "  interface: {}\n"
-                                        "  cycle_us: 2000\n"
-                                        "  slaves:\n"
-                                        "    - {{position: 0, name: table, profile: fio, axes: "
-                                        "[{{axis: 1, mode: csp}}]}}\n",
-                                        veth_->master_if());
+    path_ = write_temp_file("recover", fmt::format("ethercat:\n"
+                                                   "  interface: {}\n"
+                                                   "  cycle_us: 2000\n"
+                                                   "  slaves:\n"
+                                                   "    - {{position: 0, name: table, profile: "
+                                                   "fio, axes: [{{axis: 1, mode: csp}}]}}\n",
+                                                   veth_->master_if()));
     controller::ControllerOptions o;
     o.threading = controller::Threading::Single;
     auto c = controller::Controller::from_file(path_, o);
@@ -95,14 +86,13 @@ TEST_F(ControllerRecoveryBackoff, RefusedOpRequestsAreRepeatedWithBackOffOnTheCy
     if (IsSkipped() || HasFatalFailure()) {
         return;
     }
-    path_ = fmt::format("/tmp/codrive-ecat-recover-{}-{}.yml", ::getpid(), veth_->master_if());
-    std::ofstream(path_) << fmt::format("ethercat:\n"
-                                        "  interface: {}\n"
-                                        "  cycle_us: 2000\n"
-                                        "  slaves:\n"
-                                        "    - {{position: 0, name: table, profile: fio, axes: "
-                                        "[{{axis: 1, mode: csp}}]}}\n",
-                                        veth_->master_if());
+    path_ = write_temp_file("recover", fmt::format("ethercat:\n"
+                                                   "  interface: {}\n"
+                                                   "  cycle_us: 2000\n"
+                                                   "  slaves:\n"
+                                                   "    - {{position: 0, name: table, profile: "
+                                                   "fio, axes: [{{axis: 1, mode: csp}}]}}\n",
+                                                   veth_->master_if()));
     controller::ControllerOptions o;
     o.threading = controller::Threading::DedicatedCyclic;
     o.realtime.fifo = true;

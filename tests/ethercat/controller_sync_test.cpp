@@ -8,10 +8,6 @@
 
 #include <fmt/format.h>
 
-#include <cstdio>
-#include <fstream>
-#include <unistd.h>
-
 namespace codrive::testing {
 namespace {
 
@@ -19,21 +15,14 @@ using namespace std::chrono_literals;
 
 class ControllerSync : public EcatVethTest {
 protected:
-    void TearDown() override {
-        if (!path_.empty()) {
-            std::remove(path_.c_str());
-        }
-        EcatVethTest::TearDown();
-    }
     /// Writes the bus file: `segment_keys` go under `ethercat:`, `slaves` is the list body.
     void write_bus_file(const std::string& segment_keys, const std::string& slaves) {
-        path_ = fmt::format("/tmp/codrive-ecat-sync-{}-{}.yml", ::getpid(), veth_->master_if());
-        std::ofstream(path_) << fmt::format("ethercat:\n"
-                                            "  interface: {}\n"
-                                            "{}"
-                                            "  slaves:\n"
-                                            "{}",
-                                            veth_->master_if(), segment_keys, slaves);
+        path_ = write_temp_file("sync", fmt::format("ethercat:\n"
+                                                    "  interface: {}\n"
+                                                    "{}"
+                                                    "  slaves:\n"
+                                                    "{}",
+                                                    veth_->master_if(), segment_keys, slaves));
     }
     /// The controller from the bus file, started (bring-up to OP); events go to `events_`.
     tl::expected<void, controller::ControllerError> start_controller() {

@@ -33,12 +33,6 @@ std::string read_text(const std::string& path) {
 class DemoScenarioOverEthercat : public EcatVethTest {
 protected:
     void SetUp() override { start_for_controller({"--slave", "akd2g", "--slave", "ds-bvs"}); }
-    void TearDown() override {
-        if (!path_.empty()) {
-            std::remove(path_.c_str());
-        }
-        EcatVethTest::TearDown();
-    }
     /// vcan-scripts/demo-ecat.yml as shipped, with this test's interface in place of ecm-demo.
     std::string write_bus_file() {
         std::string yaml =
@@ -49,8 +43,7 @@ protected:
         if (p != std::string::npos) {
             yaml.replace(p, iface.size(), "interface: " + veth_->master_if());
         }
-        path_ = fmt::format("/tmp/codrive-ecat-demo-{}.yml", ::getpid());
-        std::ofstream(path_) << yaml;
+        path_ = write_temp_file("demo", yaml);
         return path_;
     }
     /// Runs codrive-demo with the bus file and `extra` arguments; prints its output and time.

@@ -28,12 +28,6 @@ protected:
         // SIGRTMIN injects an over-current on slave 0's axis 2 (2FF1h:02 in the simulator).
         start_for_controller({"--slave", "akd2g", "--fault-on-signal", "0:2"});
     }
-    void TearDown() override {
-        if (!path_.empty()) {
-            std::remove(path_.c_str());
-        }
-        EcatVethTest::TearDown();
-    }
     /// The bus file of docs/ethercat.md "Two axes of one AKD2G", exactly as printed there, with
     /// this test's interface in place of ecm0.
     std::string write_bus_file() {
@@ -49,8 +43,7 @@ protected:
         if (const auto p = yaml.find(iface); p != std::string::npos) {
             yaml.replace(p, iface.size(), "interface: " + veth_->master_if());
         }
-        path_ = fmt::format("/tmp/codrive-ecat-dual-{}.yml", ::getpid());
-        std::ofstream(path_) << yaml;
+        path_ = write_temp_file("dual", yaml);
         return path_;
     }
     std::string path_;

@@ -12,9 +12,7 @@
 
 #include <atomic>
 #include <cstdio>
-#include <fstream>
 #include <sched.h>
-#include <unistd.h>
 
 namespace codrive::testing {
 namespace {
@@ -25,12 +23,6 @@ constexpr unsigned kCycleUs = 2000;
 
 class MuteMailboxInOp : public EcatVethTest, public ::testing::WithParamInterface<int> {
 protected:
-    void TearDown() override {
-        if (!path_.empty()) {
-            std::remove(path_.c_str());
-        }
-        EcatVethTest::TearDown();
-    }
     std::string path_;
 };
 
@@ -52,22 +44,21 @@ TEST_P(MuteMailboxInOp, CostsOnlyItsOwnTransferNeverACycle) {
     sched_param rt{};
     rt.sched_priority = 50;
     ASSERT_EQ(::sched_setscheduler(sim_->pid(), SCHED_FIFO, &rt), 0) << "simulator at SCHED_FIFO";
-    path_ = fmt::format("/tmp/codrive-ecat-mute-{}.yml", ::getpid());
-    std::ofstream(path_) << fmt::format("ethercat:\n"
-                                        "  interface: {}\n"
-                                        "  cycle_us: {}\n"
-                                        "  slaves:\n"
-                                        "    - position: 0\n"
-                                        "      name: table\n"
-                                        "      profile: fio\n"
-                                        "      axes:\n"
-                                        "        - {{axis: 1, mode: csp}}\n"
-                                        "    - position: 1\n"
-                                        "      name: spindle\n"
-                                        "      profile: akd2g\n"
-                                        "      axes:\n"
-                                        "        - {{axis: 1, mode: csp}}\n",
-                                        veth_->master_if(), kCycleUs);
+    path_ = write_temp_file("mute", fmt::format("ethercat:\n"
+                                                "  interface: {}\n"
+                                                "  cycle_us: {}\n"
+                                                "  slaves:\n"
+                                                "    - position: 0\n"
+                                                "      name: table\n"
+                                                "      profile: fio\n"
+                                                "      axes:\n"
+                                                "        - {{axis: 1, mode: csp}}\n"
+                                                "    - position: 1\n"
+                                                "      name: spindle\n"
+                                                "      profile: akd2g\n"
+                                                "      axes:\n"
+                                                "        - {{axis: 1, mode: csp}}\n",
+                                                veth_->master_if(), kCycleUs));
     controller::ControllerOptions o;
     o.threading = controller::Threading::DedicatedCyclic;
     o.realtime.fifo = true;

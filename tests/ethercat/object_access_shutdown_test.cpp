@@ -13,7 +13,6 @@
 #include <chrono>
 #include <csignal>
 #include <cstdio>
-#include <fstream>
 #include <string>
 #include <vector>
 
@@ -25,12 +24,6 @@ using namespace std::chrono_literals;
 class ObjectAccessAtShutdown : public EcatVethTest,
                                public ::testing::WithParamInterface<controller::Threading> {
 protected:
-    void TearDown() override {
-        if (!path_.empty()) {
-            std::remove(path_.c_str());
-        }
-        EcatVethTest::TearDown();
-    }
     std::string path_;
 };
 
@@ -41,17 +34,16 @@ TEST_P(ObjectAccessAtShutdown, EveryCallbackRunsOnceWithItsSentence) {
     }
     master_.reset(); // the controller opens its own socket
     link_.reset();
-    path_ = fmt::format("/tmp/codrive-ecat-shutdown-{}.yml", ::getpid());
-    std::ofstream(path_) << fmt::format("ethercat:\n"
-                                        "  interface: {}\n"
-                                        "  cycle_us: 2000\n"
-                                        "  slaves:\n"
-                                        "    - position: 0\n"
-                                        "      name: spindle\n"
-                                        "      profile: akd2g\n"
-                                        "      axes:\n"
-                                        "        - {{axis: 1, mode: csp}}\n",
-                                        veth_->master_if());
+    path_ = write_temp_file("shutdown", fmt::format("ethercat:\n"
+                                                    "  interface: {}\n"
+                                                    "  cycle_us: 2000\n"
+                                                    "  slaves:\n"
+                                                    "    - position: 0\n"
+                                                    "      name: spindle\n"
+                                                    "      profile: akd2g\n"
+                                                    "      axes:\n"
+                                                    "        - {{axis: 1, mode: csp}}\n",
+                                                    veth_->master_if()));
     controller::ControllerOptions o;
     o.threading = GetParam();
     auto made = controller::Controller::from_file(path_, o);

@@ -5,7 +5,9 @@
 #include <fmt/format.h>
 
 #include <atomic>
+#include <cstdio>
 #include <cstdlib>
+#include <fstream>
 #include <sched.h>
 #include <unistd.h>
 
@@ -101,6 +103,15 @@ void EcatVethTest::start_for_controller(const std::vector<std::string>& sim_args
     }
 }
 
+std::string EcatVethTest::write_temp_file(std::string_view tag, const std::string& text) {
+    const std::string iface = veth_ ? "-" + veth_->master_if() : std::string();
+    const std::string path =
+        fmt::format("/tmp/codrive-ecat-{}-{}{}-{}.yml", tag, ::getpid(), iface, temp_files_.size());
+    std::ofstream(path) << text;
+    temp_files_.push_back(path);
+    return path;
+}
+
 void EcatVethTest::TearDown() {
     master_.reset();
     link_.reset();
@@ -110,6 +121,11 @@ void EcatVethTest::TearDown() {
         sim_.reset();
     }
     veth_.reset();
+    // The bus files written with write_temp_file(), once nothing the test started can read one.
+    for (const auto& f : temp_files_) {
+        std::remove(f.c_str());
+    }
+    temp_files_.clear();
 }
 
 } // namespace codrive::testing

@@ -11,6 +11,7 @@
 
 #include <memory>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace codrive::testing {
@@ -57,12 +58,21 @@ protected:
     /// fixture's master and link closed, and the simulator at real-time priority, as a slave's
     /// ESC answers (a loaded host then does not turn its late answers into lost frames).
     void start_for_controller(const std::vector<std::string>& sim_args);
+    /// Writes `text` to /tmp/codrive-ecat-<tag>-<pid>[-<master interface>]-<n>.yml and returns
+    /// the path; TearDown() removes every file written so. `n` counts this fixture's files, so
+    /// two files of one test never collide; the master interface (once start() made the veth
+    /// pair) keeps the names of tests running in parallel processes apart.
+    std::string write_temp_file(std::string_view tag, const std::string& text);
+    /// The fixture's own steps, then every file of write_temp_file() removed.
     void TearDown() override;
 
     std::unique_ptr<VethPair> veth_;
     std::unique_ptr<Process> sim_;
     std::unique_ptr<ethercat::RawSocketLink> link_;
     std::unique_ptr<ethercat::Master> master_;
+
+private:
+    std::vector<std::string> temp_files_;
 };
 
 } // namespace codrive::testing
