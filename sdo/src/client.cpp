@@ -20,6 +20,9 @@ constexpr std::size_t kMaxReserve = 16U * 1024U * 1024U;
 /// Transfers failing inside start() in one start_next() call before the rest is deferred to
 /// the next tick (bounds the work of one call when a callback retries during bus-off).
 constexpr int kMaxFailedStartsPerCall = 16;
+/// cancel_all() also ends what its callbacks submit, up to this many: a callback that submits
+/// again on every failure would otherwise keep it busy forever.
+constexpr std::size_t kMaxResubmitsPerCancelAll = 64;
 
 std::string bytes_of(std::size_t done, std::optional<std::size_t> total) {
     return total ? fmt::format("{} of {} bytes", done, *total) : fmt::format("{} bytes", done);
@@ -231,11 +234,12 @@ void SdoClient::end_queued(std::unique_ptr<Transfer> t, std::error_code cause, s
 std::size_t SdoClient::cancel_all(std::string_view why) {
     // start_next() does nothing while draining_ is set: the running transfer's end starts no
     // queued one (whose request would go out only to be aborted), and a callback that submits
-    // again only queues. The loop ends what those callbacks queue too.
+    // again only queues. The loop ends what those callbacks queue too, within a bound.
     const bool was_draining = std::exchange(draining_, true);
     const auto cancelled = make_error_code(SdoErrc::Cancelled);
+    const std::size_t limit = queue_.size() + (active_ ? 1U : 0U) + kMaxResubmitsPerCancelAll;
     std::size_t ended = 0;
-    while (active_ || !queue_.empty()) {
+    while ((active_ || !queue_.empty()) && ended < limit) {
         if (active_) {
             (void)send(make_abort(active_->index, active_->subindex,
                                   static_cast<std::uint32_t>(SdoAbort::General)));
@@ -248,8 +252,12 @@ std::size_t SdoClient::cancel_all(std::string_view why) {
         ++ended;
     }
     draining_ = was_draining;
-    deferred_start_ = false;
+    // Past the bound, what a callback keeps submitting starts at the next on_tick().
+    deferred_start_ = !queue_.empty();
     reschedule();
+    if (deferred_start_) {
+        deadline_ = std::min(deadline_, clock_.now());
+    }
     return ended;
 }
 

@@ -240,6 +240,24 @@ TEST(SdoClientManager, TimeoutOfOneNodeDoesNotDelayOthers) {
     EXPECT_EQ(dead->error().node, 9);
 }
 
+TEST(SdoClient, CancelAllEndsWhenACallbackResubmitsOnEveryFailure) {
+    Harness h;
+    h.node.set_connected(false);
+    int failures = 0;
+    std::function<void(SdoResult<Bytes>)> again = [&](SdoResult<Bytes> r) {
+        if (!r) {
+            ++failures;
+            h.client.upload(0x1018, 1, again); // a retry loop written the simple way
+        }
+    };
+    h.client.upload(0x1018, 1, again);
+    EXPECT_EQ(h.client.cancel_all("shut down"), 65U) << "the transfer and 64 resubmitted ones";
+    EXPECT_EQ(failures, 65);
+    EXPECT_EQ(h.client.queued(), 1U) << "the 65th resubmission waits for the next tick";
+    EXPECT_LE(h.client.next_deadline(), h.clock.now());
+    EXPECT_EQ(h.client.cancel_all("shut down"), 65U);
+}
+
 TEST(SdoClientManager, CancelAllEndsTheTransfersOfEveryNode) {
     FakeClock clock;
     VirtualNetwork net(clock);

@@ -106,7 +106,9 @@ public:
     /// Ends every transfer at once, the queued ones in order and the running one (abort
     /// 0x08000000 to the server), each callback once with SdoErrc::Cancelled and `why` as the
     /// detail ("node 5: SDO upload 0x1018:01 failed: cancelled (why)"). Transfers a callback
-    /// submits meanwhile end the same way; nothing starts until it returns. The number ended.
+    /// submits meanwhile end the same way (up to 64 of them: what a callback that submits on
+    /// every failure queues beyond that starts at the next on_tick()); nothing starts until it
+    /// returns. The number ended.
     std::size_t cancel_all(std::string_view why);
 
     /// Feeds a received frame. True if it belonged to this channel.
