@@ -473,11 +473,18 @@ void Master::cancel_mailbox_transfers(std::size_t slave, std::string_view why) {
     }
     MailboxChannel& ch = channel(slave);
     const TimePoint now = clock_.now();
-    while (!ch.queue.empty()) { // a callback may queue another transfer: cancelled in turn
-        while (!ch.queue.empty()) {
+    // A callback may queue another transfer: cancelled in turn, up to 64 of them (as
+    // SdoClient::cancel_all()): a callback that submits again on every failure would otherwise
+    // keep this loop going forever. What it queues beyond that runs in the next mailbox cycle.
+    constexpr std::size_t kMaxResubmits = 64;
+    const std::size_t limit = ch.queue.size() + kMaxResubmits;
+    std::size_t ended = 0;
+    while (!ch.queue.empty() && ended < limit) {
+        while (!ch.queue.empty() && ended < limit) {
             mailbox_fail(slave, make_error_code(EcatErrc::Cancelled),
                          fmt::format("{} cancelled: {}", transfer_name(*ch.queue.front()), why),
                          now);
+            ++ended;
         }
         deliver_finished();
     }

@@ -268,5 +268,22 @@ TEST_F(MailboxChannels, CancelEndsEveryTransferOnceWithItsSentenceAndTheChannelG
     EXPECT_FALSE(after->error) << after->sentence;
 }
 
+TEST_F(MailboxChannels, CancelEndsWhenACallbackResubmitsOnEveryFailure) {
+    to_op();
+    segment_.slave(2).faults().mailbox_silent = true;
+    int failures = 0;
+    std::function<void(CoeOutcome)> again = [&](CoeOutcome o) {
+        if (o.error) {
+            ++failures;
+            (void)master_.sdo_upload_async(2, 0x1018, 1, again); // a retry written simply
+        }
+    };
+    ASSERT_TRUE(master_.sdo_upload_async(2, 0x1018, 1, again));
+    ASSERT_TRUE(cycle()) << master_.last_error();
+    master_.cancel_mailbox_transfers(2, "shut down"); // returns: bounded, not a loop for ever
+    EXPECT_EQ(failures, 65) << "the transfer and 64 resubmitted ones";
+    EXPECT_EQ(master_.mailbox_transfers(2), 1U) << "the 65th resubmission waits for its cycle";
+}
+
 } // namespace
 } // namespace codrive::ethercat

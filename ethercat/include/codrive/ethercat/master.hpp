@@ -310,7 +310,8 @@ public:
     /// cancelled: the controller shut down before the slave answered"). For a master that stops
     /// exchanging frames (shutdown) and must not leave callbacks waiting for ever: a slave that
     /// had taken a request may still put its answer in its mailbox. Transfers a callback queues
-    /// meanwhile are cancelled too.
+    /// meanwhile are cancelled too, up to 64 (a callback that resubmits on every failure cannot
+    /// keep the call going; the rest runs in the next mailbox cycle).
     void cancel_mailbox_transfers(std::size_t slave, std::string_view why);
     /// One mailbox-only frame (blocking up to frame_timeout): for use when no cyclic exchange
     /// runs (bring-up, tools). Errors: link errors.
