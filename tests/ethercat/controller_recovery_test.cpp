@@ -20,6 +20,16 @@ using namespace std::chrono_literals;
 class ControllerRecovery : public EcatVethTest {
 protected:
     void SetUp() override { start_for_controller({"--slave", "fio"}); }
+    /// The bus file of both tests: the FIO at position 0 as `table`, one axis in CSP.
+    std::string write_table_bus_file() {
+        return write_temp_file("recover", fmt::format("ethercat:\n"
+                                                      "  interface: {}\n"
+                                                      "  cycle_us: 2000\n"
+                                                      "  slaves:\n"
+                                                      "    - {{position: 0, name: table, profile: "
+                                                      "fio, axes: [{{axis: 1, mode: csp}}]}}\n",
+                                                      veth_->master_if()));
+    }
     [[nodiscard]] std::size_t count(const std::string& text) const {
         std::size_t n = 0;
         for (auto at = events_.find(text); at != std::string::npos;
@@ -36,13 +46,7 @@ TEST_F(ControllerRecovery, ASlaveThatLeftOpIsReportedOnceAndBroughtBack) {
     if (IsSkipped() || HasFatalFailure()) {
         return;
     }
-    path_ = write_temp_file("recover", fmt::format("ethercat:\n"
-                                                   "  interface: {}\n"
-                                                   "  cycle_us: 2000\n"
-                                                   "  slaves:\n"
-                                                   "    - {{position: 0, name: table, profile: "
-                                                   "fio, axes: [{{axis: 1, mode: csp}}]}}\n",
-                                                   veth_->master_if()));
+    path_ = write_table_bus_file();
     controller::ControllerOptions o;
     o.threading = controller::Threading::Single;
     auto c = controller::Controller::from_file(path_, o);
@@ -86,13 +90,7 @@ TEST_F(ControllerRecoveryBackoff, RefusedOpRequestsAreRepeatedWithBackOffOnTheCy
     if (IsSkipped() || HasFatalFailure()) {
         return;
     }
-    path_ = write_temp_file("recover", fmt::format("ethercat:\n"
-                                                   "  interface: {}\n"
-                                                   "  cycle_us: 2000\n"
-                                                   "  slaves:\n"
-                                                   "    - {{position: 0, name: table, profile: "
-                                                   "fio, axes: [{{axis: 1, mode: csp}}]}}\n",
-                                                   veth_->master_if()));
+    path_ = write_table_bus_file();
     controller::ControllerOptions o;
     o.threading = controller::Threading::DedicatedCyclic;
     o.realtime.fifo = true;
