@@ -205,9 +205,7 @@ TransferId SdoClient::enqueue(std::unique_ptr<Transfer> t) {
 
 bool SdoClient::cancel(TransferId id) {
     if (active_ && active_->id == id) {
-        (void)send(make_abort(active_->index, active_->subindex,
-                              static_cast<std::uint32_t>(SdoAbort::General)));
-        fail(make_error_code(SdoErrc::Cancelled), "cancelled by the application");
+        cancel_running("cancelled by the application");
         return true;
     }
     const auto it =
@@ -219,6 +217,12 @@ bool SdoClient::cancel(TransferId id) {
     queue_.erase(it);
     end_queued(std::move(t), make_error_code(SdoErrc::Cancelled), "cancelled before it started");
     return true;
+}
+
+void SdoClient::cancel_running(std::string detail) {
+    (void)send(make_abort(active_->index, active_->subindex,
+                          static_cast<std::uint32_t>(SdoAbort::General)));
+    fail(make_error_code(SdoErrc::Cancelled), std::move(detail));
 }
 
 void SdoClient::end_queued(std::unique_ptr<Transfer> t, std::error_code cause, std::string detail) {
@@ -236,18 +240,15 @@ std::size_t SdoClient::cancel_all(std::string_view why) {
     // queued one (whose request would go out only to be aborted), and a callback that submits
     // again only queues. The loop ends what those callbacks queue too, within a bound.
     const bool was_draining = std::exchange(draining_, true);
-    const auto cancelled = make_error_code(SdoErrc::Cancelled);
     const std::size_t limit = queue_.size() + (active_ ? 1U : 0U) + kMaxResubmitsPerCancelAll;
     std::size_t ended = 0;
     while ((active_ || !queue_.empty()) && ended < limit) {
         if (active_) {
-            (void)send(make_abort(active_->index, active_->subindex,
-                                  static_cast<std::uint32_t>(SdoAbort::General)));
-            fail(cancelled, std::string(why));
+            cancel_running(std::string(why));
         } else {
             std::unique_ptr<Transfer> t = std::move(queue_.front());
             queue_.pop_front();
-            end_queued(std::move(t), cancelled, std::string(why));
+            end_queued(std::move(t), make_error_code(SdoErrc::Cancelled), std::string(why));
         }
         ++ended;
     }

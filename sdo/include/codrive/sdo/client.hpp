@@ -131,6 +131,8 @@ private:
     bool send(const std::array<std::uint8_t, 8>& payload);
     void finish(SdoResult<void> outcome);
     void fail(std::error_code cause, std::string detail, AbortOrigin origin = AbortOrigin::None);
+    /// The running transfer ends: abort 0x08000000 to the server, callback with Cancelled.
+    void cancel_running(std::string detail);
     /// A queued transfer that never started ends: its callback with `cause` and `detail`.
     void end_queued(std::unique_ptr<Transfer> t, std::error_code cause, std::string detail);
     void abort_and_fail(std::uint32_t code, std::string detail);
