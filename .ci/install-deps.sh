@@ -8,11 +8,12 @@ packages=(
     libsocketcan-dev libfmt-dev libeigen3-dev libgtest-dev libgmock-dev libbenchmark-dev
     libcli11-dev libexpected-dev libyaml-cpp-dev nlohmann-json3-dev libpugixml-dev zlib1g-dev
     can-utils iproute2 kmod user-mode-linux tshark
-    clang-14 clang-format-14 libclang-rt-14-dev valgrind python3
+    clang-14 clang-format-14 libclang-rt-14-dev lld-14 valgrind python3
     python3-dev pybind11-dev python3-pytest
     nodejs npm chromium
 )
-# Fuzz stage: clang-14 compiles with -fsanitize=fuzzer; libFuzzer itself
+# Sanitizer builds (ASan+UBSan, TSan) and fuzz stage: clang-14, linked with lld (lld-14);
+# the fuzz stage compiles with -fsanitize=fuzzer; libFuzzer itself
 # (libclang_rt.fuzzer-x86_64.a) and the ASan/UBSan runtimes for clang come from
 # libclang-rt-14-dev (dpkg -S libclang_rt.fuzzer-x86_64.a on Debian 12). Leak check: valgrind.
 # ESI XML files (devices/*.xml, `codrive esi export`): libpugixml-dev.

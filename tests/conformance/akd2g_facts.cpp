@@ -15,7 +15,9 @@ using F = Fact;
 // Fact{index, sub, type, access, default (nullopt: the manual gives none), section, manual line,
 //      lowest, highest (where the manual narrows the type's range), bus}
 // clang-format off
-const std::array kAkd2gFacts{
+// A plain array: clang deduces std::array's size through a fold over every element, which stops at
+// 256 (its expression nesting limit).
+const Fact kAkd2gFacts[]{
     F{0x1000, 0, DT::Unsigned32, Acc::Ro, std::nullopt, "§5.2.1", 7948},
     F{0x1001, 0, DT::Unsigned8, Acc::Ro, std::nullopt, "§5.2.2", 7961},
     F{0x1003, 0, DT::Unsigned8, Acc::Rw, std::nullopt, "§5.2.3", 7974},

@@ -15,7 +15,9 @@ using F = Fact;
 // Fact{index, sub, type, access, default (nullopt: the manual gives none), section, manual line,
 //      lowest, highest (where the manual narrows the type's range), bus}
 // clang-format off
-const std::array kDsBvsFacts{
+// A plain array: clang deduces std::array's size through a fold over every element, which stops at
+// 256 (its expression nesting limit).
+const Fact kDsBvsFacts[]{
     F{0x1605, 0, DT::Unsigned8, Acc::Ro, 4, "§6.2.16", 2225, {}, {}, Bus::Ecat},
     F{0x1605, 1, DT::Unsigned32, Acc::Ro, 0x60400010, "§6.2.16", 2226, {}, {}, Bus::Ecat},
     F{0x1605, 2, DT::Unsigned32, Acc::Ro, 0x607A0020, "§6.2.16", 2227, {}, {}, Bus::Ecat},

@@ -15,7 +15,9 @@ using F = Fact;
 // Fact{index, sub, type, access, default (nullopt: the manual gives none), section, manual line,
 //      lowest, highest (where the manual narrows the type's range), bus}
 // clang-format off
-const std::array kFioFacts{
+// A plain array: clang deduces std::array's size through a fold over every element, which stops at
+// 256 (its expression nesting limit).
+const Fact kFioFacts[]{
     F{0x1000, 0, DT::Unsigned32, Acc::Ro, 0x60192, "§7.13.1", 2783},
     F{0x1001, 0, DT::Unsigned8, Acc::Ro, 0, "§7.13.2", 2808},
     F{0x1003, 0, DT::Unsigned8, Acc::Rw, 0, "§7.13.3", 2848},

@@ -14,6 +14,8 @@
 
 #include <codrive/testing/allocation_counter.hpp>
 
+#ifndef CODRIVE_TESTING_TSAN // see allocation_counter.hpp
+
 void* operator new(std::size_t size) {
     if (void* p = codrive::testing::counted_malloc(size)) {
         return p;
@@ -80,3 +82,4 @@ void operator delete(void* p, std::align_val_t, const std::nothrow_t&) noexcept 
 void operator delete[](void* p, std::align_val_t, const std::nothrow_t&) noexcept {
     std::free(p);
 }
+#endif // CODRIVE_TESTING_TSAN
