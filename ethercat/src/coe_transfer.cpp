@@ -85,7 +85,7 @@ public:
     // sdo::ISdoData: the transfer's own buffer.
     bool begin(std::optional<std::size_t> size) override {
         if (size) {
-            data_.reserve(std::min<std::size_t>(*size, 1U << 20U));
+            data_.reserve(std::min(*size, sdo::kMaxUploadReserve));
         }
         return true;
     }

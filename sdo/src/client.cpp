@@ -16,7 +16,6 @@ using detail::ClientState;
 
 namespace {
 
-constexpr std::size_t kMaxReserve = 16U * 1024U * 1024U;
 /// Transfers failing inside start() in one start_next() call before the rest is deferred to
 /// the next tick (bounds the work of one call when a callback retries during bus-off).
 constexpr int kMaxFailedStartsPerCall = 16;
@@ -108,7 +107,7 @@ namespace detail {
 
 bool ClientTransfer::begin(std::optional<std::size_t> size) {
     if (size && !sink.write) {
-        buffer.reserve(std::min<std::size_t>(*size, kMaxReserve));
+        buffer.reserve(std::min(*size, kMaxUploadReserve));
     }
     return !sink.begin || sink.begin(size);
 }

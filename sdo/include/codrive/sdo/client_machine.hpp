@@ -33,6 +33,12 @@ struct SdoFraming {
 /// field is 32 bits), nullopt when it can.
 [[nodiscard]] std::optional<std::string> download_too_large(std::size_t size);
 
+/// The most an upload's own buffer reserves before its data arrives (CAN and CoE alike). The size
+/// a server indicates — a garbage or hostile 4 GiB included — pre-sizes the buffer up to this;
+/// beyond it the memory follows the bytes that actually arrive. (A 16 MiB cap cost the fuzzer 70 %
+/// of its time touching pages no data ever filled.)
+inline constexpr std::size_t kMaxUploadReserve = 64U * 1024U;
+
 /// The caller's side of the data: an upload writes into it, a download reads from it.
 class ISdoData {
 public:

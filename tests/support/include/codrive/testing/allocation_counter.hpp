@@ -40,24 +40,27 @@ inline void require_allocation_counting() {
 }
 /// Allocations made by counting threads (any thread, while g_count_all_threads is set).
 inline std::atomic<std::uint64_t> g_allocations{0};
+/// The bytes those allocations asked for.
+inline std::atomic<std::uint64_t> g_allocated_bytes{0};
 /// Per thread: count this thread's allocations.
 inline thread_local bool g_counting = false;
 /// Count the allocations of every thread (threads the test did not start included).
 inline std::atomic<bool> g_count_all_threads{false};
 
-inline void note_allocation() {
+inline void note_allocation(std::size_t size) {
     if (g_counting || g_count_all_threads.load(std::memory_order_relaxed)) {
         g_allocations.fetch_add(1, std::memory_order_relaxed);
+        g_allocated_bytes.fetch_add(size, std::memory_order_relaxed);
     }
 }
 
 [[gnu::noinline]] inline void* counted_malloc(std::size_t size) {
-    note_allocation();
+    note_allocation(size);
     return std::malloc(size == 0 ? 1 : size);
 }
 
 [[gnu::noinline]] inline void* counted_aligned(std::size_t size, std::align_val_t align) {
-    note_allocation();
+    note_allocation(size);
     const auto a = static_cast<std::size_t>(align);
     // aligned_alloc wants a multiple of the alignment.
     return std::aligned_alloc(a, ((size == 0 ? 1 : size) + a - 1) / a * a);
@@ -68,7 +71,7 @@ inline void note_allocation() {
 class AllocationScope {
 public:
     explicit AllocationScope(bool all_threads = false)
-        : all_(all_threads), start_(g_allocations.load()) {
+        : all_(all_threads), start_(g_allocations.load()), start_bytes_(g_allocated_bytes.load()) {
         require_allocation_counting();
         if (all_) {
             g_count_all_threads = true;
@@ -87,10 +90,13 @@ public:
         }
     }
     [[nodiscard]] std::uint64_t count() const { return g_allocations.load() - start_; }
+    /// The bytes the counted allocations asked for.
+    [[nodiscard]] std::uint64_t bytes() const { return g_allocated_bytes.load() - start_bytes_; }
 
 private:
     bool all_;
     std::uint64_t start_;
+    std::uint64_t start_bytes_;
 };
 } // namespace codrive::testing
 
