@@ -100,7 +100,7 @@ report_gtest() {
     else
         # unit_conformance also prints "conformance: N facts checked per drive, M failed; device
         # files (EDS, ESI): ... facts checked, F failed; simulators and profiles: S failed".
-        grep -E '^\[  (PASSED|SKIPPED) \]|^conformance:' "$log" | sed "s|^|$name: |" || true
+        grep -E '^\[  (PASSED  |SKIPPED )\]|^conformance:' "$log" | sed "s|^|$name: |" || true
     fi
     count_gtest "$suite" "$log"
     if [[ $rc -ne 0 ]] && ! grep -qE '^\[  FAILED  \] [0-9]+ test' "$log"; then
@@ -392,7 +392,6 @@ stage tsan tsan_stage
 
 echo "== allocation tests (Release)"
 stage release release_stage
-
 
 # Skips that were asked for: the vcan guard honours CODRIVE_SKIP_VCAN, the veth guard
 # CODRIVE_SKIP_ETHERCAT (in the EtherCAT, TSan and Python suites: the Python EtherCAT tests
