@@ -6,7 +6,9 @@
 #include <codrive/sdo/protocol.hpp>
 
 #include <algorithm>
+#include <array>
 #include <fmt/format.h>
+#include <span>
 
 namespace codrive::sdo {
 
@@ -692,12 +694,23 @@ void SdoClient::send_sub_block(TimePoint now) {
         return;
     }
     t.state = ClientState::BlockDownloadAck;
-    for (std::uint8_t seq = 1; seq <= t.sender.segments(); ++seq) {
-        if (!send(t.sender.segment(seq))) {
+    // The sub-block (up to 127 segments) goes to the bus in bursts: ICanBus::send_many(), one
+    // sendmmsg() per burst on SocketCAN instead of a system call per segment.
+    std::array<Frame, 32> burst;
+    const unsigned segments = t.sender.segments();
+    for (unsigned seq = 1; seq <= segments;) {
+        std::size_t k = 0;
+        for (; k < burst.size() && seq + k <= segments; ++k) {
+            burst[k] =
+                Frame::make(request_id_, t.sender.segment(static_cast<std::uint8_t>(seq + k)));
+        }
+        if (const std::size_t sent = bus_.send_many(std::span<const Frame>(burst.data(), k));
+            sent < k) {
             fail(make_error_code(SdoErrc::SendFailed),
-                 fmt::format("block segment {} refused by the bus", seq));
+                 fmt::format("block segment {} refused by the bus", seq + sent));
             return;
         }
+        seq += static_cast<unsigned>(k);
     }
     arm(now);
 }

@@ -161,8 +161,11 @@ TEST_P(MuteMailboxInOp, CostsOnlyItsOwnTransferNeverACycle) {
     if (drop_permille > 0) {
         EXPECT_GT(stats.ecat_frame_errors, 0U) << "the simulator dropped frames";
     }
+    // Beside the injected drops, a stall of the host loses frames too (late answers count as
+    // lost): 0 or 1 in ~1,500 cycles on a quiet host, 29 in one CI run while a fuzzer ran beside
+    // it. The allowance is the other EtherCAT tests' one frame in 50 (controller_ecat_test.cpp).
     EXPECT_LE(stats.ecat_frame_errors,
-              stats.cycles * static_cast<std::uint64_t>(drop_permille + 10) / 1000)
+              stats.cycles * static_cast<std::uint64_t>(drop_permille + 20) / 1000)
         << events;
     c.set_cycle_callback(nullptr);
     c.shutdown();

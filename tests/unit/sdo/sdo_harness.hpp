@@ -9,22 +9,32 @@
 
 #include <functional>
 #include <optional>
+#include <span>
 #include <vector>
 
 namespace codrive::sdo::testing {
 
-/// An ICanBus that lets a test rewrite or drop frames before they reach the wire.
+/// An ICanBus that lets a test rewrite, drop or refuse frames before they reach the wire, and
+/// counts how they were handed over (one by one, or in send_many() bursts).
 class TamperBus final : public ICanBus {
 public:
     /// Returns false to drop the frame.
     using Mutator = std::function<bool(Frame&)>;
+    /// Returns true to refuse the frame as a full transmit queue does (CoreErrc::TxQueueFull).
+    using Refuser = std::function<bool(const Frame&)>;
     explicit TamperBus(ICanBus& inner) : inner_(inner) {}
     VoidResult send(const Frame& frame) override {
-        Frame f = frame;
-        if (mutate && !mutate(f)) {
-            return {};
+        ++single_sends;
+        return forward(frame);
+    }
+    std::size_t send_many(std::span<const Frame> frames) override {
+        ++bursts;
+        std::size_t n = 0;
+        while (n < frames.size() && forward(frames[n])) {
+            ++n;
         }
-        return inner_.send(f);
+        burst_frames += n;
+        return n;
     }
     void set_frame_handler(FrameHandler h) override { inner_.set_frame_handler(std::move(h)); }
     void set_event_handler(EventHandler h) override { inner_.set_event_handler(std::move(h)); }
@@ -32,8 +42,22 @@ public:
     [[nodiscard]] const BusStats& stats() const override { return inner_.stats(); }
     [[nodiscard]] const std::string& name() const override { return inner_.name(); }
     Mutator mutate;
+    Refuser refuse;
+    std::size_t single_sends = 0; ///< send() calls
+    std::size_t bursts = 0;       ///< send_many() calls
+    std::size_t burst_frames = 0; ///< frames send_many() accepted
 
 private:
+    VoidResult forward(const Frame& frame) {
+        if (refuse && refuse(frame)) {
+            return codrive::fail(CoreErrc::TxQueueFull);
+        }
+        Frame f = frame;
+        if (mutate && !mutate(f)) {
+            return {};
+        }
+        return inner_.send(f);
+    }
     ICanBus& inner_;
 };
 

@@ -9,6 +9,7 @@
 #include <codrive/core/object_dictionary.hpp>
 #include <codrive/sdo/server_machine.hpp>
 
+#include <array>
 #include <cstdint>
 
 namespace codrive::sdo {
@@ -34,7 +35,10 @@ public:
     /// Feeds a received frame; true if it was a request on this server's channel.
     bool on_frame(const Frame& frame, TimePoint now);
     [[nodiscard]] TimePoint next_deadline() const override { return machine_.next_deadline(); }
-    void on_tick(TimePoint now) override { machine_.on_tick(now); }
+    void on_tick(TimePoint now) override {
+        machine_.on_tick(now);
+        flush();
+    }
 
     [[nodiscard]] bool busy() const { return machine_.busy(); }
     [[nodiscard]] const ServerStats& stats() const { return machine_.stats(); }
@@ -42,9 +46,17 @@ public:
     [[nodiscard]] std::uint32_t request_id() const { return request_id_; }
 
 private:
+    /// Hands the responses of one request (a whole sub-block of a block upload: up to 127
+    /// segments) to the bus together: ICanBus::send_many(), one sendmmsg() per batch on
+    /// SocketCAN instead of a system call per segment.
+    void flush();
+
+    static constexpr std::size_t kBurst = 32;
     ICanBus& bus_;
     std::uint32_t request_id_;
     std::uint32_t response_id_;
+    std::array<Frame, kBurst> out_{}; ///< responses not yet handed to the bus, in order
+    std::size_t out_count_ = 0;
     SdoServerMachine machine_;
 };
 
