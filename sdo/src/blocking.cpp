@@ -46,9 +46,21 @@ BlockingSdo::~BlockingSdo() {
 void BlockingSdo::wait(const std::function<bool()>& done) {
     // The client always ends a transfer (timeouts are per request), so no outer limit is needed;
     // the day-long bound only guards against a stalled loop.
+    bool cancelled = false;
+    const auto interrupted = [&] {
+        return !cancelled && interrupt_ ? interrupt_() : std::optional<std::string>();
+    };
     while (!done()) {
-        if (loop_->run_until(done, std::chrono::hours(24))) {
+        if (loop_->run_until([&] { return done() || interrupted().has_value(); },
+                             std::chrono::hours(24)) &&
+            done()) {
             break;
+        }
+        if (const auto why = interrupted()) {
+            cancelled = true;
+            manager_->cancel_all(*why); // each callback runs now, with SdoErrc::Cancelled
+            // The abort leaves before the caller (typically a process about to exit) goes on.
+            (void)bus_->drain(std::chrono::milliseconds(100));
         }
     }
 }

@@ -1,10 +1,15 @@
 // SPDX-License-Identifier: Apache-2.0
-// `codrive sdo read/write` against `codrive sdo serve` in another process on vcan0.
+// `codrive sdo read/write` against `codrive sdo serve` in another process on vcan0, and Ctrl-C
+// during a transfer.
+#include <codrive/core/endian.hpp>
+#include <codrive/core/event_loop.hpp>
+#include <codrive/core/socket_can_bus.hpp>
 #include <codrive/testing/process.hpp>
 #include <codrive/testing/vcan.hpp>
 
 #include <gtest/gtest.h>
 
+#include <csignal>
 #include <cstdio>
 #include <fstream>
 #include <iterator>
@@ -13,6 +18,14 @@
 #include <vector>
 
 using namespace std::chrono_literals;
+using codrive::CanFilter;
+using codrive::Duration;
+using codrive::EventLoop;
+using codrive::Frame;
+using codrive::get_le;
+using codrive::SocketCanBus;
+using codrive::SocketCanOptions;
+using codrive::TimePoint;
 using codrive::testing::Process;
 using codrive::testing::run;
 using codrive::testing::tool_path;
@@ -158,5 +171,100 @@ TEST(SdoVcanEds, ServeAnswersFromAnEdsDictionary) {
     server.signal(15);
     EXPECT_EQ(server.wait(5s).value_or(-1), 0) << server.output();
 }
+
+// Ctrl-C during `codrive sdo write`: the node is sent abort 0x08000000 and the command exits 130
+// within a moment, naming node, object and the signal; the server is free for the next request.
+
+// A node id no other vcan test uses.
+constexpr unsigned kInterruptNode = 89;
+
+/// Counts the master's requests to kInterruptNode (600h + node) and keeps the last one's bytes.
+struct RequestWatch {
+    RequestWatch() {
+        auto l = EventLoop::create();
+        EXPECT_TRUE(l);
+        loop = std::move(*l);
+        SocketCanOptions o;
+        o.filters = {CanFilter{0x600 + kInterruptNode, 0x7FF}};
+        auto b = SocketCanBus::open("vcan0", o);
+        EXPECT_TRUE(b) << b.error().message();
+        bus = std::move(*b);
+        bus->set_frame_handler([this](const Frame& f, TimePoint) {
+            ++requests;
+            last = f;
+            if (f.len == 8 && f.data[0] == 0x80) {
+                abort_code = get_le<std::uint32_t>(f.data.data() + 4);
+                ++aborts;
+            }
+        });
+        EXPECT_TRUE(bus->attach(*loop));
+    }
+    bool run_until(const std::function<bool()>& pred, Duration d) {
+        return loop->run_until(pred, d);
+    }
+    std::unique_ptr<EventLoop> loop;
+    std::unique_ptr<SocketCanBus> bus;
+    std::size_t requests = 0;
+    std::size_t aborts = 0;
+    std::uint32_t abort_code = 0;
+    Frame last;
+};
+
+class SdoInterrupt : public ::testing::TestWithParam<int> {};
+
+TEST_P(SdoInterrupt, TheNodeIsSentAnAbortAndTheCommandExitsAtOnce) {
+    CODRIVE_REQUIRE_VCAN("vcan0");
+    const int sig = GetParam();
+    const std::string node = std::to_string(kInterruptNode);
+    Process server(sdo({"serve", "-i", "vcan0", "-n", node}));
+    ASSERT_TRUE(server.wait_for_output("ready", 10s)) << server.output();
+    // 1 MiB segmented: one round trip per 7 bytes, far longer than the test waits.
+    const std::string file =
+        "/tmp/codrive-sdo-interrupt-" + std::to_string(::getpid()) + "-" + std::to_string(sig);
+    {
+        std::ofstream out(file, std::ios::binary);
+        const std::string chunk(1024, 'x');
+        for (int i = 0; i < 1024; ++i) {
+            out << chunk;
+        }
+    }
+    RequestWatch watch;
+    Process write(sdo({"write", "-i", "vcan0", "-n", node, "0x2001:0", "--file", file}));
+    // Under way: a hundred segments have gone to the node.
+    ASSERT_TRUE(watch.run_until([&] { return watch.requests >= 100; }, 20s))
+        << watch.requests << " requests; " << write.output();
+    ASSERT_EQ(watch.aborts, 0U);
+    write.signal(sig);
+    const auto t0 = std::chrono::steady_clock::now();
+    const auto status = write.wait(5s);
+    const auto took = std::chrono::steady_clock::now() - t0;
+    ASSERT_TRUE(status.has_value()) << "codrive sdo write did not end on the signal";
+    EXPECT_EQ(*status, 128 + sig) << write.output();
+    EXPECT_LT(took, 1s);
+    const std::string name = sig == SIGINT ? "SIGINT" : "SIGTERM";
+    EXPECT_EQ(write.output(), "codrive: node 89: SDO segmented download 0x2001:00 failed: "
+                              "cancelled (interrupted by " +
+                                  name + ")\n");
+    // The abort reached the bus: general error 0x08000000 for 2001h:00 (CiA 301).
+    ASSERT_TRUE(watch.run_until([&] { return watch.aborts > 0; }, 2s))
+        << "no SDO abort after the signal; last request " << watch.last.data[0];
+    EXPECT_EQ(watch.aborts, 1U);
+    EXPECT_EQ(watch.abort_code, 0x08000000U);
+    EXPECT_EQ(watch.last.data[1], 0x01); // 2001h, little endian
+    EXPECT_EQ(watch.last.data[2], 0x20);
+    EXPECT_EQ(watch.last.data[3], 0x00);
+    // The server is idle again: the next request is answered at once.
+    auto r = run(sdo({"read", "-i", "vcan0", "-n", node, "0x1008:0", "--type", "str"}));
+    EXPECT_EQ(r.status, 0) << r.output;
+    EXPECT_EQ(r.output, "codrive sdo serve\n");
+    server.signal(SIGTERM);
+    EXPECT_EQ(server.wait(5s).value_or(-1), 0) << server.output();
+    std::remove(file.c_str());
+}
+
+INSTANTIATE_TEST_SUITE_P(Signals, SdoInterrupt, ::testing::Values(SIGINT, SIGTERM),
+                         [](const ::testing::TestParamInfo<int>& p) {
+                             return std::string(p.param == SIGINT ? "Sigint" : "Sigterm");
+                         });
 
 } // namespace

@@ -5,6 +5,9 @@
 #include <codrive/core/value.hpp>
 
 #include <fmt/format.h>
+
+#include <atomic>
+#include <csignal>
 #include <unistd.h>
 
 namespace codrive::cli {
@@ -55,6 +58,36 @@ std::optional<unsigned> parse_node(const std::string& text, bool allow_all) {
 
 bool stderr_is_tty() {
     return ::isatty(2) != 0;
+}
+
+namespace {
+std::atomic<int> g_stop_signal{0};
+static_assert(std::atomic<int>::is_always_lock_free, "written by a signal handler");
+extern "C" void on_stop_signal(int sig) {
+    int none = 0;
+    (void)g_stop_signal.compare_exchange_strong(none, sig);
+}
+} // namespace
+
+void catch_stop_signals() {
+    struct sigaction sa {};
+    sa.sa_handler = on_stop_signal;
+    sigemptyset(&sa.sa_mask);
+    sa.sa_flags = SA_RESTART;
+    (void)::sigaction(SIGINT, &sa, nullptr);
+    (void)::sigaction(SIGTERM, &sa, nullptr);
+}
+
+int stop_signal() {
+    return g_stop_signal.load();
+}
+
+bool stop_requested() {
+    return stop_signal() != 0;
+}
+
+const char* signal_name(int sig) {
+    return sig == SIGTERM ? "SIGTERM" : "SIGINT";
 }
 
 } // namespace codrive::cli

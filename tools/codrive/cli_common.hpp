@@ -38,4 +38,15 @@ std::optional<unsigned> parse_node(const std::string& text, bool allow_all = fal
 /// True if stderr is a terminal (progress bars, colours).
 bool stderr_is_tty();
 
+/// Catches SIGINT and SIGTERM for a command that ends its work safely on them (an axis stopped,
+/// an SDO transfer aborted): the handler only records the first signal, the command's waits
+/// poll stop_signal() and end.
+void catch_stop_signals();
+/// The first SIGINT/SIGTERM caught since catch_stop_signals() (0: none).
+int stop_signal();
+/// stop_signal() != 0.
+bool stop_requested();
+/// "SIGINT" or "SIGTERM".
+const char* signal_name(int sig);
+
 } // namespace codrive::cli

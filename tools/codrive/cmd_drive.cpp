@@ -27,31 +27,9 @@
 namespace codrive::cli {
 namespace {
 
-/// SIGINT/SIGTERM while the command runs (0: none). The waits below end on it.
-std::atomic<int> g_signal{0};
-static_assert(std::atomic<int>::is_always_lock_free, "written by a signal handler");
-
-extern "C" void on_drive_signal(int sig) {
-    int none = 0;
-    (void)g_signal.compare_exchange_strong(none, sig);
-}
-
 /// Time for the safe stop on a signal (quick stop, then disable), as the controller's default
 /// shutdown_timeout.
 constexpr Duration kStopBudget = seconds(1);
-
-void catch_stop_signals() {
-    struct sigaction sa {};
-    sa.sa_handler = on_drive_signal;
-    sigemptyset(&sa.sa_mask);
-    sa.sa_flags = SA_RESTART;
-    (void)::sigaction(SIGINT, &sa, nullptr);
-    (void)::sigaction(SIGTERM, &sa, nullptr);
-}
-
-bool stop_requested() {
-    return g_signal.load() != 0;
-}
 
 struct DriveArgs {
     std::string iface;
@@ -106,8 +84,8 @@ const drives::Profile* identify(DriveWire& w) {
 /// `status`), it leaves it without torque — quick stop if enabled, then disable voltage — and
 /// exits 128 + the signal number.
 int stop_on_signal(const DriveArgs& a, DriveWire& w, drives::Axis& axis) {
-    const int sig = g_signal.load();
-    fmt::print(stderr, "codrive: {} received\n", sig == SIGTERM ? "SIGTERM" : "SIGINT");
+    const int sig = stop_signal();
+    fmt::print(stderr, "codrive: {} received\n", signal_name(sig));
     if (a.action != "status" && axis.has_statusword()) {
         bool over = false;
         std::string err;
@@ -305,7 +283,7 @@ int run_drive_can(const DriveArgs& a) {
     };
     const drives::Profile* profile = identify(w);
     if (profile == nullptr) {
-        return stop_requested() ? 128 + g_signal.load() : kExitFailure;
+        return stop_requested() ? 128 + stop_signal() : kExitFailure;
     }
     m.emcy().set_text_provider(node, drives::emcy_text_provider(*profile));
     drives::Axis axis(transport, axis_config(a, *profile));
@@ -409,7 +387,7 @@ int run_drive_ecat(const DriveArgs& a) {
     };
     const drives::Profile* profile = identify(w);
     if (profile == nullptr) {
-        return stop_requested() ? 128 + g_signal.load() : kExitFailure;
+        return stop_requested() ? 128 + stop_signal() : kExitFailure;
     }
     // --esi: the vendor's file must describe this slave (vendor, product; exact revision
     // first); its default PDO assignment is the layout of a drive codrive has no profile for.

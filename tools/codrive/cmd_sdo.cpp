@@ -90,6 +90,15 @@ std::optional<Prepared> prepare(const SdoOptions& o, int& exit_code, SdoProgress
         return std::nullopt;
     }
     p.sdo = std::move(*sdo);
+    // Ctrl-C or SIGTERM during a transfer aborts it on the node too (abort 0x08000000), so a
+    // long segmented or block transfer does not stay open there until its timeout.
+    catch_stop_signals();
+    p.sdo->set_interrupt([]() -> std::optional<std::string> {
+        if (const int sig = stop_signal(); sig != 0) {
+            return fmt::format("interrupted by {}", signal_name(sig));
+        }
+        return std::nullopt;
+    });
     p.transfer.mode = o.block ? sdo::Mode::Block : sdo::Mode::Auto;
     p.transfer.timeout = std::chrono::milliseconds(o.timeout_ms);
     p.transfer.progress = [&bar](std::size_t done, std::optional<std::size_t> total) {
@@ -102,7 +111,7 @@ std::optional<Prepared> prepare(const SdoOptions& o, int& exit_code, SdoProgress
 int report(const sdo::SdoError& e, SdoProgressBar& bar) {
     bar.finish();
     fmt::print(stderr, "codrive: {}\n", e.to_string());
-    return kExitFailure;
+    return stop_requested() ? 128 + stop_signal() : kExitFailure; // 130 / 143 when interrupted
 }
 
 /// Prints read bytes as --type asks (raw for domain); `who` names the node or slave.
@@ -326,6 +335,10 @@ int run_serve(const SdoOptions& o) {
     return run_sdo_serve(o.iface, static_cast<NodeId>(*node), o.eds);
 }
 
+constexpr const char* kInterruptFooter =
+    "Ctrl-C (SIGINT) or SIGTERM during a CAN transfer: the node is sent SDO abort 0x08000000 and "
+    "the command exits 130 / 143.";
+
 void add_common(CLI::App* cmd, SdoOptions& o) {
     auto* can = cmd->add_option("-i,--iface", o.iface, "CAN interface");
     auto* ecat = cmd->add_option("--ethercat", o.ethercat,
@@ -348,6 +361,7 @@ void install_sdo(CLI::App& app, int& exit_code) {
     read->add_flag("--block", opts->block, "Use an SDO block upload");
     read->add_option("--timeout", opts->timeout_ms, "Response timeout in ms (default 1000)");
     read->add_option("-o,--output", opts->output, "Write the raw bytes to FILE");
+    read->footer(kInterruptFooter);
     read->callback([opts, &exit_code] { exit_code = run_read(*opts); });
 
     auto* write = sdo->add_subcommand("write", "Download a value or a file to INDEX:SUB");
@@ -358,6 +372,7 @@ void install_sdo(CLI::App& app, int& exit_code) {
     write->add_option("--file", opts->file, "Download the contents of FILE");
     write->add_flag("--block", opts->block, "Use an SDO block download");
     write->add_option("--timeout", opts->timeout_ms, "Response timeout in ms (default 1000)");
+    write->footer(kInterruptFooter);
     write->callback([opts, &exit_code] { exit_code = run_write(*opts); });
 
     auto* serve = sdo->add_subcommand(

@@ -6,7 +6,9 @@
 #include <codrive/core/socket_can_bus.hpp>
 #include <codrive/sdo/client_manager.hpp>
 
+#include <functional>
 #include <memory>
+#include <optional>
 #include <string>
 
 namespace codrive::sdo {
@@ -58,6 +60,15 @@ public:
     [[nodiscard]] EventLoop& loop() { return *loop_; }
     [[nodiscard]] SocketCanBus& bus() { return *bus_; }
 
+    /// Asked while a call waits (after each frame, at least every 50 ms): once it returns a
+    /// reason (e.g. "interrupted by SIGINT"), the call's transfer ends at once: the node gets
+    /// abort 0x08000000 (CiA 301 §7.2.4.3.17: general error), which ends its side of a
+    /// segmented or block transfer instead of leaving it to its timeout, and the call returns
+    /// SdoErrc::Cancelled with the reason as its detail. Empty: calls wait until their
+    /// transfer ends by itself.
+    using Interrupt = std::function<std::optional<std::string>()>;
+    void set_interrupt(Interrupt interrupt) { interrupt_ = std::move(interrupt); }
+
 private:
     BlockingSdo() = default;
     void wait(const std::function<bool()>& done);
@@ -65,6 +76,7 @@ private:
     std::unique_ptr<EventLoop> loop_;
     std::unique_ptr<SocketCanBus> bus_;
     std::unique_ptr<SdoClientManager> manager_;
+    Interrupt interrupt_;
 };
 
 } // namespace codrive::sdo
