@@ -58,7 +58,7 @@ fi
 
 # configure_build DIR BUILD_TYPE SANITIZE TARGET_REGEX [CMAKE_ARG...]: configures like the README
 # (plus CMAKE_ARGs) and builds only the executables whose names match TARGET_REGEX (and what they
-# link).
+# link), with $JOBS jobs if set, else $jobs.
 configure_build() {
     local dir=$1 type=$2 sanitize=$3 regex=$4 targets
     shift 4
@@ -74,7 +74,7 @@ configure_build() {
         return 1
     fi
     # shellcheck disable=SC2086 # one word per target
-    ninja -C "$dir" -j "$jobs" $targets
+    ninja -C "$dir" -j "${JOBS:-$jobs}" $targets
 }
 
 # count_gtest SUITE LOGFILE: adds up gtest's "[  PASSED  ] N", "[  FAILED  ] N" and
@@ -98,8 +98,8 @@ report_gtest() {
         cat "$log"
         status=1
     else
-        # unit_conformance also prints "conformance: N facts checked per drive, M failed; device
-        # files (EDS, ESI): ... facts checked, F failed; simulators and profiles: S failed".
+        # unit_conformance also prints "conformance: N facts checked per drive, M differ from the
+        # manual (K known divergences, U unexpected); device files (EDS, ESI): ..."
         grep -E '^\[  (PASSED  |SKIPPED )\]|^conformance:' "$log" | sed "s|^|$name: |" || true
     fi
     count_gtest "$suite" "$log"
@@ -194,29 +194,59 @@ unit_report
 
 # Beside the guest of the vcan and leak stages, which takes one CPU: the clang fuzz build, then the
 # TSan build, one job each (two jobs beside the guest, even at nice 19, slowed its stages by a
-# third: 10m46s instead of 7m48s). The fuzzers run after the guest, beside the Python and install
-# stages; the timed EtherCAT and TSan tests come last, alone.
+# third: 10m46s instead of 7m48s). When the guest ends the build under way goes on with every
+# job, beside the Python and install stages, and the fuzzers run as soon as they are built; the
+# timed EtherCAT and TSan tests come last, alone.
 bg_dir=$root/build-ci-beside
 fuzz_log=$root/build-fuzz.ci.log
+guest_done=$bg_dir/guest-done
 rm -rf "$bg_dir"
 mkdir -p "$bg_dir"
+# beside_build DIR LOG CMD...: runs CMD, a build of DIR by `ninja -C DIR` that takes its job count
+# from $JOBS, into LOG: with one job while the guest runs, with all jobs after it. A build still
+# under way when the guest ends is stopped (ninja stops its compilers and keeps what it finished)
+# and started again with all jobs; the stopped attempt's log is kept as LOG.stopped.
+beside_build() {
+    local dir=$1 log=$2 pid
+    shift 2
+    if [[ ! -e $guest_done ]]; then
+        JOBS=1 "$@" >"$log" 2>&1 &
+        pid=$!
+        while kill -0 "$pid" 2>/dev/null && [[ ! -e $guest_done ]]; do
+            sleep 1
+        done
+        if ! kill -0 "$pid" 2>/dev/null; then
+            wait "$pid"
+            return
+        fi
+        # (A configure step has no ninja yet: try until the attempt is over.)
+        while kill -0 "$pid" 2>/dev/null; do
+            pkill -TERM -f "^ninja -C $dir " || true
+            sleep 1
+        done
+        wait "$pid" || true
+        mv "$log" "$log.stopped"
+    fi
+    JOBS=$jobs "$@" >"$log" 2>&1
+}
 beside_guest() {
-    local t0 jobs=1
+    local t0
     renice -n 10 -p "$BASHPID" >/dev/null
     t0=$(date +%s)
     if [[ ${CODRIVE_SKIP_FUZZ:-0} != 1 ]]; then
         # A target that does not build is reported by the run ("not built").
-        CODRIVE_FUZZ_BUILD=$root/build-fuzz JOBS=$jobs FUZZ_BUILD_ONLY=1 \
-            bash tests/fuzz/run.sh >"$bg_dir/fuzz-build.log" 2>&1 || true
+        CODRIVE_FUZZ_BUILD=$root/build-fuzz FUZZ_BUILD_ONLY=1 \
+            beside_build "$root/build-fuzz" "$bg_dir/fuzz-build.log" bash tests/fuzz/run.sh || true
+        echo $(($(date +%s) - t0)) >"$bg_dir/fuzz-build.seconds"
+        fuzz_run &
     fi
-    echo $(($(date +%s) - t0)) >"$bg_dir/fuzz-build.seconds"
     t0=$(date +%s)
     set +e
-    configure_build "$root/build-tsan" Debug thread \
-        'integration_tests|ethercat_tests|codrive-ecat-sim' "${san_cmake[@]}" \
-        >"$bg_dir/build-tsan.log" 2>&1
+    beside_build "$root/build-tsan" "$bg_dir/build-tsan.log" configure_build "$root/build-tsan" \
+        Debug thread 'integration_tests|ethercat_tests|codrive-ecat-sim' "${san_cmake[@]}"
     echo $? >"$bg_dir/build-tsan.rc"
     echo $(($(date +%s) - t0)) >"$bg_dir/build-tsan.seconds"
+    wait # the fuzzers
 }
 fuzz_run() {
     local t0
@@ -275,28 +305,8 @@ else
     stage leak leak_stage
 fi
 
-echo "== waiting for the builds beside the guest"
-t_wait=$(date +%s)
-wait "$beside_pid" || true
-echo "(waited $(($(date +%s) - t_wait)) s after the guest)"
-echo "== build: ThreadSanitizer (controller, hand-off and EtherCAT controller tests), beside the guest"
-seconds[build-tsan]=$(cat "$bg_dir/build-tsan.seconds" 2>/dev/null || echo 0)
-stage_order+=(build-tsan)
-if [[ $(cat "$bg_dir/build-tsan.rc" 2>/dev/null || echo 1) -ne 0 ]]; then
-    cat "$bg_dir/build-tsan.log"
-    status=1
-else
-    tail -1 "$bg_dir/build-tsan.log"
-fi
-
-fuzz_pid=
-if [[ ${CODRIVE_SKIP_FUZZ:-0} == 1 ]]; then
-    note[fuzz]="skipped on request"
-else
-    echo "== fuzzers started in the background, beside the Python and install stages"
-    fuzz_run &
-    fuzz_pid=$!
-fi
+touch "$guest_done"
+echo "== the guest ended: the fuzz and TSan builds go on with $jobs jobs beside the Python and install stages"
 
 # The Python module under pytest: the host suites (in-process VirtualNetwork, EDS files, traces),
 # then the vcan suites in a guest (codrive-sim processes on real SocketCAN). The module and the
@@ -363,9 +373,24 @@ install_stage() {
 echo "== install: find_package(codrive) and pkg-config consumers of an installed tree"
 stage install install_stage
 
-if [[ -n $fuzz_pid ]]; then
+echo "== waiting for the builds beside the guest and the fuzzers"
+t_wait=$(date +%s)
+wait "$beside_pid" || true
+echo "(waited $(($(date +%s) - t_wait)) s after the install stage)"
+echo "== build: ThreadSanitizer (controller, hand-off and EtherCAT controller tests), beside the guest"
+seconds[build-tsan]=$(cat "$bg_dir/build-tsan.seconds" 2>/dev/null || echo 0)
+stage_order+=(build-tsan)
+if [[ $(cat "$bg_dir/build-tsan.rc" 2>/dev/null || echo 1) -ne 0 ]]; then
+    cat "$bg_dir/build-tsan.log"
+    status=1
+else
+    tail -1 "$bg_dir/build-tsan.log"
+fi
+
+if [[ ${CODRIVE_SKIP_FUZZ:-0} == 1 ]]; then
+    note[fuzz]="skipped on request"
+else
     echo "== fuzz (libFuzzer, clang 14, ASan+UBSan; ${CODRIVE_FUZZ_SECONDS:-10} s per target)"
-    wait "$fuzz_pid" || true
     seconds[fuzz]=$(($(cat "$bg_dir/fuzz-build.seconds" 2>/dev/null || echo 0) + \
         $(cat "$bg_dir/fuzz-run.seconds" 2>/dev/null || echo 0)))
     stage_order+=(fuzz)
@@ -439,7 +464,7 @@ line="stage times:"
 for name in "${stage_order[@]}"; do
     line+=" $name $(fmt_time "${seconds[$name]}"),"
 done
-echo "$line total $(fmt_time $(($(date +%s) - t_start))) (fuzz build and build-tsan beside vcan and leak; the fuzzers beside python and install)"
+echo "$line total $(fmt_time $(($(date +%s) - t_start))) (fuzz build and build-tsan beside vcan and leak, on one job until the guest ends; the fuzzers and the rest of those builds beside python and install)"
 if ((total_failed > 0)); then
     status=1
 fi
