@@ -2,6 +2,7 @@
 // codrive._native: the pybind11 extension behind the `codrive` Python package.
 #include "module.hpp"
 #include "errors.hpp"
+#include "interrupt.hpp"
 
 namespace py = pybind11;
 
@@ -22,4 +23,5 @@ PYBIND11_MODULE(_native, m) {
     bind_eds(m);
     bind_dump(m);
     bind_controller(m);
+    install_sigint_relay();
 }

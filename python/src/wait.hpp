@@ -3,6 +3,7 @@
 #pragma once
 
 #include "bus.hpp"
+#include "interrupt.hpp"
 
 #include <pybind11/pybind11.h>
 
@@ -60,9 +61,18 @@ private:
 /// to start a request or another thread's result came. So requests from several threads
 /// (asyncio's executor) to different nodes run side by side in the one loop, each returns as
 /// soon as its own result is in, and a lone caller pays nothing for the sharing.
+///
+/// Ctrl-C on the main thread waiting on a real bus (interrupt.hpp) ends every SDO transfer on the
+/// bus at once (the nodes get abort 0x08000000), waits for this request's end, and raises
+/// KeyboardInterrupt instead of returning.
 template <typename R, typename Start>
 R wait_for_result(Bus& bus, Start&& start) {
     std::optional<R> out;
+    const bool interruptible = !bus.simulated() && on_main_thread();
+    bool interrupted = false;
+    if (interruptible) {
+        clear_sigint();
+    }
     {
         pybind11::gil_scoped_release nogil;
         BusTurn turn(bus);
@@ -78,10 +88,16 @@ R wait_for_result(Bus& bus, Start&& start) {
             bus.run_until(
                 [&] {
                     return out.has_value() || bus.submitters().load() > 0 ||
-                           bus.delivered().load() != seen;
+                           bus.delivered().load() != seen ||
+                           (interruptible && !interrupted && sigint_seen());
                 },
                 Duration::max());
             bus.running().store(false);
+            if (!out && interruptible && !interrupted && sigint_seen()) {
+                interrupted = true;
+                bus.sdo_clients().cancel_all("interrupted by KeyboardInterrupt");
+                continue; // an SDO request has its result now; others end on their timeout
+            }
             if (!out) {
                 turn.hand_over();
                 turn.take_back();
@@ -90,6 +106,9 @@ R wait_for_result(Bus& bus, Start&& start) {
         if (!out) {
             bus.run_until([&out] { return out.has_value(); }, Duration::max());
         }
+    }
+    if (interrupted && PyErr_CheckSignals() != 0) {
+        throw pybind11::error_already_set(); // KeyboardInterrupt (or what the handler raised)
     }
     if (!out) {
         throw std::runtime_error("codrive: the bus stopped before the request ended");
