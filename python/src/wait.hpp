@@ -73,6 +73,7 @@ R wait_for_result(Bus& bus, Start&& start) {
     if (interruptible) {
         clear_sigint();
     }
+    const auto interrupt_pending = [&] { return interruptible && !interrupted && sigint_seen(); };
     {
         pybind11::gil_scoped_release nogil;
         BusTurn turn(bus);
@@ -88,12 +89,11 @@ R wait_for_result(Bus& bus, Start&& start) {
             bus.run_until(
                 [&] {
                     return out.has_value() || bus.submitters().load() > 0 ||
-                           bus.delivered().load() != seen ||
-                           (interruptible && !interrupted && sigint_seen());
+                           bus.delivered().load() != seen || interrupt_pending();
                 },
                 Duration::max());
             bus.running().store(false);
-            if (!out && interruptible && !interrupted && sigint_seen()) {
+            if (!out && interrupt_pending()) {
                 interrupted = true;
                 bus.sdo_clients().cancel_all("interrupted by KeyboardInterrupt");
                 continue; // an SDO request has its result now; others end on their timeout

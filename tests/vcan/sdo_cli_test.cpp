@@ -2,10 +2,9 @@
 // `codrive sdo read/write` against `codrive sdo serve` in another process on vcan0, and Ctrl-C
 // during a transfer.
 #include <codrive/core/endian.hpp>
-#include <codrive/core/event_loop.hpp>
-#include <codrive/core/socket_can_bus.hpp>
 #include <codrive/testing/process.hpp>
 #include <codrive/testing/vcan.hpp>
+#include <codrive/testing/vcan_recorder.hpp>
 
 #include <gtest/gtest.h>
 
@@ -19,13 +18,8 @@
 
 using namespace std::chrono_literals;
 using codrive::CanFilter;
-using codrive::Duration;
-using codrive::EventLoop;
 using codrive::Frame;
 using codrive::get_le;
-using codrive::SocketCanBus;
-using codrive::SocketCanOptions;
-using codrive::TimePoint;
 using codrive::testing::Process;
 using codrive::testing::run;
 using codrive::testing::tool_path;
@@ -178,37 +172,16 @@ TEST(SdoVcanEds, ServeAnswersFromAnEdsDictionary) {
 // A node id no other vcan test uses.
 constexpr unsigned kInterruptNode = 89;
 
-/// Counts the master's requests to kInterruptNode (600h + node) and keeps the last one's bytes.
-struct RequestWatch {
-    RequestWatch() {
-        auto l = EventLoop::create();
-        EXPECT_TRUE(l);
-        loop = std::move(*l);
-        SocketCanOptions o;
-        o.filters = {CanFilter{0x600 + kInterruptNode, 0x7FF}};
-        auto b = SocketCanBus::open("vcan0", o);
-        EXPECT_TRUE(b) << b.error().message();
-        bus = std::move(*b);
-        bus->set_frame_handler([this](const Frame& f, TimePoint) {
-            ++requests;
-            last = f;
-            if (f.len == 8 && f.data[0] == 0x80) {
-                abort_code = get_le<std::uint32_t>(f.data.data() + 4);
-                ++aborts;
-            }
-        });
-        EXPECT_TRUE(bus->attach(*loop));
+/// The abort frames among `frames`.
+std::vector<Frame> aborts_in(const std::vector<Frame>& frames) {
+    std::vector<Frame> out;
+    for (const Frame& f : frames) {
+        if (f.len == 8 && f.data[0] == 0x80) {
+            out.push_back(f);
+        }
     }
-    bool run_until(const std::function<bool()>& pred, Duration d) {
-        return loop->run_until(pred, d);
-    }
-    std::unique_ptr<EventLoop> loop;
-    std::unique_ptr<SocketCanBus> bus;
-    std::size_t requests = 0;
-    std::size_t aborts = 0;
-    std::uint32_t abort_code = 0;
-    Frame last;
-};
+    return out;
+}
 
 class SdoInterrupt : public ::testing::TestWithParam<int> {};
 
@@ -228,12 +201,13 @@ TEST_P(SdoInterrupt, TheNodeIsSentAnAbortAndTheCommandExitsAtOnce) {
             out << chunk;
         }
     }
-    RequestWatch watch;
+    // The master's requests to the node (600h + node).
+    codrive::testing::VcanRecorder watch("vcan0", {CanFilter{0x600 + kInterruptNode, 0x7FF}});
     Process write(sdo({"write", "-i", "vcan0", "-n", node, "0x2001:0", "--file", file}));
     // Under way: a hundred segments have gone to the node.
-    ASSERT_TRUE(watch.run_until([&] { return watch.requests >= 100; }, 20s))
-        << watch.requests << " requests; " << write.output();
-    ASSERT_EQ(watch.aborts, 0U);
+    ASSERT_TRUE(watch.run_until([&] { return watch.frames.size() >= 100; }, 20s))
+        << watch.frames.size() << " requests; " << write.output();
+    ASSERT_TRUE(aborts_in(watch.frames).empty());
     write.signal(sig);
     const auto t0 = std::chrono::steady_clock::now();
     const auto status = write.wait(5s);
@@ -246,13 +220,16 @@ TEST_P(SdoInterrupt, TheNodeIsSentAnAbortAndTheCommandExitsAtOnce) {
                               "cancelled (interrupted by " +
                                   name + ")\n");
     // The abort reached the bus: general error 0x08000000 for 2001h:00 (CiA 301).
-    ASSERT_TRUE(watch.run_until([&] { return watch.aborts > 0; }, 2s))
-        << "no SDO abort after the signal; last request " << watch.last.data[0];
-    EXPECT_EQ(watch.aborts, 1U);
-    EXPECT_EQ(watch.abort_code, 0x08000000U);
-    EXPECT_EQ(watch.last.data[1], 0x01); // 2001h, little endian
-    EXPECT_EQ(watch.last.data[2], 0x20);
-    EXPECT_EQ(watch.last.data[3], 0x00);
+    ASSERT_TRUE(watch.run_until([&] { return !aborts_in(watch.frames).empty(); }, 2s))
+        << "no SDO abort after the signal; last request " << int{watch.frames.back().data[0]};
+    watch.drain();
+    EXPECT_EQ(aborts_in(watch.frames).size(), 1U);
+    const Frame& last = watch.frames.back(); // the abort, nothing after it
+    EXPECT_EQ(last.data[0], 0x80);
+    EXPECT_EQ(get_le<std::uint32_t>(last.data.data() + 4), 0x08000000U);
+    EXPECT_EQ(last.data[1], 0x01); // 2001h, little endian
+    EXPECT_EQ(last.data[2], 0x20);
+    EXPECT_EQ(last.data[3], 0x00);
     // The server is idle again: the next request is answered at once.
     auto r = run(sdo({"read", "-i", "vcan0", "-n", node, "0x1008:0", "--type", "str"}));
     EXPECT_EQ(r.status, 0) << r.output;

@@ -1,10 +1,9 @@
 // SPDX-License-Identifier: Apache-2.0
 // codrive-sim as a real process on vcan: ready line, boot-up, heartbeat, SDO, EMCY, signals.
-#include <codrive/core/event_loop.hpp>
-#include <codrive/core/socket_can_bus.hpp>
 #include <codrive/sdo/blocking.hpp>
 #include <codrive/testing/process.hpp>
 #include <codrive/testing/vcan.hpp>
+#include <codrive/testing/vcan_recorder.hpp>
 
 #include <gtest/gtest.h>
 
@@ -15,35 +14,9 @@ using namespace codrive;
 using namespace std::chrono_literals;
 using codrive::testing::Process;
 using codrive::testing::tool_path;
+using Recorder = codrive::testing::VcanRecorder;
 
 namespace {
-
-/// Records every frame on an interface while the test runs.
-struct Recorder {
-    Recorder() {
-        auto l = EventLoop::create();
-        EXPECT_TRUE(l);
-        loop = std::move(*l);
-        auto b = SocketCanBus::open("vcan0");
-        EXPECT_TRUE(b) << b.error().message();
-        bus = std::move(*b);
-        bus->set_frame_handler([this](const Frame& f, TimePoint) { frames.push_back(f); });
-        EXPECT_TRUE(bus->attach(*loop));
-    }
-    void drain(Duration d = 100ms) { loop->run_until(loop->now() + d); }
-    std::vector<Frame> with_id(std::uint32_t id) const {
-        std::vector<Frame> out;
-        for (const auto& f : frames) {
-            if (f.id == id) {
-                out.push_back(f);
-            }
-        }
-        return out;
-    }
-    std::unique_ptr<EventLoop> loop;
-    std::unique_ptr<SocketCanBus> bus;
-    std::vector<Frame> frames;
-};
 
 std::string sim_path() {
     auto p = tool_path("codrive-sim");

@@ -66,9 +66,8 @@ int run_stream(const StreamOptions& o) {
     // a system call per frame would measure the kernel's entry cost, not the bus (in a UML guest
     // every call, clock reads included, traps to the host).
     std::array<Frame, 64> batch{};
-    bool stop_sending = false;
     while (sent < o.count) {
-        stop_sending = false;
+        bool stop_sending = false;
         while (!stop_sending && sent < o.count && (o.no_flow_control || sent - acked < o.window)) {
             std::uint64_t room = std::min<std::uint64_t>(batch.size(), o.count - sent);
             if (!o.no_flow_control) {

@@ -117,7 +117,7 @@ int run_bus(const RunArgs& a) {
     if (c.stop_requested()) {
         fmt::print("codrive: {} received: safe shutdown (quick stop, disable, NMT "
                    "pre-operational)\n",
-                   c.stop_signal() == SIGTERM ? "SIGTERM" : "SIGINT");
+                   signal_name(c.stop_signal()));
         std::fflush(stdout);
     }
     c.shutdown();
