@@ -11,7 +11,8 @@
 #              nothing; exits non-zero when a target failed to build),
 #              FUZZ_RUNS (run each target to this many executions instead of for SECONDS),
 #              FUZZ_DEADLINE (epoch seconds: a target still running then is stopped and counted
-#              as failed, "stopped at the deadline"; no target starts after it).
+#              as failed, "stopped at the deadline"; no target starts after it),
+#              FUZZ_OPT (optimisation of a new build, default -O1; CI's short runs use -O0).
 # The table's executions and cov/ft are libFuzzer's final figures (the "DONE" stats line).
 # A target that crashes on its first input has no coverage line: its row shows "-" (set -e must
 # not end the script there, or the summary line run-all.sh counts would be missing).
@@ -40,7 +41,7 @@ if [[ ! -f $build/build.ninja ]]; then
         linker=(-DCMAKE_EXE_LINKER_FLAGS=-fuse-ld=lld)
     fi
     cmake -S "$root" -B "$build" -G Ninja -DCMAKE_CXX_COMPILER="$cxx" "${linker[@]}" \
-        -DCMAKE_BUILD_TYPE=RelWithDebInfo "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=-O1 -g" \
+        -DCMAKE_BUILD_TYPE=RelWithDebInfo "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=${FUZZ_OPT:--O1} -g" \
         -DCODRIVE_FUZZ=ON -DCODRIVE_BUILD_TESTS=OFF -DCODRIVE_BUILD_TOOLS=OFF \
         -DCODRIVE_BUILD_BENCH=OFF -DCODRIVE_SANITIZE=address,undefined >/dev/null
 fi

@@ -72,7 +72,10 @@ TEST(SpscRingThreads, TwoThreadsPassTwoHundredThousandValuesInOrderWithoutLoss) 
 TEST(StatsSnapshot, ReaderOnAnotherThreadNeverSeesATornSnapshot) {
     // The writer keeps every field equal to one counter; a torn read (half of one store, half
     // of another, or half of a 64-bit value) shows up as fields that differ. The writer stores
-    // until the reader is done, so the two overlap even on a busy machine.
+    // until the reader is done, so the two overlap even on a busy machine. Between two stores it
+    // spins a little, as the cyclic thread waits for its next cycle: a writer that stores
+    // back to back leaves a reader almost no window without a store in progress (each read
+    // retries), and the test then ran into its 10 s limit with two CPUs busy all the time.
     Seqlock<ControllerStats> cell;
     std::atomic<bool> stop{false};
     std::atomic<std::uint64_t> stores{0};
@@ -90,6 +93,8 @@ TEST(StatsSnapshot, ReaderOnAnotherThreadNeverSeesATornSnapshot) {
             s.ecat_frame_errors = v;
             s.period_error_max = codrive::Duration{static_cast<std::int64_t>(k)};
             cell.store(s);
+            for (int spin = 0; spin < 64 && !stop.load(std::memory_order_relaxed); ++spin) {
+            }
         }
         stores.store(k, std::memory_order_release);
     });
@@ -121,6 +126,9 @@ TEST(StatsSnapshot, ReaderOnAnotherThreadNeverSeesATornSnapshot) {
     }
     stop.store(true, std::memory_order_relaxed);
     writer.join();
+    std::printf("seqlock, 2 threads: %llu reads saw %llu different stores of %llu\n",
+                static_cast<unsigned long long>(reads), static_cast<unsigned long long>(changes),
+                static_cast<unsigned long long>(stores.load()));
     EXPECT_EQ(torn, 0U) << "of " << reads << " reads";
     EXPECT_EQ(backwards, 0U);
     EXPECT_GE(changes, 10U) << "the reader hardly saw the writer at work";
