@@ -125,6 +125,23 @@ run_gtest() {
 
 # The unit stage runs in the background while the Release build compiles (a test binary needs
 # one CPU): each binary's log and exit status go to unit_dir and are counted afterwards.
+# gtest_to_dir DIR EXE [ARGS...]: runs one gtest binary (after gtest_prefix) in a background
+# stage, its log and exit status into DIR, for report_dir.
+gtest_to_dir() {
+    local dir=$1 exe=$2
+    shift 2
+    "${gtest_prefix[@]}" "$exe" "$@" >"$dir/$(basename "$exe").log" 2>&1
+    echo $? >"$dir/$(basename "$exe").rc"
+}
+# report_dir SUITE DIR: reports every binary gtest_to_dir ran into DIR.
+report_dir() {
+    local suite=$1 dir=$2 log name
+    for log in "$dir"/*.log; do
+        [[ -f $log ]] || continue
+        name=$(basename "$log" .log)
+        report_gtest "$suite" "$name" "$log" "$(cat "$dir/$name.rc" 2>/dev/null || echo 1)"
+    done
+}
 unit_dir=$root/build-asan/ci-unit
 unit_run() {
     local exe t0
@@ -133,18 +150,9 @@ unit_run() {
     mkdir -p "$unit_dir"
     for exe in "$root"/build-asan/tests/unit_* "$root"/build-asan/tests/integration_tests; do
         [[ -x $exe ]] || continue
-        "$exe" >"$unit_dir/$(basename "$exe").log" 2>&1
-        echo $? >"$unit_dir/$(basename "$exe").rc"
+        gtest_to_dir "$unit_dir" "$exe"
     done
     echo $(($(date +%s) - t0)) >"$unit_dir/seconds"
-}
-unit_report() {
-    local log name
-    for log in "$unit_dir"/*.log; do
-        [[ -f $log ]] || continue
-        name=$(basename "$log" .log)
-        report_gtest unit "$name" "$log" "$(cat "$unit_dir/$name.rc" 2>/dev/null || echo 1)"
-    done
 }
 
 # The Release build (what users ship) serves the vcan and leak stages (no sanitizer runtime works
@@ -173,22 +181,21 @@ release_stage() {
 # log, exit status and wall time go to tsan_dir. The EtherCAT controller tests under TSan run
 # afterwards, alone: they run a cyclic thread over veth.
 tsan_dir=$root/build-tsan/ci-tsan
+tsan_options="halt_on_error=1 second_deadlock_stack=1 ${TSAN_OPTIONS:-}"
 tsan_integration_run() {
     local t0
+    local -a gtest_prefix=(env "TSAN_OPTIONS=$tsan_options" nice -n 19)
     t0=$(date +%s)
     rm -rf "$tsan_dir"
     mkdir -p "$tsan_dir"
-    TSAN_OPTIONS="halt_on_error=1 second_deadlock_stack=1 ${TSAN_OPTIONS:-}" nice -n 19 \
-        "$root/build-tsan/tests/integration_tests" >"$tsan_dir/integration_tests.log" 2>&1
-    echo $? >"$tsan_dir/integration_tests.rc"
+    gtest_to_dir "$tsan_dir" "$root/build-tsan/tests/integration_tests"
     echo $(($(date +%s) - t0)) >"$tsan_dir/seconds"
 }
 tsan_stage() {
     wait "$tsan_pid" || true
-    report_gtest tsan integration_tests "$tsan_dir/integration_tests.log" \
-        "$(cat "$tsan_dir/integration_tests.rc" 2>/dev/null || echo 1)"
+    report_dir tsan "$tsan_dir"
     tsan_rest_t0=$(date +%s)
-    export TSAN_OPTIONS="halt_on_error=1 second_deadlock_stack=1 ${TSAN_OPTIONS:-}"
+    local -a gtest_prefix=(env "TSAN_OPTIONS=$tsan_options")
     run_gtest tsan "$root/build-tsan/tests/ethercat_tests" \
         --gtest_filter='ControllerOverEthercat.*:DemoScenarioOverEthercat.ObjectAccess*:Threading/ObjectAccessAtShutdown.*:-*EcatDemoProgram*:*AllocatesNothing*:*LeavesNoFdsOrThreads*'
 }
@@ -210,7 +217,7 @@ echo "== unit tests (ASan+UBSan)"
 wait "$unit_pid" || true
 seconds[unit]=$(cat "$unit_dir/seconds" 2>/dev/null || echo 0)
 stage_order+=(unit)
-unit_report
+report_dir unit "$unit_dir"
 
 # Beside the guest of the vcan and leak stages, which takes one CPU: the clang fuzz build, then the
 # TSan build, one job each (two jobs beside the guest, even at nice 19, slowed its stages by a
