@@ -23,6 +23,9 @@ std::string lower(std::string s) {
     return s;
 }
 
+/// The largest edit distance at which an unknown key gets a "did you mean" suggestion.
+constexpr std::size_t kMaxSuggestDistance = 3;
+
 std::size_t edit_distance(const std::string& a, const std::string& b) {
     std::vector<std::size_t> prev(b.size() + 1);
     std::vector<std::size_t> cur(b.size() + 1);
@@ -188,13 +191,22 @@ private:
             const auto key = kv.first.as<std::string>("");
             bool ok = false;
             std::string best;
-            std::size_t best_d = 100;
+            std::size_t best_d = kMaxSuggestDistance + 1;
+            const std::string key_lower = lower(key);
             for (const char* k : known) {
                 if (key == k) {
                     ok = true;
                     break;
                 }
-                const std::size_t d = edit_distance(lower(key), k);
+                // Lengths further apart than the largest distance suggested cannot give a
+                // suggestion: no O(n*m) distance for a long unknown key (a garbage file).
+                const std::size_t klen = std::char_traits<char>::length(k);
+                const std::size_t apart = key_lower.size() > klen ? key_lower.size() - klen
+                                                                  : klen - key_lower.size();
+                if (apart > kMaxSuggestDistance) {
+                    continue;
+                }
+                const std::size_t d = edit_distance(key_lower, k);
                 if (d < best_d) {
                     best_d = d;
                     best = k;
@@ -202,9 +214,10 @@ private:
             }
             if (!ok) {
                 error(line(kv.first),
-                      best_d <= 3 ? fmt::format("unknown key `{}` in {} (did you mean `{}`?)", key,
-                                                where, best)
-                                  : fmt::format("unknown key `{}` in {}", key, where));
+                      best_d <= kMaxSuggestDistance
+                          ? fmt::format("unknown key `{}` in {} (did you mean `{}`?)", key, where,
+                                        best)
+                          : fmt::format("unknown key `{}` in {}", key, where));
             }
         }
     }

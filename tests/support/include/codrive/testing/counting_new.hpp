@@ -4,6 +4,8 @@
 // replaceable operator new/delete form, aligned and nothrow ones included); count with an
 // AllocationScope, or set g_counting on a thread the test does not control (e.g. from a callback
 // on the controller's cyclic thread) and read g_allocations.
+// A program that gathers several such files (allocation_tests, tests/CMakeLists.txt) compiles them
+// with CODRIVE_COUNTING_NEW_ELSEWHERE and defines the operators in tests/support/counting_new.cpp.
 #pragma once
 
 #include <cstdlib>
@@ -14,7 +16,7 @@
 
 #include <codrive/testing/allocation_counter.hpp>
 
-#ifndef CODRIVE_TESTING_TSAN // see allocation_counter.hpp
+#if !defined(CODRIVE_TESTING_TSAN) && !defined(CODRIVE_COUNTING_NEW_ELSEWHERE) // see above
 
 void* operator new(std::size_t size) {
     if (void* p = codrive::testing::counted_malloc(size)) {
@@ -82,4 +84,4 @@ void operator delete(void* p, std::align_val_t, const std::nothrow_t&) noexcept 
 void operator delete[](void* p, std::align_val_t, const std::nothrow_t&) noexcept {
     std::free(p);
 }
-#endif // CODRIVE_TESTING_TSAN
+#endif // !CODRIVE_TESTING_TSAN && !CODRIVE_COUNTING_NEW_ELSEWHERE
