@@ -201,8 +201,8 @@ private:
                 // Lengths further apart than the largest distance suggested cannot give a
                 // suggestion: no O(n*m) distance for a long unknown key (a garbage file).
                 const std::size_t klen = std::char_traits<char>::length(k);
-                const std::size_t apart = key_lower.size() > klen ? key_lower.size() - klen
-                                                                  : klen - key_lower.size();
+                const std::size_t apart =
+                    key_lower.size() > klen ? key_lower.size() - klen : klen - key_lower.size();
                 if (apart > kMaxSuggestDistance) {
                     continue;
                 }
