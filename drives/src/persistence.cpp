@@ -124,7 +124,7 @@ std::string DeviceIdentity::label() const {
 }
 
 void identify_device(DriveTransport& t, std::function<void(DriveResult<DeviceIdentity>)> done) {
-    struct State {
+    struct Pending {
         int pending = 4;
         bool have_type = false;
         DeviceIdentity id;
@@ -148,7 +148,7 @@ void identify_device(DriveTransport& t, std::function<void(DriveResult<DeviceIde
             done(std::move(id));
         }
     };
-    auto s = std::make_shared<State>();
+    auto s = std::make_shared<Pending>();
     s->done = std::move(done);
     t.read(0x1008, 0, [s](DriveResult<Bytes> r) {
         if (r) {

@@ -9,8 +9,6 @@ namespace codrive::sim {
 
 namespace cia = drives::cia402;
 namespace obj = drives::cia402::obj;
-using cia::Command;
-using cia::State;
 
 DriveCore::DriveCore(ObjectDictionary& od, const SimProfile& profile, unsigned axis,
                      std::optional<MachineConfig> machine)
@@ -119,13 +117,13 @@ double DriveCore::halt_decel() const {
 }
 
 bool DriveCore::enabled() const {
-    return state_ == State::OperationEnabled || state_ == State::QuickStopActive ||
-           (state_ == State::FaultReactionActive && stop_.active) || stop_.active;
+    return state_ == cia::State::OperationEnabled || state_ == cia::State::QuickStopActive ||
+           (state_ == cia::State::FaultReactionActive && stop_.active) || stop_.active;
 }
 
 void DriveCore::power_on() {
     // Transition 0 (initialisation) and 1 (initialisation done, communication ready).
-    state_ = State::NotReadyToSwitchOn;
+    state_ = cia::State::NotReadyToSwitchOn;
     faults_.clear();
     warnings_.clear();
     persistent_.clear();
@@ -146,7 +144,7 @@ void DriveCore::power_on() {
     od_.set<std::uint16_t>(index(obj::kControlword), 0, 0);
     od_.set<std::uint16_t>(index(obj::kErrorCode), 0, 0);
     mode_ = get<std::int8_t>(obj::kModesOfOperation, 0, profile_.default_mode());
-    set_state(State::SwitchOnDisabled);
+    set_state(cia::State::SwitchOnDisabled);
     if (sto_ && profile_.sto_warning_code != 0) {
         const FaultCode warn = profile_.fault(profile_.sto_warning_code);
         warnings_.push_back(warn);
@@ -161,7 +159,7 @@ void DriveCore::emit(AxisEvent::Kind kind, const FaultCode& code) {
     }
 }
 
-void DriveCore::set_state(State s) {
+void DriveCore::set_state(cia::State s) {
     state_ = s;
     update_outputs();
 }
@@ -183,102 +181,102 @@ void DriveCore::evaluate(std::uint16_t cw) {
     const bool reset_edge =
         (cw & cia::cw::kFaultReset) != 0 && (last_cw_ & cia::cw::kFaultReset) == 0;
     last_cw_ = cw;
-    if (reset_edge && state_ == State::Fault) {
+    if (reset_edge && state_ == cia::State::Fault) {
         try_fault_reset(); // transition 15
         return;
     }
     const auto c = cia::decode_command(cw);
-    if (!c || *c == Command::FaultReset) {
+    if (!c || *c == cia::Command::FaultReset) {
         return;
     }
     command(*c);
 }
 
-void DriveCore::command(Command c) {
+void DriveCore::command(cia::Command c) {
     // Device control per CiA 402 §6.3 (transition numbers in comments).
     const bool can_switch_on = !sto_; // AKD2G: STO (statusword bit 8) prevents enabling
     switch (state_) {
-    case State::SwitchOnDisabled:
-        if (c == Command::Shutdown) {
-            set_state(State::ReadyToSwitchOn); // 2
+    case cia::State::SwitchOnDisabled:
+        if (c == cia::Command::Shutdown) {
+            set_state(cia::State::ReadyToSwitchOn); // 2
         }
         break;
-    case State::ReadyToSwitchOn:
-        if ((c == Command::SwitchOn || c == Command::EnableOperation) && can_switch_on) {
-            set_state(State::SwitchedOn); // 3 (0x0F: 3, then 4 on the next evaluation)
-        } else if (c == Command::DisableVoltage || c == Command::QuickStop) {
-            set_state(State::SwitchOnDisabled); // 7
+    case cia::State::ReadyToSwitchOn:
+        if ((c == cia::Command::SwitchOn || c == cia::Command::EnableOperation) && can_switch_on) {
+            set_state(cia::State::SwitchedOn); // 3 (0x0F: 3, then 4 on the next evaluation)
+        } else if (c == cia::Command::DisableVoltage || c == cia::Command::QuickStop) {
+            set_state(cia::State::SwitchOnDisabled); // 7
         }
         break;
-    case State::SwitchedOn:
-        if (c == Command::EnableOperation && can_switch_on) {
+    case cia::State::SwitchedOn:
+        if (c == cia::Command::EnableOperation && can_switch_on) {
             enter_mode(get<std::int8_t>(obj::kModesOfOperation));
             traj_.reset(motor_.position());
-            set_state(State::OperationEnabled); // 4
-        } else if (c == Command::Shutdown) {
-            set_state(State::ReadyToSwitchOn); // 6
-        } else if (c == Command::DisableVoltage || c == Command::QuickStop) {
-            set_state(State::SwitchOnDisabled); // 10
+            set_state(cia::State::OperationEnabled); // 4
+        } else if (c == cia::Command::Shutdown) {
+            set_state(cia::State::ReadyToSwitchOn); // 6
+        } else if (c == cia::Command::DisableVoltage || c == cia::Command::QuickStop) {
+            set_state(cia::State::SwitchOnDisabled); // 10
         }
         break;
-    case State::OperationEnabled:
+    case cia::State::OperationEnabled:
         if (stop_.active) {
             // A ramp of transition 5 or 8 is running; only a harder command overrides it.
-            if (c == Command::DisableVoltage) {
-                disable_now(State::SwitchOnDisabled);
+            if (c == cia::Command::DisableVoltage) {
+                disable_now(cia::State::SwitchOnDisabled);
             }
             break;
         }
-        if (c == Command::SwitchOn) { // disable operation
+        if (c == cia::Command::SwitchOn) { // disable operation
             const auto opt =
                 profile_.has_option_objects() ? get<std::int16_t>(obj::kDisableOperationOption) : 1;
             if (opt == 0) {
-                disable_now(State::SwitchedOn); // 5
+                disable_now(cia::State::SwitchedOn); // 5
             } else {
-                begin_stop(accel_param(obj::kProfileDeceleration), State::SwitchedOn); // 5
+                begin_stop(accel_param(obj::kProfileDeceleration), cia::State::SwitchedOn); // 5
             }
-        } else if (c == Command::Shutdown) {
+        } else if (c == cia::Command::Shutdown) {
             const auto opt =
                 profile_.has_option_objects() ? get<std::int16_t>(obj::kShutdownOption) : 0;
             if (opt == 0) {
-                disable_now(State::ReadyToSwitchOn); // 8
+                disable_now(cia::State::ReadyToSwitchOn); // 8
             } else {
-                begin_stop(accel_param(obj::kProfileDeceleration), State::ReadyToSwitchOn);
+                begin_stop(accel_param(obj::kProfileDeceleration), cia::State::ReadyToSwitchOn);
             }
-        } else if (c == Command::DisableVoltage) {
-            disable_now(State::SwitchOnDisabled); // 9
-        } else if (c == Command::QuickStop) {
+        } else if (c == cia::Command::DisableVoltage) {
+            disable_now(cia::State::SwitchOnDisabled); // 9
+        } else if (c == cia::Command::QuickStop) {
             quick_stop(); // 11
         }
         break;
-    case State::QuickStopActive:
-        if (c == Command::DisableVoltage) {
-            disable_now(State::SwitchOnDisabled); // 12
-        } else if (c == Command::EnableOperation && !stop_.active) {
+    case cia::State::QuickStopActive:
+        if (c == cia::Command::DisableVoltage) {
+            disable_now(cia::State::SwitchOnDisabled); // 12
+        } else if (c == cia::Command::EnableOperation && !stop_.active) {
             const auto opt = get<std::int16_t>(obj::kQuickStopOption);
             if (opt == 5 || opt == 6) {
                 enter_mode(get<std::int8_t>(obj::kModesOfOperation));
                 traj_.reset(motor_.position());
-                set_state(State::OperationEnabled); // 16
+                set_state(cia::State::OperationEnabled); // 16
             }
         }
         break;
-    case State::NotReadyToSwitchOn:
-    case State::FaultReactionActive:
-    case State::Fault:
-    case State::Unknown:
+    case cia::State::NotReadyToSwitchOn:
+    case cia::State::FaultReactionActive:
+    case cia::State::Fault:
+    case cia::State::Unknown:
         break;
     }
 }
 
-void DriveCore::begin_stop(double decel, State then) {
+void DriveCore::begin_stop(double decel, cia::State then) {
     stop_.active = true;
     stop_.decel = std::max(decel, 1.0);
     stop_.then = then;
     traj_.set({motor_.position(), motor_.velocity()});
 }
 
-void DriveCore::disable_now(State then) {
+void DriveCore::disable_now(cia::State then) {
     stop_ = {};
     pp_moving_ = false;
     pp_buffer_.reset();
@@ -294,14 +292,14 @@ void DriveCore::quick_stop() {
     homing_.interrupt();
     if (opt == 0 || (pt && profile_.quick_stop_ignored_in_pt)) {
         // 0: disable drive function; AKD2G PT: dynamic braking, disabled (akd2g.md §5.4).
-        disable_now(State::SwitchOnDisabled);
+        disable_now(cia::State::SwitchOnDisabled);
         return;
     }
-    set_state(State::QuickStopActive);
+    set_state(cia::State::QuickStopActive);
     // Options 1/2 leave QUICK STOP ACTIVE for SWITCH ON DISABLED when stopped (transition 12);
     // 5/6 stay (transition 16 is possible afterwards).
     begin_stop(quick_stop_decel(),
-               (opt == 5 || opt == 6) ? State::QuickStopActive : State::SwitchOnDisabled);
+               (opt == 5 || opt == 6) ? cia::State::QuickStopActive : cia::State::SwitchOnDisabled);
 }
 
 void DriveCore::start_fault_reaction() {
@@ -310,7 +308,7 @@ void DriveCore::start_fault_reaction() {
     pp_buffer_.reset();
     homing_.interrupt();
     stop_ = {};
-    set_state(State::FaultReactionActive); // 13
+    set_state(cia::State::FaultReactionActive); // 13
     if (!was_enabled) {
         return; // nothing to stop: FAULT at the next step (14)
     }
@@ -333,7 +331,7 @@ void DriveCore::start_fault_reaction() {
                 profile_.velocity_scale();
     }
     if (decel > 0) {
-        begin_stop(decel, State::Fault);
+        begin_stop(decel, cia::State::Fault);
     }
 }
 
@@ -349,7 +347,7 @@ void DriveCore::raise_fault(const FaultCode& code, bool persistent) {
     if (!known) {
         emit(AxisEvent::Kind::FaultRaised, code);
     }
-    if (state_ != State::Fault && state_ != State::FaultReactionActive) {
+    if (state_ != cia::State::Fault && state_ != cia::State::FaultReactionActive) {
         start_fault_reaction();
     }
 }
@@ -377,7 +375,7 @@ void DriveCore::try_fault_reset() {
     od_.set<std::uint16_t>(index(obj::kErrorCode), 0, 0);
     publish_faults();
     ferr_time_ = 0;
-    set_state(State::SwitchOnDisabled);
+    set_state(cia::State::SwitchOnDisabled);
     emit(AxisEvent::Kind::FaultsCleared, {});
 }
 
@@ -388,21 +386,21 @@ void DriveCore::set_sto(bool active) {
     sto_ = active;
     const FaultCode warn = profile_.fault(profile_.sto_warning_code);
     if (active) {
-        if (state_ == State::OperationEnabled || state_ == State::QuickStopActive ||
-            state_ == State::SwitchedOn || stop_.active) {
+        if (state_ == cia::State::OperationEnabled || state_ == cia::State::QuickStopActive ||
+            state_ == cia::State::SwitchedOn || stop_.active) {
             // Torque is cut while the axis was powered: the STO fault (AKD2G F9000).
             const bool was_enabled = enabled();
             raise_fault(profile_.code_for(FaultKind::Sto), true);
             if (was_enabled) {
                 stop_ = {}; // STO removes torque at once: no ramp
-                set_state(State::FaultReactionActive);
+                set_state(cia::State::FaultReactionActive);
             }
         } else if (warn.emcy != 0) {
             warnings_.push_back(warn);
             emit(AxisEvent::Kind::WarningRaised, warn);
         }
-        if (state_ == State::ReadyToSwitchOn) {
-            set_state(State::SwitchOnDisabled);
+        if (state_ == cia::State::ReadyToSwitchOn) {
+            set_state(cia::State::SwitchOnDisabled);
         }
     } else if (warn.emcy != 0) {
         auto it = std::find_if(warnings_.begin(), warnings_.end(),
@@ -449,16 +447,16 @@ void DriveCore::abort_connection(std::int16_t option) {
     switch (option) {
     case -1:
         od_.set<std::uint16_t>(index(obj::kControlword), 0, 0);
-        command(Command::DisableVoltage);
+        command(cia::Command::DisableVoltage);
         break;
     case 1:
         raise_fault(profile_.code_for(FaultKind::HeartbeatLoss));
         break;
     case 2:
-        command(Command::DisableVoltage);
+        command(cia::Command::DisableVoltage);
         break;
     case 3:
-        command(Command::QuickStop);
+        command(cia::Command::QuickStop);
         break;
     default:
         break;
@@ -487,7 +485,7 @@ void DriveCore::step(double dt) {
     const auto cw = get<std::uint16_t>(obj::kControlword);
     if (cw != last_cw_) {
         on_controlword(cw);
-    } else if (state_ == State::SwitchedOn) {
+    } else if (state_ == cia::State::SwitchedOn) {
         // Level-triggered: 0x0F in READY TO SWITCH ON goes 3, then 4 here. QUICK STOP ACTIVE
         // is left only by a new controlword (a local quick stop must not undo itself).
         evaluate(cw);
@@ -498,24 +496,24 @@ void DriveCore::step(double dt) {
         traj_.set({motor_.position(), motor_.velocity()});
     }
 
-    if (state_ == State::FaultReactionActive && !stop_.active) {
-        set_state(State::Fault); // 14
+    if (state_ == cia::State::FaultReactionActive && !stop_.active) {
+        set_state(cia::State::Fault); // 14
     }
 
     if (stop_.active) {
         const bool stopped = traj_.step_velocity(0, stop_.decel, stop_.decel, dt);
         motor_.follow_position(traj_.position(), traj_.velocity(), dt);
         if (stopped && std::abs(motor_.velocity()) < 1e-3 * profile_.counts_per_rev) {
-            const State then = stop_.then;
+            const cia::State then = stop_.then;
             stop_ = {};
-            if (then != State::QuickStopActive) {
+            if (then != cia::State::QuickStopActive) {
                 set_state(then);
             }
             traj_.reset(motor_.position());
         }
-    } else if (state_ == State::OperationEnabled) {
+    } else if (state_ == cia::State::OperationEnabled) {
         run_mode(dt);
-    } else if (state_ == State::QuickStopActive) {
+    } else if (state_ == cia::State::QuickStopActive) {
         traj_.step_velocity(0, quick_stop_decel(), quick_stop_decel(), dt);
         motor_.follow_position(traj_.position(), traj_.velocity(), dt);
     } else {
@@ -533,7 +531,7 @@ void DriveCore::step(double dt) {
 
 void DriveCore::monitor_following_error(double dt) {
     following_error_ = traj_.position() - motor_.position();
-    const bool position_mode = state_ == State::OperationEnabled &&
+    const bool position_mode = state_ == cia::State::OperationEnabled &&
                                (mode_ == 1 || mode_ == 6 || mode_ == 8 || mode_ == -8);
     const auto window = get<std::uint32_t>(obj::kFollowingErrorWindow);
     // AKD2G: 6065h = 0 switches monitoring off (akd2g.md §5.6).
@@ -770,15 +768,15 @@ void DriveCore::update_outputs() {
     std::uint16_t s = cia::state_bits(state_);
     if (profile_.akd2g_objects) {
         s |= sw::kVoltageEnabled; // DC bus present
-    } else if (state_ != State::SwitchOnDisabled && state_ != State::NotReadyToSwitchOn) {
+    } else if (state_ != cia::State::SwitchOnDisabled && state_ != cia::State::NotReadyToSwitchOn) {
         s |= sw::kVoltageEnabled;
     }
-    if (state_ != State::QuickStopActive && state_ != State::NotReadyToSwitchOn &&
-        state_ != State::SwitchOnDisabled && state_ != State::Fault &&
-        state_ != State::FaultReactionActive) {
+    if (state_ != cia::State::QuickStopActive && state_ != cia::State::NotReadyToSwitchOn &&
+        state_ != cia::State::SwitchOnDisabled && state_ != cia::State::Fault &&
+        state_ != cia::State::FaultReactionActive) {
         s |= sw::kQuickStop;
     }
-    if (state_ == State::SwitchOnDisabled) {
+    if (state_ == cia::State::SwitchOnDisabled) {
         s |= sw::kQuickStop; // bit 5 is "don't care" there; drives report 1
     }
     if (!warnings_.empty()) {
@@ -795,10 +793,10 @@ void DriveCore::update_outputs() {
     s |= sw::kRemote;
     const bool standstill = std::abs(motor_.velocity()) < 1e-3 * profile_.counts_per_rev;
     const bool halt = (last_cw_ & cia::cw::kHalt) != 0;
-    if (state_ == State::QuickStopActive && !stop_.active) {
+    if (state_ == cia::State::QuickStopActive && !stop_.active) {
         s |= sw::kTargetReached; // quick stop with 605Ah 5/6 completed
     }
-    if (state_ == State::OperationEnabled && !stop_.active) {
+    if (state_ == cia::State::OperationEnabled && !stop_.active) {
         switch (mode_) {
         case 1: {
             const auto time_ms =

@@ -12,7 +12,8 @@
 #              FUZZ_RUNS (run each target to this many executions instead of for SECONDS),
 #              FUZZ_DEADLINE (epoch seconds: a target still running then is stopped and counted
 #              as failed, "stopped at the deadline"; no target starts after it),
-#              FUZZ_OPT (optimisation of a new build, default -O1; CI's short runs use -O0).
+#              FUZZ_OPT (optimisation of a new build, default -O1; CI runs the targets of its
+#              ASan+UBSan build instead, see tests/run-all.sh).
 # The table's executions and cov/ft are libFuzzer's final figures (the "DONE" stats line).
 # A target that crashes on its first input has no coverage line: its row shows "-" (set -e must
 # not end the script there, or the summary line run-all.sh counts would be missing).

@@ -16,12 +16,12 @@ using codrive::testing::has;
 
 namespace {
 
-const std::string kDevices = std::string(CODRIVE_SOURCE_DIR) + "/devices/";
+const std::string kDeviceDir = std::string(CODRIVE_SOURCE_DIR) + "/devices/";
 
 } // namespace
 
 TEST(EsiShowCli, ListsIdentityCountsSyncManagersAndDefaultPdos) {
-    const auto r = ct::run({ct::tool_path("codrive"), "esi", "show", kDevices + "fio.xml"}, 20s);
+    const auto r = ct::run({ct::tool_path("codrive"), "esi", "show", kDeviceDir + "fio.xml"}, 20s);
     ASSERT_EQ(r.status, 0) << r.output;
     EXPECT_TRUE(has(r.output, "fio.xml: vendor 0x0048554B (Kuhnke), 1 device(s)")) << r.output;
     EXPECT_TRUE(has(r.output, "device product 0x0002BA67 revision 0x00000000 (Kuhnke FIO Drive "
@@ -34,21 +34,22 @@ TEST(EsiShowCli, ListsIdentityCountsSyncManagersAndDefaultPdos) {
                               "    6040:00 16 bit  Controlword\n"))
         << r.output;
     const auto akd =
-        ct::run({ct::tool_path("codrive"), "esi", "show", kDevices + "akd2g.xml"}, 20s);
+        ct::run({ct::tool_path("codrive"), "esi", "show", kDeviceDir + "akd2g.xml"}, 20s);
     ASSERT_EQ(akd.status, 0) << akd.output;
     EXPECT_TRUE(has(akd.output, "(Kollmorgen AKD2G): 166 objects, 13 RxPDO, 19 TxPDO"))
         << akd.output;
 }
 
 TEST(EsiShowCli, OneObjectIsPrintedTypedAndAMissingOneIsAnError) {
-    auto r = ct::run({ct::tool_path("codrive"), "esi", "show", kDevices + "fio.xml", "607A"}, 20s);
+    auto r =
+        ct::run({ct::tool_path("codrive"), "esi", "show", kDeviceDir + "fio.xml", "607A"}, 20s);
     ASSERT_EQ(r.status, 0) << r.output;
     EXPECT_TRUE(has(r.output, "607A:00  Target position  DINT (INTEGER32)  rw  R  A00F0000"))
         << r.output;
-    r = ct::run({ct::tool_path("codrive"), "esi", "show", kDevices + "fio.xml", "2345"}, 20s);
+    r = ct::run({ct::tool_path("codrive"), "esi", "show", kDeviceDir + "fio.xml", "2345"}, 20s);
     EXPECT_EQ(r.status, 1) << r.output;
     EXPECT_TRUE(has(r.output, "fio.xml has no object 2345h")) << r.output;
-    r = ct::run({ct::tool_path("codrive"), "esi", "show", kDevices + "fio.xml", "x9"}, 20s);
+    r = ct::run({ct::tool_path("codrive"), "esi", "show", kDeviceDir + "fio.xml", "x9"}, 20s);
     EXPECT_EQ(r.status, 2) << r.output;
 }
 

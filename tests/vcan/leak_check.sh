@@ -36,15 +36,16 @@ failed_runs=0
 # delete" for blocks that are allocated and freed by the same replacement; only that report is
 # turned off for the test binary (leaks and invalid accesses still fail), never for the tools.
 vg_extra=()
-checked() { # name cmd... : runs cmd under valgrind, its log as vg.<n>.log
+checked() { # name cmd... : runs cmd under valgrind, its log as vg.<n>.log, its time as time.<n>
     n=$((n + 1))
-    local log=$out/vg.$n.log
+    local log=$out/vg.$n.log t0=$SECONDS
     "${vg[@]}" "${vg_extra[@]}" --log-file="$log" "$@" >"$out/out.$n.log" 2>&1 || {
         echo "leak-check: '$*' exited with $?" >&2
         tail -20 "$out/out.$n.log" >&2
         status=1
         failed_runs=$((failed_runs + 1))
     }
+    echo $((SECONDS - t0)) >"$out/time.$n"
 }
 
 # 1. In-process vcan tests.
@@ -56,6 +57,7 @@ grep -hE '^\[( +OK|  FAILED) ' "$out/out.1.log" || true
 # 2. The simulator and the CLI.
 tools=$build/tools
 if [[ -x $tools/codrive-sim ]]; then
+    sim_t0=$SECONDS
     "${vg[@]}" --log-file="$out/vg.sim.log" "$tools/codrive-sim" -i vcan0 --node 1:akd2g:1 \
         --node 2:akd2g:1 --node 3:ds-bvs >"$out/sim.out" 2>&1 &
     sim_pid=$!
@@ -83,6 +85,7 @@ if [[ -x $tools/codrive-sim ]]; then
     grep -E '^soak: [0-9]+ SYNC|^soak: heap' "$out/out.$n.log" || true
     kill -TERM "$sim_pid"
     wait "$sim_pid" || { echo "leak-check: codrive-sim exited with $?" >&2; status=1; }
+    echo $((SECONDS - sim_t0)) >"$out/time.sim"
     sim_pid=
 else
     echo "leak-check: $tools/codrive-sim not built" >&2
@@ -103,8 +106,10 @@ for log in "$out"/vg.*.log; do
     definite=$(awk '/definitely lost:/ {gsub(",", "", $4); v=$4} END {print v+0}' "$log")
     indirect=$(awk '/indirectly lost:/ {gsub(",", "", $4); v=$4} END {print v+0}' "$log")
     allocs=$(awk '/total heap usage:/ {gsub(",", "", $5); v=$5} END {print v+0}' "$log")
-    printf 'leak-check: %-70s allocs %9d  definitely lost %d B  indirectly lost %d B  errors %d\n' \
-        "$short" "$allocs" "$definite" "$indirect" "$errors"
+    tag=${log##*/vg.}
+    secs=$(cat "$out/time.${tag%.log}" 2>/dev/null || echo "?")
+    printf 'leak-check: %-70s allocs %9d  definitely lost %d B  indirectly lost %d B  errors %d  %s s\n' \
+        "$short" "$allocs" "$definite" "$indirect" "$errors" "$secs"
     if ((errors > 0 || definite > 0 || indirect > 0)); then
         bad=$((bad + 1))
         echo "---- $log" >&2

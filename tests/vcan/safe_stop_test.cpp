@@ -30,7 +30,7 @@ namespace {
 
 /// One single-axis AKD2G (node 1) in CSP, SYNC every 4 ms, heartbeat 100 ms; plus `extra`
 /// node entries.
-std::string write_bus_file(const std::string& extra = "") {
+std::string write_stop_bus_file(const std::string& extra = "") {
     const std::string path = "/tmp/codrive-safe-stop-" + std::to_string(::getpid()) + ".yml";
     std::ofstream(path) << "bus:\n  interface: vcan0\n  sync_period_us: 4000\n"
                            "  master: {node_id: 127, heartbeat_ms: 100}\nnodes:\n"
@@ -162,7 +162,7 @@ void run_command_stops_safely(int sig) {
     ASSERT_TRUE(sim.wait_for_output("ready", 30s)) << sim.output();
     CanWire wire;
     ASSERT_TRUE(wire.ok());
-    const std::string bus = write_bus_file();
+    const std::string bus = write_stop_bus_file();
     Process run({tool_path("codrive"), "run", bus, "--enable", "--refresh", "1000"});
     ASSERT_TRUE(wire.wait(output_has(run, "node 1 axis 1: enabled"), 30s)) << run.output();
     ASSERT_TRUE(wire.wait(
@@ -208,7 +208,7 @@ TEST(VcanSafeStop, RunCommandInterruptedDuringBootUpExits130AndLeavesNodesPreOpe
     CanWire wire;
     ASSERT_TRUE(wire.ok());
     const std::string bus =
-        write_bus_file("  - id: 5\n    profile: akd2g\n    sdo_timeout_ms: 3000\n");
+        write_stop_bus_file("  - id: 5\n    profile: akd2g\n    sdo_timeout_ms: 3000\n");
     Process run({tool_path("codrive"), "run", bus, "--enable"});
     // Node 5's boot-up probes it over SDO (3 probes of 3 s): the boot-up is under way and the
     // signal handlers are installed.

@@ -76,7 +76,7 @@ void add_flags(Frame& f, unsigned flags) {
 }
 
 // Sets id and the 29-bit flag from a BLF id (bit 31: extended); false if an 11-bit id is > 7FF.
-bool set_id(std::uint32_t raw, Frame& f) {
+bool set_blf_id(std::uint32_t raw, Frame& f) {
     if ((raw & kIdExtendedBit) != 0) {
         f.flags = static_cast<std::uint8_t>(f.flags | Frame::kExtended);
         f.id = raw & Frame::kExtMask;
@@ -467,7 +467,7 @@ ReadStatus BlfReader::decode(const std::uint8_t* obj, std::uint32_t size, std::u
             return malformed(fmt::format("{} data bytes, at least 16 expected", n));
         }
         channel = le16(p);
-        if (!set_id(le32(p + 4), f)) {
+        if (!set_blf_id(le32(p + 4), f)) {
             return malformed(fmt::format("identifier 0x{:X} out of range", le32(p + 4)));
         }
         f.len = std::min<std::uint8_t>(p[3], 8);
@@ -485,7 +485,7 @@ ReadStatus BlfReader::decode(const std::uint8_t* obj, std::uint32_t size, std::u
             return malformed(fmt::format("{} data bytes, at least 20 expected", n));
         }
         channel = le16(p);
-        if (!set_id(le32(p + 4), f)) {
+        if (!set_blf_id(le32(p + 4), f)) {
             return malformed(fmt::format("identifier 0x{:X} out of range", le32(p + 4)));
         }
         const bool edl = (p[13] & kFdFlagEdl) != 0;
@@ -514,7 +514,7 @@ ReadStatus BlfReader::decode(const std::uint8_t* obj, std::uint32_t size, std::u
             return malformed(fmt::format("{} data bytes, at least 40 expected", n));
         }
         channel = p[0];
-        if (!set_id(le32(p + 4), f)) {
+        if (!set_blf_id(le32(p + 4), f)) {
             return malformed(fmt::format("identifier 0x{:X} out of range", le32(p + 4)));
         }
         const std::uint32_t fd_flags = le32(p + 12);
