@@ -23,6 +23,7 @@
 #include <functional>
 #include <malloc.h>
 #include <string>
+#include <thread>
 #include <unistd.h>
 #include <vector>
 
@@ -160,6 +161,19 @@ inline int count_dir_entries(const char* path) {
         ::closedir(d);
     }
     return n;
+}
+
+/// Threads of this process (reads /proc/self/task). Call start_runtime_threads() before taking
+/// a baseline.
+inline int count_threads() {
+    return count_dir_entries("/proc/self/task");
+}
+
+/// ThreadSanitizer's runtime starts a background thread of its own at the process's first
+/// pthread_create(): one throwaway thread, so that a thread count taken afterwards changes only
+/// with the threads the code under test starts and ends, in any build and test order.
+inline void start_runtime_threads() {
+    std::thread([] {}).join();
 }
 
 /// Current process resources (reads /proc; not for the cyclic path).
