@@ -138,9 +138,7 @@ run_gtest() {
 }
 
 # The unit stage runs in the background while the Release build compiles (a test binary needs
-# one CPU): each binary's log and exit status go to unit_dir and are counted afterwards. Its
-# largest binary, integration_tests (about two minutes there), runs beside the guest instead
-# (integ_dir), where a CPU has room: the Release build, and so the guest, start sooner.
+# one CPU): each binary's log and exit status go to unit_dir and are counted afterwards.
 # gtest_to_dir DIR EXE [ARGS...]: runs one gtest binary (after gtest_prefix) in a background
 # stage, its log and exit status into DIR, for report_dir.
 gtest_to_dir() {
@@ -164,20 +162,11 @@ unit_run() {
     t0=$(date +%s)
     rm -rf "$unit_dir"
     mkdir -p "$unit_dir"
-    for exe in "$root"/build-asan/tests/unit_*; do
+    for exe in "$root"/build-asan/tests/unit_* "$root"/build-asan/tests/integration_tests; do
         [[ -x $exe ]] || continue
         gtest_to_dir "$unit_dir" "$exe"
     done
     echo $(($(date +%s) - t0)) >"$unit_dir/seconds"
-}
-integ_dir=$root/build-asan/ci-integration
-integration_run() {
-    local t0
-    t0=$(date +%s)
-    rm -rf "$integ_dir"
-    mkdir -p "$integ_dir"
-    gtest_to_dir "$integ_dir" "$root/build-asan/tests/integration_tests"
-    echo $(($(date +%s) - t0)) >"$integ_dir/seconds"
 }
 
 # The Release build (what users ship) serves the vcan and leak stages (no sanitizer runtime works
@@ -241,10 +230,9 @@ seconds[unit]=$(cat "$unit_dir/seconds" 2>/dev/null || echo 0)
 stage_order+=(unit)
 report_dir unit "$unit_dir"
 
-# Beside the guest of the vcan and leak stages, which takes one CPU: the ASan+UBSan
-# integration_tests, then the TSan build with one job (two jobs beside the guest, even at nice
-# 19, slowed its stages by a third: 10m46s instead of 7m48s), then the fuzzers (one process at a
-# time). When the guest ends a build under way goes on
+# Beside the guest of the vcan and leak stages, which takes one CPU: the TSan build with one job
+# (two jobs beside the guest, even at nice 19, slowed its stages by a third: 10m46s instead of
+# 7m48s), then the fuzzers (one process at a time). When the guest ends a build under way goes on
 # with every job, beside the Python and install stages; the timed EtherCAT tests come last.
 bg_dir=$root/build-ci-beside
 fuzz_log=$bg_dir/fuzz.log
@@ -281,7 +269,6 @@ beside_build() {
 beside_guest() {
     local t0
     renice -n 10 -p "$BASHPID" >/dev/null
-    integration_run
     t0=$(date +%s)
     set +e
     beside_build "$root/build-tsan" "$bg_dir/build-tsan.log" configure_build "$root/build-tsan" \
@@ -301,7 +288,7 @@ fuzz_run() {
     echo $? >"$bg_dir/fuzz.rc"
     echo $(($(date +%s) - t0)) >"$bg_dir/fuzz-run.seconds"
 }
-echo "== beside the guest (logs: $bg_dir): ASan+UBSan integration_tests, TSan build, then the fuzzers"
+echo "== beside the guest (logs: $bg_dir): TSan build, then the fuzzers"
 beside_guest &
 beside_pid=$!
 
@@ -421,9 +408,6 @@ echo "== waiting for the builds beside the guest and the fuzzers"
 t_wait=$(date +%s)
 wait "$beside_pid" || true
 echo "(waited $(($(date +%s) - t_wait)) s after the install stage)"
-echo "== integration tests (ASan+UBSan), beside the guest"
-report_dir unit "$integ_dir"
-seconds[unit]=$((${seconds[unit]} + $(cat "$integ_dir/seconds" 2>/dev/null || echo 0)))
 echo "== build: ThreadSanitizer (controller, hand-off and EtherCAT controller tests), beside the guest"
 seconds[build-tsan]=$(cat "$bg_dir/build-tsan.seconds" 2>/dev/null || echo 0)
 stage_order+=(build-tsan)
@@ -526,7 +510,7 @@ line="stage times:"
 for name in "${stage_order[@]}"; do
     line+=" $name $(fmt_time "${seconds[$name]}"),"
 done
-echo "$line total $(fmt_time $(($(date +%s) - t_start))) (unit: its integration_tests beside the guest; build-tsan, one job until the guest ends, then the fuzzers, beside vcan, leak, python and install; tsan's integration tests beside ethercat)"
+echo "$line total $(fmt_time $(($(date +%s) - t_start))) (build-tsan, one job until the guest ends, then the fuzzers, beside vcan, leak, python and install; tsan's integration tests beside ethercat)"
 if ((total_failed > 0)); then
     status=1
 fi
