@@ -184,7 +184,7 @@ inline ResourceSample sample_resources(std::uint64_t cycle) {
     s.heap_in_use = mi.uordblks + mi.hblkhd;
     s.heap_mapped = mi.hblkhd;
     s.fds = count_dir_entries("/proc/self/fd") - 1; // minus the one opendir() holds
-    s.threads = count_dir_entries("/proc/self/task");
+    s.threads = count_threads();
     return s;
 }
 
