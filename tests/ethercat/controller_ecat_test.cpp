@@ -28,8 +28,11 @@ namespace {
 // A loaded CI host may delay the simulator past a frame timeout now and then: at most one frame
 // in 50 cycles may be lost (seen in CI under ASan: one 4 ms stall, 7 of 607 cycles); under
 // ThreadSanitizer, which slows the simulator several times over too, one in 20 (seen in CI: one
-// 6 ms stall losing 3 frames in a row twice, 7 of 666 cycles).
-#if defined(__SANITIZE_THREAD__)
+// 6 ms stall losing 3 frames in a row twice, 7 of 666 cycles; on a host busy with two fuzzers,
+// 16 of 667). CODRIVE_TESTING_TSAN comes from counting_new.hpp: clang does not define GCC's
+// __SANITIZE_THREAD__, which these allowances once tested, so for a while the TSan
+// stage ran under the ASan+UBSan bounds (and met them on an idle CI machine).
+#if defined(CODRIVE_TESTING_TSAN)
 constexpr std::uint64_t kLostPerCycles = 20;
 #else
 constexpr std::uint64_t kLostPerCycles = 50;
@@ -366,7 +369,7 @@ TEST_F(ControllerOverEthercat, DedicatedCyclicThreadEnablesMovesAndStopsWithinOn
         EXPECT_LT(ms, 1000.0);
         EXPECT_EQ(axis->state(), drives::cia402::State::SwitchOnDisabled) << events;
         EXPECT_LE(stats.ecat_frame_errors, stats.cycles / kLostPerCycles) << events;
-#if !defined(__SANITIZE_THREAD__) // ThreadSanitizer slows the cycle several times over
+#if !defined(CODRIVE_TESTING_TSAN) // ThreadSanitizer slows the cycle several times over
         // One slave on a private veth pair, nothing acyclic going on: once the axis follows the
         // ramp the cyclic thread keeps its 2 ms slots. A busy host (or its hypervisor) may hold
         // even a SCHED_FIFO thread for a slot now and then (seen: 1 overrun on an idle CI run, 6
@@ -447,7 +450,7 @@ TEST_F(ControllerOverEthercat, DedicatedCyclicObjectAccessWhileTheAxisMovesCosts
         static_cast<unsigned long long>(after.overruns - before.overruns),
         static_cast<unsigned long long>(after.ecat_frame_errors - before.ecat_frame_errors));
     EXPECT_EQ(ramp.phase(), ramp.Moving) << "the axis stopped following: " << events;
-#if !defined(__SANITIZE_THREAD__) // ThreadSanitizer slows the cycle several times over
+#if !defined(CODRIVE_TESTING_TSAN) // ThreadSanitizer slows the cycle several times over
     // The transfers ride in the cyclic frames one step per cycle: no cycle waits for them.
     EXPECT_EQ(after.overruns - before.overruns, 0U) << after.to_string();
 #endif
