@@ -5,12 +5,18 @@
 # (executions, exec/s, cov, ft, corpus size, result) and its "fuzz: N passed, M failed" line.
 # The corpus grows in <build>/fuzz-corpus/ across runs.
 # Usage: bench/fuzz_long.sh [TARGET...]
-# Environment: RUNS (executions per target), DEADLINE (a time `date -d` understands, e.g. 11:30
-#              UTC: the running target is stopped then and counted as failed, no new one starts),
+# Environment: RUNS (executions per target), FUZZ_TIMEOUT (default 60 s, below), DEADLINE (a
+#              time `date -d` understands, e.g. 11:30 UTC: the running target is stopped then
+#              and counted as failed, no new one starts),
 #              plus tests/fuzz/run.sh's (CODRIVE_FUZZ_BUILD, JOBS, ...).
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 export FUZZ_RUNS=${RUNS:-10000000}
+# libFuzzer's -timeout counts wall time. At nice 19 a campaign gets almost no CPU while a build
+# runs beside it at normal priority: a 0.2 s fuzz_eds input once "timed out" after 11 s that way
+# (session 18). 60 s still catches a real hang (on the fake clock nothing waits) and rides out
+# such stalls; build at nice 19 too and the campaign keeps its share.
+export FUZZ_TIMEOUT=${FUZZ_TIMEOUT:-60}
 if [[ -n ${DEADLINE:-} ]]; then
     FUZZ_DEADLINE=$(date -d "$DEADLINE" +%s)
     export FUZZ_DEADLINE

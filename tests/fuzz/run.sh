@@ -13,7 +13,9 @@
 #              FUZZ_DEADLINE (epoch seconds: a target still running then is stopped and counted
 #              as failed, "stopped at the deadline"; no target starts after it),
 #              FUZZ_OPT (optimisation of a new build, default -O1; CI runs the targets of its
-#              ASan+UBSan build instead, see tests/run-all.sh), ASAN_OPTIONS (default below).
+#              ASan+UBSan build instead, see tests/run-all.sh), ASAN_OPTIONS (default below),
+#              FUZZ_TIMEOUT (seconds one input may run before libFuzzer calls it a hang, default
+#              10; wall time, so a campaign beside other work needs more: bench/fuzz_long.sh).
 # The table's executions and cov/ft are libFuzzer's final figures (the "DONE" stats line).
 # A target that crashes on its first input has no coverage line: its row shows "-" (set -e must
 # not end the script there, or the summary line run-all.sh counts would be missing).
@@ -30,6 +32,7 @@ jobs=${JOBS:-2}
 max_len=${FUZZ_MAX_LEN:-4096}
 runs=${FUZZ_RUNS:-}
 deadline=${FUZZ_DEADLINE:-}
+unit_timeout=${FUZZ_TIMEOUT:-10}
 # ASan's defaults record 30 stack frames at every malloc and free and keep 256 MB of freed memory
 # poisoned: with inputs that allocate a lot (YAML trees, simulated slaves) that bookkeeping and
 # the page faults of its quarantine took half of fuzz_bus_config's time. Ten frames still show
@@ -112,7 +115,7 @@ for target in "${targets[@]}"; do
         [[ $left -lt $guard ]] && guard=$left
     fi
     timeout --signal=INT "$guard" "$exe" "$corpus" "${budget[@]}" \
-        -max_len="$max_len" -timeout=10 -rss_limit_mb=2048 -print_final_stats=1 \
+        -max_len="$max_len" -timeout="$unit_timeout" -rss_limit_mb=2048 -print_final_stats=1 \
         -artifact_prefix="$artifacts/" >"$log" 2>&1 || status=$?
     execs=$(awk '/stat::number_of_executed_units:/ {v=$2} END {print v+0}' "$log")
     rate=$(awk '/stat::average_exec_per_sec:/ {v=$2} END {print v+0}' "$log")
