@@ -6,6 +6,7 @@
 
 #include <codrive/controller/controller.hpp>
 #include <codrive/testing/enable_then_ramp.hpp>
+#include <codrive/testing/sanitizers.hpp>
 #include <codrive/testing/soak.hpp>
 #include <codrive/testing/stop_latency.hpp>
 
@@ -29,9 +30,7 @@ namespace {
 // in 50 cycles may be lost (seen in CI under ASan: one 4 ms stall, 7 of 607 cycles); under
 // ThreadSanitizer, which slows the simulator several times over too, one in 20 (seen in CI: one
 // 6 ms stall losing 3 frames in a row twice, 7 of 666 cycles; on a host busy with two fuzzers,
-// 16 of 667). CODRIVE_TESTING_TSAN comes from counting_new.hpp: clang does not define GCC's
-// __SANITIZE_THREAD__, which these allowances once tested, so for a while the TSan
-// stage ran under the ASan+UBSan bounds (and met them on an idle CI machine).
+// 16 of 667).
 #if defined(CODRIVE_TESTING_TSAN)
 constexpr std::uint64_t kLostPerCycles = 20;
 #else

@@ -4,6 +4,8 @@
 // this header; the operators that feed it are in counting_new.hpp (one file per program).
 #pragma once
 
+#include <codrive/testing/sanitizers.hpp>
+
 #include <atomic>
 #include <cstdint>
 #include <cstdio>
@@ -14,13 +16,6 @@
 // operator new/delete itself, so counting_new.hpp cannot replace them there: no allocation is
 // counted in a TSan build, and a test that counts aborts with a sentence instead of passing on
 // a count of 0. (The TSan stage of tests/run-all.sh leaves the allocation tests out.)
-#if defined(__SANITIZE_THREAD__)
-#define CODRIVE_TESTING_TSAN 1
-#elif defined(__has_feature)
-#if __has_feature(thread_sanitizer)
-#define CODRIVE_TESTING_TSAN 1
-#endif
-#endif
 
 namespace codrive::testing {
 #ifdef CODRIVE_TESTING_TSAN
