@@ -122,7 +122,7 @@ for target in "${targets[@]}"; do
     # Coverage from libFuzzer's last status line (the "DONE" line of a finished run).
     cov=$(grep -o 'cov: [0-9]*' "$log" | tail -1 | awk '{print $2}' || true)
     ft=$(grep -o 'ft: [0-9]*' "$log" | tail -1 | awk '{print $2}' || true)
-    units=$(find "$corpus" -type f | wc -l)
+    units=$(find "$corpus/" -type f | wc -l) # the slash: a corpus directory may be a symlink
     if [[ $status -eq 0 ]]; then
         result=ok
         passed=$((passed + 1))
