@@ -310,12 +310,28 @@ finish "$status"
 EOF
 chmod +x "$work/init"
 
+# Debian 12's UML (kernel 6.1) keeps 2696 bytes of FPU state per guest thread; on a host whose
+# XSAVE area is larger (AMX: 11008 bytes) every restore fails and the guest's init dies at once.
+# The preloaded shim completes those requests to the host's size (see uml-xstate-shim.c); where
+# UML already fits it passes everything through.
+preload=()
+cc_bin=$(find_tool cc)
+[[ -n $cc_bin ]] || cc_bin=$(find_tool gcc)
+if [[ -n $cc_bin ]] &&
+    "$cc_bin" -std=c11 -O2 -shared -fPIC -o "$work/uml-xstate-shim.so" "$here/uml-xstate-shim.c" -ldl \
+        >"$work/shim-build.log" 2>&1; then
+    preload=(env "LD_PRELOAD=$work/uml-xstate-shim.so")
+else
+    echo "$prog: warning: could not build $here/uml-xstate-shim.c with ${cc_bin:-a C compiler (none found; package gcc)}; on a host CPU with AMX the guest will die at start." >&2
+    sed -n '1,5s/^/  | /p' "$work/shim-build.log" >&2
+fi
+
 tmo=${timeout_s:-1200}
 note "no native vcan (${native_err:-mode=uml}); booting User-Mode-Linux ($uml_bin, mem=$mem, RAM file in $uml_tmp, timeout ${tmo}s)."
 
 t_start=$(date +%s.%N)
 # con0=null,fd:1: console output to the log, no input; everything works with no terminal.
-TMPDIR=$uml_tmp timeout -k 10 "$tmo" "$uml_bin" \
+TMPDIR=$uml_tmp timeout -k 10 "$tmo" "${preload[@]}" "$uml_bin" \
     mem="$mem" rootfstype=hostfs rw init="$work/init" uml_dir="$work/uml" \
     con=null con0=null,fd:1 ssl=null </dev/null >"$work/console.log" 2>&1 &
 guest_pid=$!
