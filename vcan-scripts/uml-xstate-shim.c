@@ -3,18 +3,17 @@
 // XSAVE area is larger than the buffer UML keeps for a guest thread's FPU state.
 //
 // UML (kernel 6.1) saves a guest thread's FPU state with PTRACE_GETREGSET(NT_X86_XSTATE) into a
-// fixed buffer and restores it with PTRACE_SETREGSET from that buffer. The host kernel hands out a
-// truncated state on GET, but takes a SET only with the whole XSAVE area; a shorter one fails with
-// EFAULT. On a CPU with AVX-512 and AMX the area is several KiB, longer than UML's buffer, so the
-// guest's first process dies ("userspace - ptrace set fp regs failed, errno = 14", then "Attempted
-// to kill init"). This shim completes each short request to the host's full size:
-//   GET: reads the whole area, gives UML its prefix, and keeps the whole image, keyed by UML's
-//        buffer (one per guest thread);
-//   SET: takes the kept image of that buffer (or, for a buffer not seen yet, the traced process's
-//        present state), lays UML's prefix over it and writes the whole area.
-// A guest thread therefore keeps its complete vector state (AVX-512 registers included) across
-// preemption, as on the host. Requests already long enough and all other ptrace calls pass
-// through unchanged, so the shim changes nothing on hosts UML already fits.
+// fixed 2696-byte buffer (the XSAVE layout up to and including PKRU: x87, SSE, AVX, AVX-512) and
+// restores it with PTRACE_SETREGSET from that buffer. The host kernel hands out a truncated state
+// on GET, but takes a SET only with the whole XSAVE area; a shorter one fails with EFAULT. On a
+// CPU with AMX the area is 11008 bytes (tile configuration and tile data follow PKRU), so the
+// guest's first process dies ("userspace - ptrace set fp regs failed, errno = 14", then
+// "Attempted to kill init"). This shim completes each short SET: it reads the traced process's
+// whole present area, lays UML's bytes over its start and writes the whole area back. Everything
+// a guest thread can use lies in UML's part: a guest cannot enable AMX (that takes
+// arch_prctl(ARCH_REQ_XCOMP_PERM), which UML 6.1 does not offer), so the AMX part stays in its
+// initial state, as the header in UML's part says. GETs, requests already long enough and all
+// other ptrace calls pass through unchanged: on hosts UML already fits the shim changes nothing.
 #define _GNU_SOURCE
 #include <dlfcn.h>
 #include <elf.h>
@@ -31,17 +30,11 @@
 #include <sys/uio.h>
 #include <unistd.h>
 
-enum { kProbeBytes = 64 * 1024, kSlots = 8192 };
-
-struct slot {
-    const void* key;      // UML's buffer for one guest thread
-    unsigned char* image; // the whole XSAVE area last read or written for it
-};
+enum { kProbeBytes = 64 * 1024 };
 
 static pthread_mutex_t lock = PTHREAD_MUTEX_INITIALIZER;
-static size_t full_size;          // the host's XSAVE area for ptrace, learnt on first use
-static unsigned char* scratch;    // full_size bytes
-static struct slot slots[kSlots]; // open addressing, linear probing; keys are never removed
+static size_t full_size;       // the host's XSAVE area for ptrace, learnt on first use
+static unsigned char* scratch; // full_size bytes
 static int reported;
 
 static long raw_regset(long request, pid_t pid, void* buf, size_t len, size_t* got) {
@@ -74,66 +67,21 @@ static int learn_size(pid_t pid) {
     return 0;
 }
 
-static struct slot* find_slot(const void* key, int create) {
-    size_t i = ((uintptr_t)key >> 4) % kSlots;
-    for (size_t n = 0; n < kSlots; ++n, i = (i + 1) % kSlots) {
-        if (slots[i].key == key)
-            return &slots[i];
-        if (!slots[i].key) {
-            if (!create)
-                return NULL;
-            unsigned char* image = malloc(full_size);
-            if (!image)
-                return NULL;
-            slots[i].key = key;
-            slots[i].image = image;
-            return &slots[i];
-        }
-    }
-    return NULL; // table full: SET falls back to the traced process's present state
-}
-
-static void report(size_t uml_len) {
-    if (reported)
-        return;
-    reported = 1;
-    // To UML's console log (run-in-vcan.sh --keep keeps it), once: the sizes behind the shim.
-    fprintf(stderr, "uml-xstate-shim: UML asks for %zu bytes of XSAVE state, the host has %zu\n",
-            uml_len, full_size);
-}
-
-static long xstate_get(pid_t pid, struct iovec* iov) {
-    if (learn_size(pid) < 0)
-        return -1;
-    if (iov->iov_len >= full_size)
-        return raw_regset(PTRACE_GETREGSET, pid, iov->iov_base, iov->iov_len, &iov->iov_len);
-    report(iov->iov_len);
-    if (raw_regset(PTRACE_GETREGSET, pid, scratch, full_size, NULL) < 0)
-        return -1;
-    memcpy(iov->iov_base, scratch, iov->iov_len);
-    struct slot* s = find_slot(iov->iov_base, 1);
-    if (s)
-        memcpy(s->image, scratch, full_size);
-    return 0;
-}
-
 static long xstate_set(pid_t pid, struct iovec* iov) {
     if (learn_size(pid) < 0)
         return -1;
     if (iov->iov_len >= full_size)
         return raw_regset(PTRACE_SETREGSET, pid, iov->iov_base, iov->iov_len, &iov->iov_len);
-    report(iov->iov_len);
-    struct slot* s = find_slot(iov->iov_base, 0);
-    if (s)
-        memcpy(scratch, s->image, full_size);
-    else if (raw_regset(PTRACE_GETREGSET, pid, scratch, full_size, NULL) < 0)
+    if (!reported) {
+        reported = 1; // once, to UML's console log (run-in-vcan.sh --keep keeps it)
+        fprintf(stderr,
+                "uml-xstate-shim: UML asks for %zu bytes of XSAVE state, the host has %zu\n",
+                iov->iov_len, full_size);
+    }
+    if (raw_regset(PTRACE_GETREGSET, pid, scratch, full_size, NULL) < 0)
         return -1;
     memcpy(scratch, iov->iov_base, iov->iov_len);
-    if (raw_regset(PTRACE_SETREGSET, pid, scratch, full_size, NULL) < 0)
-        return -1;
-    if (s)
-        memcpy(s->image, scratch, full_size);
-    return 0;
+    return raw_regset(PTRACE_SETREGSET, pid, scratch, full_size, NULL);
 }
 
 long ptrace(enum __ptrace_request request, ...) {
@@ -144,10 +92,9 @@ long ptrace(enum __ptrace_request request, ...) {
     void* data = va_arg(ap, void*);
     va_end(ap);
 
-    if ((request == PTRACE_GETREGSET || request == PTRACE_SETREGSET) &&
-        (uintptr_t)addr == NT_X86_XSTATE && data != NULL) {
+    if (request == PTRACE_SETREGSET && (uintptr_t)addr == NT_X86_XSTATE && data != NULL) {
         pthread_mutex_lock(&lock);
-        long rc = request == PTRACE_GETREGSET ? xstate_get(pid, data) : xstate_set(pid, data);
+        long rc = xstate_set(pid, data);
         int e = errno;
         pthread_mutex_unlock(&lock);
         errno = e;
