@@ -323,7 +323,7 @@ if [[ -n $cc_bin ]] &&
     preload=(env "LD_PRELOAD=$work/uml-xstate-shim.so")
 else
     echo "$prog: warning: could not build $here/uml-xstate-shim.c with ${cc_bin:-a C compiler (none found; package gcc)}; on a host CPU with AMX the guest will die at start." >&2
-    sed -n '1,5s/^/  | /p' "$work/shim-build.log" >&2
+    if [[ -s $work/shim-build.log ]]; then sed -n '1,5s/^/  | /p' "$work/shim-build.log" >&2; fi
 fi
 
 tmo=${timeout_s:-1200}
