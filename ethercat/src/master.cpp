@@ -371,12 +371,12 @@ VoidResult Master::setup_mailbox_sms(std::size_t slave) {
     sm0.start = sii.rx_mailbox_offset;
     sm0.length = sii.rx_mailbox_size;
     sm0.control = SyncManager::kModeMailbox | SyncManager::kDirWrite | 0x20;
-    sm0.activate = 0x01;
+    sm0.activate = SyncManager::kActivateEnable;
     SyncManager sm1;
     sm1.start = sii.tx_mailbox_offset;
     sm1.length = sii.tx_mailbox_size;
     sm1.control = SyncManager::kModeMailbox | 0x20;
-    sm1.activate = 0x01;
+    sm1.activate = SyncManager::kActivateEnable;
     std::array<std::uint8_t, 16> b{};
     const auto e0 = sm0.encode();
     const auto e1 = sm1.encode();

@@ -89,7 +89,7 @@ VoidResult Master::mailbox_repeat(std::size_t slave) {
     if (!activate) {
         return fail(activate.error());
     }
-    const auto want = static_cast<std::uint8_t>(*activate ^ SyncManager::kActivateRepeatRequest);
+    const std::uint8_t want = SyncManager::repeat_request_after(*activate);
     if (auto w = write_register<std::uint8_t>(slave, activate_reg, want); !w) {
         return w;
     }
@@ -180,23 +180,26 @@ std::string Master::describe_emergency(std::size_t slave, const emcy::EmcyMessag
     return fmt::format("{}: {}", slave_label(slave), text);
 }
 
-void Master::poll_mailboxes() {
+std::size_t Master::poll_mailboxes() {
+    std::size_t read = 0;
     for (std::size_t i = 0; i < slaves_.size(); ++i) {
         if (!slaves_[i].sii.has_coe() || slaves_[i].state == AlState::Init ||
             mailbox_transfers(i) > 0) {
             continue; // a running transfer reads its own answers (and emergencies)
         }
-        while (true) {
+        for (std::size_t n = 0; n < kPolledMessagesPerSlave; ++n) {
             auto m = mailbox_read(i, Duration::zero());
             if (!m) {
                 break;
             }
+            ++read;
             if (m->header.type == MailboxType::Coe && m->payload.size() >= kCoeHeaderSize &&
                 coe_service(get_le<std::uint16_t>(m->payload.data())) == CoeService::Emergency) {
                 dispatch_emergency(i, m->payload);
             }
         }
     }
+    return read;
 }
 
 Result<std::vector<std::uint8_t>> Master::sdo_upload(std::size_t slave, std::uint16_t index,

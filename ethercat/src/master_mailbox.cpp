@@ -277,8 +277,7 @@ void Master::mailbox_done(bool lost, TimePoint now) {
             break;
         case MailboxPhase::RepeatRead:
             if (ok) {
-                ch.repeat_want =
-                    static_cast<std::uint8_t>(d.data[0] ^ SyncManager::kActivateRepeatRequest);
+                ch.repeat_want = SyncManager::repeat_request_after(d.data[0]);
                 ch.phase = MailboxPhase::RepeatWrite;
             }
             break;

@@ -454,6 +454,42 @@ TEST_F(EcatMasterSegment, CoeEmergencyIsDecodedByTheEmcyModule) {
     EXPECT_EQ(seen[0].rfind("slave 0 (FIO Drive Control): EMCY 0x2310 ", 0), 0U) << seen[0];
 }
 
+TEST_F(EcatMasterSegment, PollingMailboxesReadsABoundedNumberPerCallAndLosesNoEmergency) {
+    scan();
+    ASSERT_TRUE(master_.set_state_all(AlState::PreOp));
+    std::vector<std::uint16_t> codes;
+    master_.on_emergency([&](std::size_t slave, const emcy::EmcyMessage& m) {
+        EXPECT_EQ(slave, 0U);
+        codes.push_back(m.error_code);
+    });
+    // More emergencies than one call reads: the caller gets control back after each batch.
+    constexpr std::size_t kLimit = Master::kPolledMessagesPerSlave;
+    constexpr std::size_t kFaults = 2 * kLimit + 3;
+    for (std::size_t i = 0; i < kFaults; ++i) {
+        segment_.slave(0).app().inject_fault(static_cast<std::uint16_t>(0x2310 + i));
+    }
+    ASSERT_TRUE(master_.read_al_status(0)); // a frame passes: the slave queues them for SM1
+    EXPECT_EQ(master_.poll_mailboxes(), kLimit);
+    EXPECT_EQ(master_.poll_mailboxes(), kLimit);
+    EXPECT_EQ(master_.poll_mailboxes(), 3U);
+    EXPECT_EQ(master_.poll_mailboxes(), 0U);
+    ASSERT_EQ(codes.size(), kFaults);
+    for (std::size_t i = 0; i < kFaults; ++i) {
+        EXPECT_EQ(codes[i], 0x2310 + i) << "emergency " << i;
+    }
+}
+
+// ETG.1000.4 §6.7.2: a repeat toggles the request bit of SM1's activate byte. Only that bit comes
+// from the read: a corrupted read (0x44, 0x88 in fuzz_slave_replies' reproducers) must not
+// switch the sync manager off or set latch bits.
+TEST(SyncManagerRepeat, TheRequestTogglesAndTheSmStaysEnabledWhateverWasRead) {
+    EXPECT_EQ(SyncManager::repeat_request_after(0x01), 0x03);
+    EXPECT_EQ(SyncManager::repeat_request_after(0x03), 0x01);
+    EXPECT_EQ(SyncManager::repeat_request_after(0x44), 0x03);
+    EXPECT_EQ(SyncManager::repeat_request_after(0x88), 0x03);
+    EXPECT_EQ(SyncManager::repeat_request_after(0xC2), 0x01);
+}
+
 TEST_F(EcatMasterSegment, DistributedClocksAlignSystemTimes) {
     scan();
     ASSERT_TRUE(master_.configure_dc()) << master_.last_error();

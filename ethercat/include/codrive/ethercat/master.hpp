@@ -349,8 +349,13 @@ public:
     /// Called with every CoE emergency (decoded with the emcy/ module's EmcyMessage).
     using EmergencyHandler = std::function<void(std::size_t slave, const emcy::EmcyMessage&)>;
     void on_emergency(EmergencyHandler handler) { emergency_handler_ = std::move(handler); }
-    /// Reads pending mailbox messages of every CoE slave (emergencies outside SDO traffic).
-    void poll_mailboxes();
+    /// Reads pending mailbox messages of every CoE slave (emergencies outside SDO traffic) and
+    /// returns how many it read. At most kPolledMessagesPerSlave per slave and call: a slave
+    /// refills SM1 after each read, and one whose SM1 never runs dry (a wrong mailbox address in
+    /// its SII reads plain memory, "full" every time) must not hold the caller. What is left
+    /// waits in the slave for the next call.
+    static constexpr std::size_t kPolledMessagesPerSlave = 16;
+    std::size_t poll_mailboxes();
     /// Asks the slave to write its last SM1 message again (ETG.1000.4 §6.7.2: toggles the repeat
     /// request, waits for the repeat acknowledge). mailbox_read() does this by itself when the
     /// frame of a mailbox read was lost, so that the answer it emptied is not lost with it.

@@ -131,6 +131,15 @@ struct SyncManager {
     /// toggle into the repeat acknowledge of the PDI control register (+7).
     static constexpr std::uint8_t kActivateRepeatRequest = 0x02;
     static constexpr std::uint8_t kPdiRepeatAck = 0x02;
+    static constexpr std::uint8_t kActivateEnable = 0x01; ///< the master's own activate value
+    /// The activate byte that asks for a repeat, from the byte just read: the repeat request
+    /// toggled, everything else as the master configured it (enabled, no latch bits). Only the
+    /// repeat bit is taken from the read, so a corrupted read cannot switch the SM off (a
+    /// disabled SM1 reads as plain memory: the same message, working counter 1, every time).
+    [[nodiscard]] static constexpr std::uint8_t repeat_request_after(std::uint8_t read) {
+        return static_cast<std::uint8_t>(
+            kActivateEnable | ((read & kActivateRepeatRequest) ^ kActivateRepeatRequest));
+    }
     static constexpr std::uint16_t kActivateOffset = 6;
     static constexpr std::uint16_t kPdiControlOffset = 7;
 
