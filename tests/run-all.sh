@@ -137,6 +137,44 @@ run_gtest() {
     rm -f "$log"
 }
 
+# run_gtest_retry SUITE EXE [ARGS...]: run_gtest for the suites that time a cyclic exchange over
+# veth (lost frames, late cycles). The tests that failed run once more, alone, at once; a test
+# counts as passed only if that second run passes, and the summary names every test that needed
+# it. A deterministic failure fails twice and fails the run; a crash before gtest's summary is
+# not retried. (Why: a 2-vCPU VM of this workplace stalled a 1 ms SCHED_FIFO sleeper by 10 to
+# 26 ms in every 10 s, idle or not; such a stall loses cycles whatever the master does, and the
+# FoE test at a 1 ms cycle failed in one of three runs of the suite with nothing beside it.)
+declare -A retried
+run_gtest_retry() {
+    local suite=$1 exe=$2 log again rc p names
+    shift 2
+    log=$(mktemp)
+    set +e
+    "${gtest_prefix[@]}" "$exe" "$@" >"$log" 2>&1
+    rc=$?
+    set -e
+    names=$(awk '/^\[  FAILED  \] [0-9]+ tests?, listed below:/ {on = 1; next}
+        on && /^\[  FAILED  \] / {sub(/,$/, "", $4); print $4}' "$log" | sort -u)
+    if [[ $rc -eq 0 || -z $names ]]; then
+        report_gtest "$suite" "$(basename "$exe")" "$log" $rc
+        rm -f "$log"
+        return
+    fi
+    cat "$log"
+    echo "$(basename "$exe"): $(wc -l <<<"$names") test(s) failed; running them once more, alone:"
+    p=$(awk '/^\[  PASSED  \] [0-9]+ test/ {s += $4} END {print s + 0}' "$log")
+    passed[$suite]=$((${passed[$suite]:-0} + p))
+    again=$(mktemp)
+    set +e
+    "${gtest_prefix[@]}" "$exe" "$@" --gtest_filter="$(paste -sd: <<<"$names")" >"$again" 2>&1
+    rc=$?
+    set -e
+    report_gtest "$suite" "$(basename "$exe") (second run)" "$again" $rc
+    retried[$suite]="${retried[$suite]:+${retried[$suite]}, }$(paste -sd' ' <<<"$names" |
+        sed 's/ /, /g')"
+    rm -f "$log" "$again"
+}
+
 # The unit stage runs in the background while the Release build compiles (a test binary needs
 # one CPU): each binary's log and exit status go to unit_dir and are counted afterwards.
 # gtest_to_dir DIR EXE [ARGS...]: runs one gtest binary (after gtest_prefix) in a background
@@ -189,9 +227,9 @@ release_stage() {
 # destroyed controller (DestroyedControllerLeavesNoFdsOrThreads...) runs here too: its baseline
 # is taken after a throwaway thread has started TSan's own background thread (count_threads()).
 # integration_tests under TSan times nothing (its threads are checked for races, not for
-# latency), so it runs in the background beside the timed EtherCAT suite (below), at nice 19; its
-# log, exit status and wall time go to tsan_dir. The EtherCAT controller tests under TSan run
-# afterwards, alone: they run a cyclic thread over veth.
+# latency), so it runs in the background after the fuzzers, beside the Python and install stages
+# (below), at nice 19; its log, exit status and wall time go to tsan_dir. The EtherCAT controller
+# tests under TSan run after the EtherCAT stage, alone: they run a cyclic thread over veth.
 tsan_dir=$root/build-tsan/ci-tsan
 tsan_options="halt_on_error=1 second_deadlock_stack=1 ${TSAN_OPTIONS:-}"
 tsan_integration_run() {
@@ -204,11 +242,10 @@ tsan_integration_run() {
     echo $(($(date +%s) - t0)) >"$tsan_dir/seconds"
 }
 tsan_stage() {
-    wait "$tsan_pid" || true
     report_dir tsan "$tsan_dir"
     tsan_rest_t0=$(date +%s)
     local -a gtest_prefix=(env "TSAN_OPTIONS=$tsan_options")
-    run_gtest tsan "$root/build-tsan/tests/ethercat_tests" \
+    run_gtest_retry tsan "$root/build-tsan/tests/ethercat_tests" \
         --gtest_filter='ControllerOverEthercat.*:DemoScenarioOverEthercat.ObjectAccess*:Threading/ObjectAccessAtShutdown.*:-*EcatDemoProgram*:*AllocatesNothing*'
 }
 
@@ -278,6 +315,7 @@ beside_guest() {
     echo $? >"$bg_dir/build-tsan.rc"
     echo $(($(date +%s) - t0)) >"$bg_dir/build-tsan.seconds"
     [[ ${CODRIVE_SKIP_FUZZ:-0} == 1 ]] || fuzz_run
+    tsan_integration_run
 }
 # The fuzz targets of the ASan+UBSan build (-O0, edge counters): the 10 s runs are a check of each
 # target over its corpus, not a campaign (bench/fuzz_long.sh builds its own, at -O1 with libFuzzer's
@@ -339,7 +377,7 @@ else
 fi
 
 touch "$guest_done"
-echo "== the guest ended: what is left of the TSan build goes on with $jobs jobs, and the fuzzers run, beside the Python and install stages"
+echo "== the guest ended: what is left of the TSan build goes on with $jobs jobs, then the fuzzers and the TSan integration tests run, beside the Python and install stages"
 
 # The Python module under pytest: the host suites (in-process VirtualNetwork, EDS files, traces),
 # then the vcan suites in a guest (codrive-sim processes on real SocketCAN). The module and the
@@ -406,7 +444,7 @@ install_stage() {
 echo "== install: find_package(codrive) and pkg-config consumers of an installed tree"
 stage install install_stage
 
-echo "== waiting for the builds beside the guest and the fuzzers"
+echo "== waiting for the builds beside the guest, the fuzzers and the TSan integration tests"
 t_wait=$(date +%s)
 wait "$beside_pid" || true
 echo "(waited $(($(date +%s) - t_wait)) s after the install stage)"
@@ -435,26 +473,24 @@ else
     fi
 fi
 
-# The timed EtherCAT suite counts lost frames and late cycles: no build and no fuzzer runs beside
-# it. It keeps about two thirds of one CPU busy (in a7c0f2d's run 106 s of wall time, 80 s of
-# CPU), so integration_tests under TSan (a CPU for about a minute) runs beside it at nice 19,
-# and the suite itself runs at SCHED_FIFO where the system allows it (root or CAP_SYS_NICE): a
-# master or simulator that wakes up never waits behind the TSan run. (Side by side with two jobs
-# of a build instead, at SCHED_FIFO too, the FoE test at a 1 ms cycle lost 65 of 988 cycles.)
+# The timed EtherCAT suite counts lost frames and late cycles: nothing runs beside it. It runs at
+# SCHED_FIFO where the system allows it (root or CAP_SYS_NICE). (Side by side with two jobs of a
+# build, at SCHED_FIFO too, the FoE test at a 1 ms cycle lost 65 of 988 cycles. With
+# integration_tests under TSan beside it at nice 19, as until session 22, six of its 67 tests
+# lost too many cycles on a 2-vCPU VM that keeps both CPUs busy poorly; alone, on the same
+# machine, at most one in a run, and that one passed when run again: run_gtest_retry.)
 ethercat_stage() {
     local -a gtest_prefix=()
     if chrt -f 10 true 2>/dev/null; then
         gtest_prefix=(chrt -f 10)
     fi
-    run_gtest ethercat "$root/build-asan/tests/ethercat_tests"
+    run_gtest_retry ethercat "$root/build-asan/tests/ethercat_tests"
 }
-tsan_integration_run &
-tsan_pid=$!
 if [[ ${CODRIVE_SKIP_ETHERCAT:-0} == 1 ]]; then
     echo "== EtherCAT tests: SKIPPED (CODRIVE_SKIP_ETHERCAT=1)"
     note[ethercat]="skipped on request"
 else
-    echo "== EtherCAT tests (veth; integration_tests under TSan beside them)"
+    echo "== EtherCAT tests (veth; nothing beside them)"
     stage ethercat ethercat_stage
 fi
 
@@ -503,6 +539,9 @@ for suite in "${suites[@]}"; do
             n="skips requested"
         fi
     fi
+    if [[ -n ${retried[$suite]:-} ]]; then
+        n="${n:+$n; }failed, then ran a second time: ${retried[$suite]}"
+    fi
     t=""
     [[ -n ${seconds[$suite]:-} ]] && t=$(fmt_time "${seconds[$suite]}")
     printf '%-9s %5d passed, %d failed, %d skipped  %8s%s\n' "$suite:" "$p" "$f" "$s" "$t" \
@@ -512,7 +551,7 @@ line="stage times:"
 for name in "${stage_order[@]}"; do
     line+=" $name $(fmt_time "${seconds[$name]}"),"
 done
-echo "$line total $(fmt_time $(($(date +%s) - t_start))) (build-tsan, one job until the guest ends, then the fuzzers, beside vcan, leak, python and install; tsan's integration tests beside ethercat)"
+echo "$line total $(fmt_time $(($(date +%s) - t_start))) (build-tsan, one job until the guest ends, then the fuzzers, then tsan's integration tests, beside vcan, leak, python and install)"
 if ((total_failed > 0)); then
     status=1
 fi
