@@ -9,7 +9,8 @@
 # fuzz targets, Release, TSan), each building only the targets its stages run: the sanitizer
 # builds with clang 14 and lld, the Release build with the default compiler (GCC on Debian), as
 # users build it.
-# The summary gives per suite: passed, failed, skipped, and the stage's wall time. A suite that
+# The summary gives per suite: passed, failed, skipped, and the stage's wall time (format: one
+# test per C/C++ file, as clang-format leaves it or not). A suite that
 # exists but ran no test fails the run, and so does a skipped test that was not asked for.
 #   CODRIVE_SKIP_VCAN=1      skip the vcan and leak stages explicitly (reported as skipped)
 #   CODRIVE_SKIP_ETHERCAT=1  skip the EtherCAT stage explicitly, and let the TSan and Python suites skip their
@@ -25,7 +26,7 @@ jobs=${CODRIVE_JOBS:-$(nproc)}
 t_start=$(date +%s)
 
 declare -A passed failed skipped seconds note
-suites=(unit tsan release python vcan leak fuzz ethercat install)
+suites=(format unit tsan release python vcan leak fuzz ethercat install)
 stage_order=()
 status=0
 
@@ -44,6 +45,42 @@ stage() {
 }
 
 stage deps bash .ci/install-deps.sh
+
+# Every C and C++ file git tracks is as clang-format (14, .clang-format) leaves it: a file counts
+# as one passed test, or as one failed test with clang-format's complaint printed.
+format_stage() {
+    local cf log bad n_bad
+    local -a files
+    cf=$(command -v clang-format-14 || command -v clang-format || true)
+    if [[ -z $cf ]]; then
+        echo "format: no clang-format (install clang-format-14)"
+        failed[format]=1
+        return 1
+    fi
+    mapfile -t files < <(if git rev-parse --is-inside-work-tree >/dev/null 2>&1; then
+        git ls-files '*.cpp' '*.hpp' '*.c' '*.h'
+    else # an unpacked archive: the sources, not the build trees
+        find . -mindepth 1 \( -name 'build*' -o -name node_modules -o -name '.*' \) -prune -o \
+            -type f \( -name '*.cpp' -o -name '*.hpp' -o -name '*.c' -o -name '*.h' \) -print
+    fi)
+    log=$(mktemp)
+    "$cf" --dry-run --Werror "${files[@]}" >"$log" 2>&1 || true
+    # "FILE:LINE:COL: error: code should be clang-formatted [-Wclang-format-violations]"
+    bad=$(sed -n 's/^\(.*\):[0-9]*:[0-9]*: error: .*clang-format.*/\1/p' "$log" | sort -u)
+    n_bad=0
+    [[ -z $bad ]] || n_bad=$(wc -l <<<"$bad")
+    if ((n_bad > 0)); then
+        head -40 "$log"
+        echo "format: not as clang-format leaves them: $(paste -sd' ' <<<"$bad")"
+    fi
+    rm -f "$log"
+    passed[format]=$((${#files[@]} - n_bad))
+    failed[format]=$n_bad
+    echo "format: ${passed[format]} files as clang-format leaves them, $n_bad not ($cf)"
+    ((n_bad == 0))
+}
+echo "== format: clang-format on every C and C++ file git tracks"
+stage format format_stage || status=1
 
 # The sanitizer builds compile with clang 14 and link with lld: at -O0 clang compiles this code in
 # about half of GCC's time (docs/reliability.md, "CI time"). The Release build, what users ship,
