@@ -187,8 +187,14 @@ void Controller::run() {
 
 void Controller::run_for(Duration d) {
     const TimePoint end = loop_->now() + d;
-    while (!stop_requested_ && loop_->now() < end) {
-        (void)loop_->poll_once(std::min<Duration>(end - loop_->now(), milliseconds(50)));
+    // One clock read per turn: with two, the deadline could pass between the check and the
+    // wait, and a negative wait is poll_once()'s "no limit" (a hang seen on a VM that stalls).
+    while (!stop_requested_) {
+        const Duration left = end - loop_->now();
+        if (left <= Duration::zero()) {
+            break;
+        }
+        (void)loop_->poll_once(std::min<Duration>(left, milliseconds(50)));
     }
 }
 

@@ -77,7 +77,9 @@ public:
     VoidResult run_until(TimePoint deadline);
     /// Runs until pred() is true after a dispatch, or the timeout passes. True if pred held.
     bool run_until(const std::function<bool()>& pred, Duration timeout);
-    /// Dispatches what is ready now, waiting at most `max_wait`.
+    /// Dispatches what is ready now, waiting at most `max_wait`; a negative `max_wait` waits
+    /// with no limit (until an fd or timer is ready), so compute a remaining time once and
+    /// stop at zero instead of passing one that may have run out.
     VoidResult poll_once(Duration max_wait);
     /// Thread-safe: makes run() return (within the direct reader's block limit when the fast
     /// path is waiting).
