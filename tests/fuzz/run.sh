@@ -13,7 +13,9 @@
 #              FUZZ_DEADLINE (epoch seconds: a target still running then is stopped and counted
 #              as failed, "stopped at the deadline"; no target starts after it),
 #              FUZZ_OPT (optimisation of a new build, default -O1; CI runs the targets of its
-#              ASan+UBSan build instead, see tests/run-all.sh), ASAN_OPTIONS (default below),
+#              ASan+UBSan build instead, see tests/run-all.sh), FUZZ_EDGES_ONLY (libraries of a
+#              new build with edge counters only, no comparison tracing; default codrive_sim,
+#              see tests/fuzz/CMakeLists.txt), ASAN_OPTIONS (default below),
 #              FUZZ_TIMEOUT (seconds one input may run before libFuzzer calls it a hang, default
 #              10; wall time, so a campaign beside other work needs more: bench/fuzz_long.sh).
 # The table's executions and cov/ft are libFuzzer's final figures (the "DONE" stats line).
@@ -54,7 +56,8 @@ if [[ ! -f $build/build.ninja ]]; then
     cmake -S "$root" -B "$build" -G Ninja -DCMAKE_CXX_COMPILER="$cxx" "${linker[@]}" \
         -DCMAKE_BUILD_TYPE=RelWithDebInfo "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=${FUZZ_OPT:--O1} -g" \
         -DCODRIVE_FUZZ=ON -DCODRIVE_BUILD_TESTS=OFF -DCODRIVE_BUILD_TOOLS=OFF \
-        -DCODRIVE_BUILD_BENCH=OFF -DCODRIVE_SANITIZE=address,undefined >/dev/null
+        -DCODRIVE_BUILD_BENCH=OFF -DCODRIVE_SANITIZE=address,undefined \
+        "-DCODRIVE_FUZZ_EDGES_ONLY=${FUZZ_EDGES_ONLY:-codrive_sim}" >/dev/null
 fi
 # Build what builds: one module that does not compile must not hide the other fuzzers' results.
 # FUZZ_NO_BUILD=1 runs the binaries already built (a target not built is reported as such).
