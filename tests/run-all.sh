@@ -128,17 +128,18 @@ configure_build() {
     ninja -C "$dir" -j "${JOBS:-$jobs}" -k 0 $targets
 }
 
-# count_gtest SUITE LOGFILE: adds up gtest's "[  PASSED  ] N", "[  FAILED  ] N" and
-# "[  SKIPPED ] N" lines.
-gtest_passed() { awk '/^\[  PASSED  \] [0-9]+ test/ {s += $4} END {print s + 0}' "$1"; }
+# gtest_total TAG LOGFILE: the sum of N over gtest's "[TAG] N test..." summary lines, TAG being
+# its padded "  PASSED  ", "  FAILED  " or "  SKIPPED ".
+gtest_total() {
+    awk -v tag="[$1]" 'substr($0, 1, 12) == tag && substr($0, 13) ~ /^ [0-9]+ test/ {s += $4}
+        END {print s + 0}' "$2"
+}
+# count_gtest SUITE LOGFILE: adds up gtest's PASSED, FAILED and SKIPPED summary lines.
 count_gtest() {
-    local suite=$1 log=$2 p f s
-    p=$(gtest_passed "$log")
-    f=$(awk '/^\[  FAILED  \] [0-9]+ test/ {s += $4} END {print s + 0}' "$log")
-    s=$(awk '/^\[  SKIPPED \] [0-9]+ test/ {s += $4} END {print s + 0}' "$log")
-    passed[$suite]=$((${passed[$suite]:-0} + p))
-    failed[$suite]=$((${failed[$suite]:-0} + f))
-    skipped[$suite]=$((${skipped[$suite]:-0} + s))
+    local suite=$1 log=$2
+    passed[$suite]=$((${passed[$suite]:-0} + $(gtest_total '  PASSED  ' "$log")))
+    failed[$suite]=$((${failed[$suite]:-0} + $(gtest_total '  FAILED  ' "$log")))
+    skipped[$suite]=$((${skipped[$suite]:-0} + $(gtest_total '  SKIPPED ' "$log")))
 }
 
 # report_gtest SUITE NAME LOG RC: prints a gtest binary's log on failure (its PASSED/SKIPPED
@@ -204,7 +205,7 @@ run_gtest_retry() {
             return
         fi
         cat "$log"
-        passed[$suite]=$((${passed[$suite]:-0} + $(gtest_passed "$log")))
+        passed[$suite]=$((${passed[$suite]:-0} + $(gtest_total '  PASSED  ' "$log")))
         if ((run == 1)); then
             retried[$suite]="${retried[$suite]:+${retried[$suite]}, }$(paste -sd' ' <<<"$names" |
                 sed 's/ /, /g')"
