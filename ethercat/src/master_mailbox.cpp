@@ -118,7 +118,6 @@ void Master::mailbox_send(std::size_t slave, TimePoint now) {
     ch.out = m.encode(sii.rx_mailbox_size);
     ch.started = now;
     ch.deadline = now + config_.mailbox_timeout;
-    ch.repeats_left = std::max(1, config_.frame_retries);
     ch.sm0_full = false;
     ch.last_write = false;
     if (ch.out.size() > sii.rx_mailbox_size) {
@@ -186,7 +185,6 @@ void Master::mailbox_add(TimePoint now) {
             }
             ch.phase = MailboxPhase::Read; // emergency poll
             ch.deadline = now + config_.mailbox_timeout;
-            ch.repeats_left = std::max(1, config_.frame_retries);
         }
         const auto sm1 = static_cast<std::uint16_t>(reg::sm(1));
         std::size_t size = 0;
@@ -263,11 +261,11 @@ void Master::mailbox_done(bool lost, TimePoint now) {
         case MailboxPhase::Read:
             if (lost) {
                 // The read may have emptied SM1 on its way: ask the slave to write that message
-                // again instead of losing it (ETG.1000.4 §6.7.2).
-                if (ch.repeats_left > 0) {
-                    --ch.repeats_left;
-                    ch.phase = MailboxPhase::RepeatRead;
-                }
+                // again instead of losing it (ETG.1000.4 §6.7.2), after every lost read. The
+                // step's deadline bounds the tries, not a count: on a host that returns one
+                // cyclic frame in three late, three repeats per step were not enough and FoE
+                // writes timed out "mailbox silent" while the slave answered (docs/ethercat.md).
+                ch.phase = MailboxPhase::RepeatRead;
             } else if (d.wkc == 1) {
                 mailbox_message(i, d.data, now);
             } else if (!ch.active) {

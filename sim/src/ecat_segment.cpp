@@ -63,19 +63,24 @@ VoidResult SegmentLink::send(std::span<const std::uint8_t> frame) {
     }
     std::vector<std::uint8_t> f(frame.begin(), frame.end());
     if (segment_.process(f, clock_.now()) && !loss_.lose(segment_, f)) {
-        pending_.push_back(std::move(f));
+        const bool late = late_per_thousand_ > 0 && late_rng_() % 1000 < late_per_thousand_;
+        delayed_ += late ? 1 : 0;
+        pending_.push_back({std::move(f), late});
     }
     return {};
 }
 
 Result<std::size_t> SegmentLink::receive(std::span<std::uint8_t> buffer, TimePoint deadline) {
-    if (pending_.empty()) {
+    if (pending_.empty() || pending_.front().late) {
+        if (!pending_.empty()) {
+            pending_.front().late = false; // it comes with the next receive()
+        }
         if (clock_.now() < deadline) {
             clock_.set(deadline);
         }
         return fail(CoreErrc::Timeout);
     }
-    auto f = std::move(pending_.front());
+    auto f = std::move(pending_.front().frame);
     pending_.pop_front();
     const std::size_t n = std::min(f.size(), buffer.size());
     std::copy_n(f.begin(), n, buffer.begin());

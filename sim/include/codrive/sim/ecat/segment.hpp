@@ -8,6 +8,7 @@
 
 #include <deque>
 #include <memory>
+#include <random>
 #include <vector>
 
 namespace codrive::sim::ecat {
@@ -88,6 +89,15 @@ public:
     void lose_mailbox_answers(std::size_t slave, int n) {
         loss_.arm(slave, static_cast<std::uint64_t>(n));
     }
+    /// Returns `per_thousand` of the processed frames late, chosen by a generator seeded with
+    /// `seed`: the receive() that waits for such a frame times out at its deadline, and the
+    /// frame comes with the next receive() (as on a host that stalls: the slaves took the
+    /// frame's reads and writes, the master never sees them in time). 0 turns it off.
+    void delay_returns(unsigned per_thousand, unsigned seed) {
+        late_per_thousand_ = per_thousand;
+        late_rng_.seed(seed);
+    }
+    [[nodiscard]] std::uint64_t delayed() const { return delayed_; }
     [[nodiscard]] const std::vector<std::vector<std::uint8_t>>& sent() const { return sent_; }
     void record(bool on) { record_ = on; }
     /// Per-frame wire time the clock advances by.
@@ -96,12 +106,19 @@ public:
 private:
     EcatSegment& segment_;
     FakeClock& clock_;
-    std::deque<std::vector<std::uint8_t>> pending_;
+    struct Returning {
+        std::vector<std::uint8_t> frame;
+        bool late = false; ///< the next receive() times out before it
+    };
+    std::deque<Returning> pending_;
     std::vector<std::vector<std::uint8_t>> sent_;
     int drop_ = 0;
     MailboxAnswerLoss loss_;
     bool record_ = false;
     Duration latency_ = microseconds(20);
+    unsigned late_per_thousand_ = 0;
+    std::minstd_rand late_rng_;
+    std::uint64_t delayed_ = 0;
 };
 
 } // namespace codrive::sim::ecat
