@@ -13,6 +13,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <csignal>
 #include <ctime>
 #include <filesystem>
@@ -72,7 +73,8 @@ protected:
         }
     }
     /// One 1 ms cycle on an absolute schedule: LRW with the mailbox datagrams, waiting at most
-    /// the period. Counts frames that did not come back and slots the loop fell behind.
+    /// the period. Counts frames that did not come back in their slot, the slots the loop fell
+    /// behind, the cycles that started late (one or more slots) and the most slots skipped at once.
     void cycle() {
         if (next_ == TimePoint{}) {
             next_ = SteadyClock::now();
@@ -87,9 +89,13 @@ protected:
         ++cycles_;
         const TimePoint now = SteadyClock::now();
         if (now > next_) {
-            const auto behind = (now - next_) / kCycle;
-            skipped_ += static_cast<std::uint64_t>(behind);
-            next_ += behind * kCycle;
+            const auto behind = static_cast<std::uint64_t>((now - next_) / kCycle);
+            if (behind > 0) {
+                skipped_ += behind;
+                ++late_;
+                worst_gap_ = std::max(worst_gap_, behind);
+            }
+            next_ += static_cast<std::int64_t>(behind) * kCycle;
         }
         const auto ns = next_.time_since_epoch().count();
         timespec ts{static_cast<time_t>(ns / 1'000'000'000), static_cast<long>(ns % 1'000'000'000)};
@@ -109,6 +115,8 @@ protected:
     std::uint64_t lost_ = 0;
     std::uint64_t skipped_ = 0;
     std::uint64_t cycles_ = 0;
+    std::uint64_t late_ = 0;
+    std::uint64_t worst_gap_ = 0;
 };
 
 TEST_F(FoeVeth, DocumentedCommandsWriteReadBackAndNameAMissingFile) {
@@ -187,6 +195,9 @@ TEST_F(FoeVeth, CyclicTransfersKeepTheCycleAndDissectAsFoe) {
     for (std::size_t i = 0; i < file.size(); ++i) {
         file[i] = static_cast<std::uint8_t>(i * 13 + i / 97);
     }
+    // Frames that came back after their slot are read (and dropped) by a later cycle as stale:
+    // lost minus stale is what never came back at all.
+    const std::uint64_t stale_at_start = master_->stats().stale_frames;
     std::size_t progress = 0;
     FoeOptions o;
     o.progress = [&](std::size_t done, std::optional<std::size_t>) { progress = done; };
@@ -205,6 +216,8 @@ TEST_F(FoeVeth, CyclicTransfersKeepTheCycleAndDissectAsFoe) {
     const std::uint64_t lost_clean = lost_;
     const std::uint64_t skipped_clean = skipped_;
     const std::uint64_t cycles_clean = cycles_;
+    const std::uint64_t late_clean = late_;
+    const std::uint64_t worst_gap_clean = worst_gap_;
 
     // The AKD2G's mailbox goes silent in the middle of a write.
     std::optional<CoeOutcome> muted;
@@ -220,29 +233,35 @@ TEST_F(FoeVeth, CyclicTransfersKeepTheCycleAndDissectAsFoe) {
     const std::uint64_t lost_before = lost_;
     const std::uint64_t skipped_before = skipped_;
     const std::uint64_t cycles_before = cycles_;
+    const std::uint64_t late_before = late_;
+    worst_gap_ = 0;
     run_until(muted, 5s);
     const Duration mute_time = SteadyClock::now() - silenced;
     const std::uint64_t lost_muted = lost_ - lost_before;
     const std::uint64_t skipped_muted = skipped_ - skipped_before;
     const std::uint64_t cycles_muted = cycles_ - cycles_before;
+    const std::uint64_t late_muted = late_ - late_before;
+    const std::uint64_t worst_gap_muted = worst_gap_;
+    const std::uint64_t came_back_late = master_->stats().stale_frames - stale_at_start;
     link_->set_tap({});
     writer.close();
 
     const auto kbs = [&](Duration d) {
         return static_cast<double>(file.size()) / 1000.0 / std::chrono::duration<double>(d).count();
     };
+    const auto u = [](std::uint64_t v) { return static_cast<unsigned long long>(v); };
     std::printf(
         "FoE over veth at a %lld us cycle, %u-byte mailbox: write 10240 bytes in %.0f ms "
         "(%.1f kB/s, 2 BUSY), read back in %.0f ms (%.1f kB/s); %llu of %llu frames lost, %llu "
-        "slots skipped; mute mailbox: failed after %.0f ms, %llu of %llu frames lost, %llu "
-        "slots skipped\n",
+        "slots skipped in %llu late starts (at most %llu at once); mute mailbox: failed after "
+        "%.0f ms, %llu of %llu frames lost, %llu slots skipped in %llu late starts (at most %llu "
+        "at once); of the %llu lost frames %llu came back after their slot\n",
         static_cast<long long>(kCycle / 1us),
         static_cast<unsigned>(master_->slaves()[1].sii.rx_mailbox_size), to_ms(write_time),
-        kbs(write_time), to_ms(read_time), kbs(read_time),
-        static_cast<unsigned long long>(lost_clean), static_cast<unsigned long long>(cycles_clean),
-        static_cast<unsigned long long>(skipped_clean), to_ms(mute_time),
-        static_cast<unsigned long long>(lost_muted), static_cast<unsigned long long>(cycles_muted),
-        static_cast<unsigned long long>(skipped_muted));
+        kbs(write_time), to_ms(read_time), kbs(read_time), u(lost_clean), u(cycles_clean),
+        u(skipped_clean), u(late_clean), u(worst_gap_clean), to_ms(mute_time), u(lost_muted),
+        u(cycles_muted), u(skipped_muted), u(late_muted), u(worst_gap_muted), u(lost_),
+        u(came_back_late));
 
     ASSERT_TRUE(written);
     ASSERT_FALSE(written->error) << written->sentence;
@@ -262,16 +281,23 @@ TEST_F(FoeVeth, CyclicTransfersKeepTheCycleAndDissectAsFoe) {
     EXPECT_LT(mute_time, 1500ms);
     ASSERT_TRUE(fio) << "the FIO's mailbox went on beside the mute one";
     EXPECT_FALSE(fio->error) << fio->sentence;
-    // A cycle that waited on the mute mailbox would lose its whole second (~1000 slots). The
-    // bound, 5 % of the slots as in controller_ecat_test, leaves room for the stalls of a loaded
-    // 2-core CI host (up to 21 frames seen beside other builds: the softirq that carries veth
-    // frames is not real-time).
-    EXPECT_GE(cycles_muted, 900U) << "the cycle ran on while the mailbox was mute";
-    EXPECT_LE(lost_muted + skipped_muted, cycles_muted / 20)
-        << "cycles lost or skipped while the mailbox was mute";
-    // The transfers themselves: a master that waited on FoE answers would lose most slots; the
-    // bound allows what this host loses without any mailbox traffic when loaded (up to ~7 %).
-    EXPECT_LE(lost_clean + skipped_clean, cycles_clean / 10);
+    // No cycle waited for the mailbox. One that blocked until the transfer's timeout would skip
+    // ~1000 slots at once; one that waited a little every cycle would start late on most of
+    // them. A host that stalls the test (this 2-vCPU VM, idle, stalls a 1 ms SCHED_FIFO sleeper
+    // by 9-26 ms every few seconds, and in bad minutes delays one wake-up in ten) makes one late
+    // start per stall, however many slots it covers, and frames that come back after their
+    // slot: so the bounds are on the longest gap (50 ms, a twentieth of the mailbox timeout), on
+    // late starts (a quarter of the cycles, far below "most"), and on frames that never came
+    // back at all, not on late ones (docs/reliability.md, session 24, has the measurements).
+    EXPECT_GE(cycles_muted, 500U) << "the cycle ran on while the mailbox was mute";
+    EXPECT_LT(worst_gap_muted, 50U) << "a gap of " << worst_gap_muted << " slots while mute";
+    EXPECT_LE(late_muted, cycles_muted / 4) << skipped_muted << " slots skipped while mute";
+    // The transfers themselves: a master that waited on FoE answers would start late on most.
+    EXPECT_LT(worst_gap_clean, 50U) << "a gap of " << worst_gap_clean << " slots";
+    EXPECT_LE(late_clean, cycles_clean / 4) << skipped_clean << " slots skipped";
+    // Every cyclic frame came back, in its slot or after it; none was dropped (the newest may
+    // still be on its way).
+    EXPECT_LE(lost_, came_back_late + 1) << "cyclic frames that never came back";
 
     // tshark: EtherCAT mailbox FoE with every opcode, nothing malformed.
     auto ops = run({"/usr/bin/tshark", "-r", pcap, "-Y", "ecat_mailbox.foe", "-T", "fields", "-e",
