@@ -41,11 +41,11 @@ pdo::PdoConfig to_pdo(const master::PdoConfig& c) {
 std::string ControllerStats::to_string() const {
     return fmt::format("cycles {}, overruns {}, SYNC error p50 {:.0f} us p99 {:.0f} us max {:.0f} "
                        "us, TPDOs received {} missing {}, RPDOs sent {}, SDO ok {} failed {}, bus "
-                       "errors {}, EtherCAT frame errors {}",
+                       "errors {}, EtherCAT frame errors {} ({} came back late)",
                        cycles, overruns, to_ms(period_error_p50) * 1000,
                        to_ms(period_error_p99) * 1000, to_ms(period_error_max) * 1000,
                        tpdos_received, tpdos_missing, rpdos_sent, sdo_completed, sdo_failed,
-                       bus_errors, ecat_frame_errors);
+                       bus_errors, ecat_frame_errors, ecat_late_frames);
 }
 
 Controller::Controller(std::vector<master::BusConfig> buses,

@@ -239,6 +239,7 @@ void Controller::publish_cyclic_stats(bool exact_percentiles) {
         s.overruns += seg->overruns();
         add_period(seg->period_error());
         s.ecat_frame_errors += seg->frame_errors();
+        s.ecat_late_frames += seg->late_frames();
     }
     if (refresh) {
         cell.p50 = p50;

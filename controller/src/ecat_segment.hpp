@@ -82,6 +82,10 @@ public:
     [[nodiscard]] std::uint64_t cycles() const { return cycles_; }
     [[nodiscard]] std::uint64_t overruns() const { return overruns_; }
     [[nodiscard]] std::uint64_t frame_errors() const { return frame_errors_; }
+    /// Lost frames that came back after their cycle (read and dropped by a later cycle).
+    [[nodiscard]] std::uint64_t late_frames() const {
+        return late_frames_.load(std::memory_order_relaxed);
+    }
     [[nodiscard]] ethercat::Master* master() { return master_.get(); }
 
 private:
@@ -131,6 +135,7 @@ private:
     std::uint64_t cycles_ = 0;
     std::uint64_t overruns_ = 0;
     std::atomic<std::uint64_t> frame_errors_{0};
+    std::atomic<std::uint64_t> late_frames_{0};
     bool frame_error_reported_ = false;
     std::atomic<bool> last_cycle_ok_{true};
     std::uint64_t failed_at_report_ = 0; ///< frame_errors_ when the failure was reported

@@ -12,6 +12,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <chrono>
 #include <csignal>
 #include <cstdio>
@@ -26,11 +27,14 @@
 namespace codrive::testing {
 namespace {
 
-// A loaded CI host may delay the simulator past a frame timeout now and then: at most one frame
-// in 50 cycles may be lost (seen in CI under ASan: one 4 ms stall, 7 of 607 cycles); under
-// ThreadSanitizer, which slows the simulator several times over too, one in 20 (seen in CI: one
-// 6 ms stall losing 3 frames in a row twice, 7 of 666 cycles; on a host busy with two fuzzers,
-// 16 of 667).
+// A host that stalls returns frames after their cycle: those are counted apart
+// (ControllerStats::ecat_late_frames, up to 58 in 601 cycles in one CI run on a 2-vCPU VM that
+// stalls) and not bounded. What is bounded is the rest, ecat_wire_errors(): frames that never
+// came back and short working counters (the frames before OP have one). The allowances were
+// measured when late frames still counted: one frame in 50 cycles (seen in CI under ASan: one 4
+// ms stall, 7 of 607 cycles); under ThreadSanitizer, which slows the simulator several times
+// over too, one in 20 (seen in CI: one 6 ms stall losing 3 frames in a row twice, 7 of 666
+// cycles; on a host busy with two fuzzers, 16 of 667).
 #if defined(CODRIVE_TESTING_TSAN)
 constexpr std::uint64_t kLostPerCycles = 20;
 #else
@@ -175,7 +179,7 @@ TEST_F(ControllerOverEthercat, BringsTheFioToOpEnablesItAndMovesInCsp) {
     std::printf("EtherCAT segment, single-thread mode, 2 ms cycle: %s\n",
                 stats.to_string().c_str());
     EXPECT_GT(stats.cycles, 400U);
-    EXPECT_LE(stats.ecat_frame_errors, stats.cycles / kLostPerCycles) << events;
+    EXPECT_LE(stats.ecat_wire_errors(), stats.cycles / kLostPerCycles) << events;
     c->set_cycle_callback(nullptr);
     c->shutdown();
     EXPECT_EQ(axis->state(), drives::cia402::State::SwitchOnDisabled) << events;
@@ -367,7 +371,7 @@ TEST_F(ControllerOverEthercat, DedicatedCyclicThreadEnablesMovesAndStopsWithinOn
                     stats.to_string().c_str(), ms);
         EXPECT_LT(ms, 1000.0);
         EXPECT_EQ(axis->state(), drives::cia402::State::SwitchOnDisabled) << events;
-        EXPECT_LE(stats.ecat_frame_errors, stats.cycles / kLostPerCycles) << events;
+        EXPECT_LE(stats.ecat_wire_errors(), stats.cycles / kLostPerCycles) << events;
 #if !defined(CODRIVE_TESTING_TSAN) // ThreadSanitizer slows the cycle several times over
         // One slave on a private veth pair, nothing acyclic going on: once the axis follows the
         // ramp the cyclic thread keeps its 2 ms slots. A busy host (or its hypervisor) may hold
@@ -453,8 +457,9 @@ TEST_F(ControllerOverEthercat, DedicatedCyclicObjectAccessWhileTheAxisMovesCosts
     // The transfers ride in the cyclic frames one step per cycle: no cycle waits for them.
     EXPECT_EQ(after.overruns - before.overruns, 0U) << after.to_string();
 #endif
-    EXPECT_LE(after.ecat_frame_errors - before.ecat_frame_errors,
-              (after.cycles - before.cycles) / kLostPerCycles + 1)
+    const std::uint64_t errors = after.ecat_frame_errors - before.ecat_frame_errors;
+    const std::uint64_t late = after.ecat_late_frames - before.ecat_late_frames;
+    EXPECT_LE(errors - std::min(errors, late), (after.cycles - before.cycles) / kLostPerCycles + 1)
         << after.to_string();
     c->shutdown();
 }

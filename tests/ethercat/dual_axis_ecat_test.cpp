@@ -132,7 +132,7 @@ TEST_F(DualAxisAkd2gOverEthercat, BothAxesEnableFollowCspAndAFaultOnAxis2IsRepor
     EXPECT_EQ(a2->state(), State::SwitchOnDisabled) << events;
     const auto stats = c.stats();
     std::printf("dual-axis AKD2G over EtherCAT, 2 ms cycle: %s\n", stats.to_string().c_str());
-    EXPECT_LE(stats.ecat_frame_errors, stats.cycles / 50) << events;
+    EXPECT_LE(stats.ecat_wire_errors(), stats.cycles / 50) << events;
 }
 
 } // namespace

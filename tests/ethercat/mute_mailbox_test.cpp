@@ -159,12 +159,14 @@ TEST_P(MuteMailboxInOp, CostsOnlyItsOwnTransferNeverACycle) {
     // after their cycle and that event is then right. What the mute must not cause is checked
     // above (skipped slots, the FIO in OP) and below (no SM watchdog expiry).
     if (drop_permille > 0) {
-        EXPECT_GT(stats.ecat_frame_errors, 0U) << "the simulator dropped frames";
+        EXPECT_GT(stats.ecat_wire_errors(), 0U) << "the simulator dropped frames";
     }
-    // Beside the injected drops, a stall of the host loses frames too (late answers count as
-    // lost): 0 or 1 in ~1,500 cycles on a quiet host, 29 in one CI run while a fuzzer ran beside
-    // it. The allowance is the other EtherCAT tests' one frame in 50 (controller_ecat_test.cpp).
-    EXPECT_LE(stats.ecat_frame_errors,
+    // A stall of the host makes frames come back after their cycle too: they count as frame
+    // errors (up to 154 in 1,508 cycles in one CI run on a 2-vCPU VM that stalls, 10-48 alone
+    // there) but are told apart (ecat_late_frames) and not bounded. The frames the simulator
+    // dropped never come back; beside them the allowance is the other EtherCAT tests' one frame
+    // in 50 (controller_ecat_test.cpp).
+    EXPECT_LE(stats.ecat_wire_errors(),
               stats.cycles * static_cast<std::uint64_t>(drop_permille + 20) / 1000)
         << events;
     c.set_cycle_callback(nullptr);

@@ -93,6 +93,16 @@ struct ControllerStats {
     std::uint64_t sdo_failed = 0;
     std::uint64_t bus_errors = 0;        ///< error frames and bus events
     std::uint64_t ecat_frame_errors = 0; ///< EtherCAT cycles with a lost frame or a WKC error
+    /// Of the lost frames, those that came back after their cycle (read and dropped by a later
+    /// one): the host was late, not the wire. ecat_frame_errors minus this is what never came
+    /// back or came back with a short working counter (the newest late frame may still be on
+    /// its way).
+    std::uint64_t ecat_late_frames = 0;
+    /// The frame errors that are not late returns: frames the segment never sent back and short
+    /// working counters. On a sound segment in OP this stays near 0 however busy the host is.
+    [[nodiscard]] std::uint64_t ecat_wire_errors() const {
+        return ecat_frame_errors > ecat_late_frames ? ecat_frame_errors - ecat_late_frames : 0;
+    }
     [[nodiscard]] std::string to_string() const;
 };
 
