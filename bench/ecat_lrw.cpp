@@ -485,8 +485,8 @@ int main(int argc, char** argv) {
                cycles, image, master.expected_wkc());
     fmt::print("scheduling: {} (machine load average at start: see `uptime`)\n",
                g_realtime ? "SCHED_FIFO 50 for master and simulator" : "SCHED_OTHER");
-    fmt::print("late answers to timed-out cycles (stale frames): {}\n",
-               master.stats().stale_frames);
+    fmt::print("late answers to timed-out cycles: {} (unreadable frames: {})\n",
+               master.stats().late_frames, master.stats().unreadable_frames);
     fmt::print("round trips: {} interleaved rounds of {} cycles per path\n", rounds, per_round);
     fmt::print("{:<28} {:>9} {:>9} {:>9} {:>14} {:>14} {:>6} {:>6}\n", "", "p50 us", "p99 us",
                "max us", "master CPU ns", "sim CPU ns", "lost", "WKC<");

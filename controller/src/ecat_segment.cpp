@@ -265,7 +265,7 @@ void EcatSegment::cycle(TimePoint now) {
         }
     }
     bool ok = false;
-    const std::uint64_t stale_before = master_->stats().stale_frames;
+    const std::uint64_t late_before = master_->stats().late_frames;
     if (master_->send_process_data()) {
         auto r = master_->receive_process_data(deadline);
         ok = r.has_value();
@@ -281,7 +281,7 @@ void EcatSegment::cycle(TimePoint now) {
         frame_errors_.fetch_add(1, std::memory_order_relaxed);
     }
     // Frames of earlier cycles that this one read and dropped: they came back, late.
-    late_frames_.fetch_add(master_->stats().stale_frames - stale_before, std::memory_order_relaxed);
+    late_frames_.fetch_add(master_->stats().late_frames - late_before, std::memory_order_relaxed);
     last_cycle_ok_.store(ok, std::memory_order_relaxed);
     // A short working counter: the next frame asked every slave for its AL status; hand the
     // answers to the acyclic side, which names the slaves.

@@ -59,6 +59,17 @@ std::uint64_t Master::master_time_ns() const {
         std::chrono::duration_cast<nanoseconds>(clock_.now().time_since_epoch()).count());
 }
 
+void Master::count_unawaited(std::optional<std::uint8_t> index) {
+    // A frame of ours whose deadline passed is late whatever it carries now; anything else read
+    // while waiting (a corrupted frame, the awaited one garbled, one already read) is not.
+    if (index && overdue_.test(*index)) {
+        overdue_.reset(*index);
+        ++stats_.late_frames;
+    } else {
+        ++stats_.unreadable_frames;
+    }
+}
+
 VoidResult Master::exchange(std::span<Datagram> datagrams) {
     const int attempts = std::max(1, config_.frame_retries);
     last_exchange_lost_ = 0;
@@ -82,6 +93,7 @@ VoidResult Master::exchange(std::span<Datagram> datagrams) {
             auto r = link_.receive(rx_buffer_, deadline);
             if (!r) {
                 if (r.error() == CoreErrc::Timeout) {
+                    overdue_.set(idx);
                     break;
                 }
                 return set_error(r.error(), fmt::format("cannot receive on {}: {}", link_.name(),
@@ -90,7 +102,7 @@ VoidResult Master::exchange(std::span<Datagram> datagrams) {
             const auto frame = std::span<const std::uint8_t>(rx_buffer_).first(*r);
             const auto fi = frame_index(frame);
             if (!fi || *fi != idx || !decode_frame_into(frame, datagrams)) {
-                ++stats_.stale_frames;
+                count_unawaited(fi);
                 continue;
             }
             return {};

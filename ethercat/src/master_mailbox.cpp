@@ -118,6 +118,7 @@ void Master::mailbox_send(std::size_t slave, TimePoint now) {
     ch.out = m.encode(sii.rx_mailbox_size);
     ch.started = now;
     ch.deadline = now + config_.mailbox_timeout;
+    ch.frames_lost = 0;
     ch.sm0_full = false;
     ch.last_write = false;
     if (ch.out.size() > sii.rx_mailbox_size) {
@@ -164,9 +165,14 @@ void Master::mailbox_add(TimePoint now) {
         if (ch.active && now >= ch.deadline) {
             // The transfer's own timeout: only this transfer fails; the frame goes on.
             const auto& t = *ch.queue.front();
-            const char* why = ch.sm0_full                       ? "receive mailbox SM0 stayed full"
+            std::string why = ch.sm0_full                       ? "receive mailbox SM0 stayed full"
                               : ch.phase == MailboxPhase::Write ? "request frames lost"
                                                                 : "mailbox silent";
+            if (ch.frames_lost > 0 && !ch.sm0_full && ch.phase != MailboxPhase::Write) {
+                // Silent as far as the master could see: say how much it could not see, so a
+                // mute slave is told from frames that came back late or not at all.
+                why += fmt::format("; {} of its frames did not come back in time", ch.frames_lost);
+            }
             mailbox_fail(i, make_error_code(EcatErrc::MailboxTimeout),
                          fmt::format("{} timed out after {:.0f} ms ({})", transfer_name(t),
                                      to_ms(config_.mailbox_timeout), why),
@@ -246,6 +252,7 @@ void Master::mailbox_done(bool lost, TimePoint now) {
         const Datagram& d = frame_[static_cast<std::size_t>(ch.datagram)];
         ch.datagram = -1;
         const bool ok = !lost && d.wkc == 1;
+        ch.frames_lost += lost ? 1U : 0U;
         switch (ch.phase) {
         case MailboxPhase::Write:
             // Lost: written or not, the same message (same counter) goes again; a slave that got
@@ -396,6 +403,7 @@ void Master::mailbox_step(std::size_t slave, detail::TransferStep step, TimePoin
         break;
     case detail::CoeTransfer::Step::Wait:
         ch.deadline = now + config_.mailbox_timeout;
+        ch.frames_lost = 0;
         break;
     case detail::CoeTransfer::Step::Done:
     case detail::CoeTransfer::Step::Failed:
@@ -457,7 +465,10 @@ VoidResult Master::run_mailbox_cycle() {
             lost = false;
             break;
         }
-        ++stats_.stale_frames;
+        count_unawaited(fi);
+    }
+    if (lost) {
+        overdue_.set(idx);
     }
     mailbox_done(lost, clock_.now());
     deliver_finished();

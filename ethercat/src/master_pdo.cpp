@@ -404,6 +404,7 @@ Result<std::uint16_t> Master::receive_process_data(TimePoint deadline) {
                 stats_.max_consecutive_lost =
                     std::max(stats_.max_consecutive_lost, stats_.consecutive_lost);
                 last_wkc_mismatch_.reset();
+                overdue_.set(*cyclic_index_);
                 cyclic_index_.reset();
                 // The mailbox channels whose datagrams rode in it: writes go again, lost reads
                 // ask for a repeat; nothing waits here for them.
@@ -419,7 +420,7 @@ Result<std::uint16_t> Master::receive_process_data(TimePoint deadline) {
         const auto got = std::span<const std::uint8_t>(rx_buffer_).first(*r);
         const auto fi = frame_index(got);
         if (!fi || *fi != *cyclic_index_ || !decode_frame_into(got, frame)) {
-            ++stats_.stale_frames;
+            count_unawaited(fi);
             continue;
         }
         cyclic_index_.reset();

@@ -96,8 +96,8 @@ struct ControllerStats {
     /// Of the lost frames, those that came back after their cycle (read and dropped by a later
     /// one): the host was late, not the wire. ecat_frame_errors minus this is what never came
     /// back or came back with a short working counter (the newest late frame may still be on
-    /// its way). The master's stale-frame count is the source, so a frame that came back in
-    /// time but garbled (its datagrams not decodable) is counted here too, not as a wire error.
+    /// its way). The master's ProcessDataStats::late_frames is the source: a frame that came
+    /// back in time but garbled is not counted here, it stays a wire error.
     std::uint64_t ecat_late_frames = 0;
     /// The frame errors that are not late returns: frames the segment never sent back and short
     /// working counters. On a sound segment in OP this stays near 0 however busy the host is.

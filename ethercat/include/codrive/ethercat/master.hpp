@@ -17,6 +17,7 @@
 #include <codrive/emcy/message.hpp>
 
 #include <array>
+#include <bitset>
 #include <cstdint>
 #include <functional>
 #include <memory>
@@ -160,7 +161,14 @@ struct ProcessDataStats {
     /// the newest one's. Not `cycles − wkc_errors`: the frames before OP (whose short working
     /// counter is expected, see set_state_all()) count as cycles but bring no inputs in.
     std::uint64_t input_frames = 0;
-    std::uint64_t stale_frames = 0; ///< frames with an index we were not waiting for
+    /// Frames read after their own deadline had passed, while the master waited for a newer
+    /// one, and dropped: each was counted lost (or as a lost attempt of a blocking exchange)
+    /// when it was due. The host or the wire was slow; the frame itself was not lost.
+    std::uint64_t late_frames = 0;
+    /// Frames read while waiting that were not a late frame of ours and would not decode as
+    /// the awaited one: no EtherCAT header, a corrupted datagram, an index never sent or
+    /// already read. Dropped; the wait goes on.
+    std::uint64_t unreadable_frames = 0;
     /// Cyclic frames that carried the reference clock's system time (FRMW 0x0910).
     std::uint64_t dc_time_distributions = 0;
 };
@@ -474,7 +482,14 @@ private:
                                                        std::vector<std::uint8_t> request,
                                                        std::uint8_t response_opcode);
     std::uint8_t next_counter(std::size_t slave);
-    std::uint8_t next_index() { return index_++; }
+    /// The index of the next frame sent. It is no longer overdue: a frame with it is awaited.
+    std::uint8_t next_index() {
+        overdue_.reset(index_);
+        return index_++;
+    }
+    /// A frame came back that is not the awaited one (another index, or not decodable as it):
+    /// count it late if its index is overdue, unreadable otherwise.
+    void count_unawaited(std::optional<std::uint8_t> index);
     Result<std::optional<MailboxMessage>> mailbox_read_once(std::size_t slave, bool& lost);
     // Mailbox channels (master_mailbox.cpp).
     detail::MailboxChannel& channel(std::size_t slave);
@@ -529,6 +544,9 @@ private:
     std::vector<Datagram> frame_; ///< datagrams of the frame in flight (LRW first when cyclic)
     std::size_t frame_used_ = 0;
     std::optional<std::uint8_t> cyclic_index_;
+    /// Indexes of frames whose deadline passed before they came back (set when counted lost,
+    /// cleared when read back late or when the index is sent again).
+    std::bitset<256> overdue_;
     std::vector<std::unique_ptr<detail::MailboxChannel>> channels_;
     std::vector<std::unique_ptr<detail::CoeTransfer>> finished_;
     std::size_t mailbox_first_ = 0; ///< round robin: whose datagram goes first
