@@ -188,7 +188,8 @@ void Controller::run() {
 void Controller::run_for(Duration d) {
     const TimePoint end = loop_->now() + d;
     // One clock read per turn: with two, the deadline could pass between the check and the
-    // wait, and a negative wait is poll_once()'s "no limit" (a hang seen on a VM that stalls).
+    // wait. A negative wait was once poll_once()'s "no limit" (a hang seen on a VM that
+    // stalls); it now counts as zero, and only EventLoop::kForever waits without a limit.
     while (!stop_requested_) {
         const Duration left = end - loop_->now();
         if (left <= Duration::zero()) {

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cerrno>
+#include <limits>
 #include <sys/epoll.h>
 #include <sys/eventfd.h>
 #include <sys/timerfd.h>
@@ -207,6 +208,9 @@ void EventLoop::dispatch_timers(TimePoint now) {
 }
 
 VoidResult EventLoop::poll_once(Duration max_wait) {
+    // Only kForever waits without a limit; a wait that ran out while the caller computed it
+    // must not turn into one (a controller shutdown once hung so, docs/reliability.md).
+    max_wait = std::max(max_wait, Duration::zero());
     if (direct_read_possible(max_wait)) {
         poll_direct();
         return {};
@@ -220,7 +224,7 @@ bool EventLoop::direct_read_possible(Duration max_wait) {
         return false;
     }
     const Duration limit = fds_[0]->block_limit;
-    if (max_wait >= Duration::zero() && max_wait < limit) {
+    if (max_wait != kForever && max_wait < limit) {
         return false;
     }
     const TimePoint earliest = earliest_deadline();
@@ -259,9 +263,13 @@ void EventLoop::poll_direct() {
 VoidResult EventLoop::poll_epoll(Duration max_wait) {
     arm_timer();
     std::array<epoll_event, 32> events{};
+    // epoll_wait() counts whole milliseconds; a longer finite wait than it can take is cut to
+    // its largest (about 24 days), never turned into "no limit".
     const auto ms = std::chrono::duration_cast<milliseconds>(max_wait).count();
     const int timeout_ms =
-        max_wait < Duration::zero() ? -1 : static_cast<int>(std::max<long>(0, ms));
+        max_wait == kForever
+            ? -1
+            : static_cast<int>(std::min<long long>(ms, std::numeric_limits<int>::max()));
     now_fresh_ = false;
     const int n = epoll_wait(epoll_fd_, events.data(), static_cast<int>(events.size()), timeout_ms);
     if (n < 0) {
@@ -320,7 +328,7 @@ VoidResult EventLoop::poll_epoll(Duration max_wait) {
 VoidResult EventLoop::run() {
     stop_ = false;
     while (!stop_) {
-        if (auto r = poll_once(Duration(-1)); !r) {
+        if (auto r = poll_once(kForever); !r) {
             return r;
         }
     }

@@ -39,6 +39,7 @@ PAGES = {
     "codrive-esi": ["codrive", "esi"],
     "codrive-ecat": ["codrive", "ecat"],
     "codrive-bus": ["codrive", "bus"],
+    "codrive-latency": ["codrive", "latency"],
     "codrive-dump": ["codrive-dump"],
     "codrive-sim": ["codrive-sim"],
     "codrive-ecat-sim": ["codrive-ecat-sim"],

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
-// The real tools on the host: `codrive run --check` on bad bus files, and the one "cannot open"
-// sentence (with the run-in-vcan hint where the kernel has no SocketCAN) from every CAN tool.
+// The real tools on the host: `codrive run --check` on bad bus files, the one "cannot open"
+// sentence (with the run-in-vcan hint where the kernel has no SocketCAN) from every CAN tool,
+// and `codrive latency` measuring this machine's timer.
 #include <codrive/core/socket_can_bus.hpp>
 #include <codrive/testing/process.hpp>
 
@@ -159,4 +160,45 @@ TEST(CliHost, DumpQuietStatsPrintsOnlyTheTable) {
     EXPECT_NE(r.output.find("466 frames (0 error frames)"), std::string::npos) << r.output;
     EXPECT_EQ(r.output.find("SDO upload"), std::string::npos) << "no per-frame lines: " << r.output;
     EXPECT_EQ(r.output.find('\033'), std::string::npos) << "no escape codes into a pipe";
+}
+
+// The probe really sleeps: a quarter second at a 2 ms cycle is about 125 wake-ups. Whether this
+// machine is sound for that cycle is not for the test to say (exit 0 or 1), only that the
+// figures and the verdict are there and agree with the exit status.
+TEST(CliHost, LatencyMeasuresTheTimerAndGivesAVerdict) {
+    const auto r = ct::run(
+        {ct::tool_path("codrive"), "latency", "--cycle-us", "2000", "--seconds", "0.25"}, 30s);
+    ASSERT_TRUE(r.status == 0 || r.status == 1) << r.output;
+    EXPECT_NE(r.output.find("at a 2000 us cycle in 0."), std::string::npos) << r.output;
+    const auto at = r.output.find("timer latency: ");
+    ASSERT_NE(at, std::string::npos) << r.output;
+    const unsigned long wakeups = std::stoul(r.output.substr(at + 15));
+    EXPECT_GE(wakeups, 40U) << r.output; // a slot skipped here and there, not most of them
+    EXPECT_LE(wakeups, 125U) << r.output;
+    EXPECT_NE(r.output.find("lateness: p50 "), std::string::npos) << r.output;
+    if (r.status == 0) {
+        EXPECT_EQ(r.output.find("verdict: not sound"), std::string::npos) << r.output;
+    } else {
+        EXPECT_NE(r.output.find("verdict: not sound for a 2000 us cycle"), std::string::npos)
+            << r.output;
+    }
+}
+
+TEST(CliHost, LatencySaysWhichRealtimeSettingItCouldNotApply) {
+    const auto r = ct::run({ct::tool_path("codrive"), "latency", "--cycle-us", "5000", "--seconds",
+                            "0.05", "--cpu", "4096"},
+                           30s);
+    EXPECT_TRUE(r.status == 0 || r.status == 1) << r.output;
+    EXPECT_NE(r.output.find("codrive: warning: cannot pin to CPU 4096: this machine has "),
+              std::string::npos)
+        << r.output;
+    EXPECT_NE(r.output.find("verdict: "), std::string::npos) << r.output;
+}
+
+TEST(CliHost, LatencyRefusesACycleItCannotJudge) {
+    const auto r =
+        ct::run({ct::tool_path("codrive"), "latency", "--cycle-us", "10", "--seconds", "1"}, 30s);
+    EXPECT_EQ(r.status, 2) << r.output;
+    EXPECT_NE(r.output.find("--cycle-us must be 50..1000000, not 10"), std::string::npos)
+        << r.output;
 }

@@ -113,6 +113,54 @@ TEST(EventLoop, DeadlineMovedEarlierByAnFdHandlerIsServedInTheSameWakeUp) {
     ::close(efd);
 }
 
+// A remaining time that ran out while it was computed comes out negative. It must not block:
+// a controller shutdown hung in epoll_wait(-1) when poll_once() took it as "no limit".
+TEST(EventLoop, ANegativeWaitDispatchesWhatIsReadyAndNeverBlocks) {
+    auto loop = EventLoop::create();
+    ASSERT_TRUE(loop);
+    EventLoop& l = **loop;
+    Periodic p;
+    p.period = std::chrono::hours(1);
+    p.next = l.now() + std::chrono::seconds(30); // nothing due for 30 s
+    l.add_timed(&p);
+    const int efd = eventfd(0, EFD_NONBLOCK);
+    int reads = 0;
+    ASSERT_TRUE(l.add_fd(efd, EPOLLIN, [&](std::uint32_t) {
+        std::uint64_t v = 0;
+        ASSERT_EQ(::read(efd, &v, sizeof(v)), 8);
+        ++reads;
+    }));
+    const auto t0 = SteadyClock::now();
+    ASSERT_TRUE(l.poll_once(-std::chrono::microseconds(1)));
+    ASSERT_TRUE(l.poll_once(std::chrono::milliseconds(-50)));
+    EXPECT_LT(SteadyClock::now() - t0, std::chrono::seconds(10)) << "it waited for the timer";
+    EXPECT_EQ(reads, 0);
+    const std::uint64_t one = 1;
+    ASSERT_EQ(::write(efd, &one, sizeof(one)), 8);
+    ASSERT_TRUE(l.poll_once(-std::chrono::microseconds(1)));
+    EXPECT_EQ(reads, 1) << "what is ready is still dispatched";
+    EXPECT_EQ(p.ticks, 0);
+    l.remove_timed(&p);
+    l.remove_fd(efd);
+    ::close(efd);
+}
+
+TEST(EventLoop, ForeverWaitsUntilWorkArrives) {
+    auto loop = EventLoop::create();
+    ASSERT_TRUE(loop);
+    EventLoop& l = **loop;
+    bool ran = false;
+    std::thread poster([&] {
+        std::this_thread::sleep_for(std::chrono::milliseconds(50));
+        l.post([&] { ran = true; });
+    });
+    while (!ran) {
+        ASSERT_TRUE(l.poll_once(EventLoop::kForever));
+    }
+    poster.join();
+    EXPECT_TRUE(ran);
+}
+
 namespace {
 
 /// A datagram socket pair whose receiving end blocks at most 10 ms: a stand-in for a CAN socket

@@ -77,9 +77,11 @@ public:
     VoidResult run_until(TimePoint deadline);
     /// Runs until pred() is true after a dispatch, or the timeout passes. True if pred held.
     bool run_until(const std::function<bool()>& pred, Duration timeout);
-    /// Dispatches what is ready now, waiting at most `max_wait`; a negative `max_wait` waits
-    /// with no limit (until an fd or timer is ready), so compute a remaining time once and
-    /// stop at zero instead of passing one that may have run out.
+    /// poll_once()'s "no limit": wait until an fd, a timer or posted work is ready.
+    static constexpr Duration kForever = Duration::max();
+    /// Dispatches what is ready now, waiting at most `max_wait`; `kForever` waits with no
+    /// limit. A negative `max_wait` (a remaining time that ran out while it was computed)
+    /// counts as zero: it dispatches what is ready and never blocks.
     VoidResult poll_once(Duration max_wait);
     /// Thread-safe: makes run() return (within the direct reader's block limit when the fast
     /// path is waiting).

@@ -1,0 +1,54 @@
+// SPDX-License-Identifier: Apache-2.0
+// How late this machine wakes a periodic thread: the check to run before trusting it with a
+// cycle. The probe waits the way the controller's dedicated cyclic thread does
+// (clock_nanosleep(TIMER_ABSTIME) on CLOCK_MONOTONIC to start + k·cycle, a late wake-up skipping
+// the slots it missed) with the same real-time settings, and summarises the lateness.
+#pragma once
+
+#include <codrive/controller/realtime.hpp>
+#include <codrive/core/time.hpp>
+
+#include <cstdint>
+#include <span>
+#include <string>
+#include <vector>
+
+namespace codrive::controller {
+
+struct TimerProbeOptions {
+    Duration cycle = milliseconds(1);
+    Duration duration = seconds(10);
+    RealtimeOptions realtime; ///< applied to the probe's own thread, as to the cyclic thread
+};
+
+/// What a cyclic master at this cycle would have met.
+enum class TimerVerdict {
+    Sound,       ///< every wake-up within half a cycle of its slot
+    Jittery,     ///< some wake-up half a cycle late or more, none a whole cycle: no slot lost
+    SkipsCycles, ///< some wake-up a whole cycle late or more: a master would skip slots
+};
+
+struct TimerLatency {
+    Duration cycle{};
+    Duration measured{};             ///< wall time of the run
+    std::uint64_t wakeups = 0;       ///< wake-ups measured
+    std::uint64_t skipped_slots = 0; ///< slots passed while a wake-up was late
+    Duration p50{}, p99{}, p999{}, max{};
+    std::uint64_t late_half_cycle = 0;  ///< wake-ups half a cycle late or more
+    std::uint64_t late_whole_cycle = 0; ///< wake-ups a whole cycle late or more
+    std::vector<std::string> warnings;  ///< real-time settings that could not be applied
+
+    [[nodiscard]] TimerVerdict verdict() const;
+    /// Three lines: what was measured, the lateness figures, the verdict with what to do.
+    [[nodiscard]] std::string to_string() const;
+};
+
+/// Summarises lateness samples (each wake-up's time after its slot; reordered in place).
+[[nodiscard]] TimerLatency summarize_lateness(std::span<Duration> lateness, Duration cycle,
+                                              std::uint64_t skipped_slots);
+
+/// Runs the probe on a thread of its own for `options.duration` and returns the summary.
+/// `lock_memory` locks the whole process's memory (mlockall), as it does for the controller.
+[[nodiscard]] TimerLatency measure_timer_latency(const TimerProbeOptions& options);
+
+} // namespace codrive::controller

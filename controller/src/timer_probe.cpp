@@ -1,0 +1,140 @@
+// SPDX-License-Identifier: Apache-2.0
+// The timer-latency probe: the cyclic thread's wait, measured, and put into words.
+#include <codrive/controller/timer_probe.hpp>
+
+#include <algorithm>
+#include <cerrno>
+#include <ctime>
+#include <fmt/format.h>
+#include <thread>
+
+namespace codrive::controller {
+namespace {
+
+/// "62 us" below a millisecond, "14.1 ms" above.
+std::string span_text(Duration d) {
+    if (d < milliseconds(1)) {
+        return fmt::format("{} us", std::chrono::duration_cast<microseconds>(d).count());
+    }
+    return fmt::format("{:.1f} ms", to_ms(d));
+}
+
+/// The sample at quantile q (0..1) of the sorted samples: the smallest value with at least
+/// q of them at or below it.
+Duration quantile(std::span<const Duration> sorted, double q) {
+    if (sorted.empty()) {
+        return Duration::zero();
+    }
+    const auto n = sorted.size();
+    auto at = static_cast<std::size_t>(q * static_cast<double>(n) + 0.999999);
+    at = std::clamp<std::size_t>(at, 1, n);
+    return sorted[at - 1];
+}
+
+/// Cycles read best in microseconds: "1000 us", "250 us", "4000 us".
+std::string cycle_text(Duration d) {
+    return fmt::format("{} us", std::chrono::duration_cast<microseconds>(d).count());
+}
+
+} // namespace
+
+TimerVerdict TimerLatency::verdict() const {
+    if (late_whole_cycle > 0) {
+        return TimerVerdict::SkipsCycles;
+    }
+    return late_half_cycle > 0 ? TimerVerdict::Jittery : TimerVerdict::Sound;
+}
+
+std::string TimerLatency::to_string() const {
+    std::string out = fmt::format(
+        "timer latency: {} wake-ups at a {} cycle in {:.1f} s (clock_nanosleep to an absolute "
+        "CLOCK_MONOTONIC time, as the controller's cyclic thread waits)\n",
+        wakeups, cycle_text(cycle), std::chrono::duration<double>(measured).count());
+    out += fmt::format("lateness: p50 {}, p99 {}, p99.9 {}, max {}; {} wake-up(s) half a cycle "
+                       "late or more, {} a whole cycle or more ({} slot(s) skipped)\n",
+                       span_text(p50), span_text(p99), span_text(p999), span_text(max),
+                       late_half_cycle, late_whole_cycle, skipped_slots);
+    switch (verdict()) {
+    case TimerVerdict::Sound:
+        out += fmt::format("verdict: sound for a {} cycle: every wake-up came within half a "
+                           "cycle of its slot\n",
+                           cycle_text(cycle));
+        break;
+    case TimerVerdict::Jittery:
+        out += fmt::format(
+            "verdict: jittery for a {} cycle: no slot would be skipped, but wake-ups came up to "
+            "{} late; check that the drives' synchronous window (1007h) or SYNC0 shift allows "
+            "that, or use a longer cycle\n",
+            cycle_text(cycle), span_text(max));
+        break;
+    case TimerVerdict::SkipsCycles:
+        out += fmt::format(
+            "verdict: not sound for a {} cycle: a cyclic master here would have skipped {} "
+            "slot(s), the worst wake-up {} late; use a cycle and slave watchdog well above {}, "
+            "real-time scheduling (SCHED_FIFO), a CPU of its own, or other hardware\n",
+            cycle_text(cycle), skipped_slots, span_text(max), span_text(max));
+        break;
+    }
+    return out;
+}
+
+TimerLatency summarize_lateness(std::span<Duration> lateness, Duration cycle,
+                                std::uint64_t skipped_slots) {
+    TimerLatency r;
+    r.cycle = cycle;
+    r.wakeups = lateness.size();
+    r.skipped_slots = skipped_slots;
+    std::sort(lateness.begin(), lateness.end());
+    r.p50 = quantile(lateness, 0.50);
+    r.p99 = quantile(lateness, 0.99);
+    r.p999 = quantile(lateness, 0.999);
+    r.max = lateness.empty() ? Duration::zero() : lateness.back();
+    for (const Duration d : lateness) {
+        r.late_half_cycle += 2 * d >= cycle ? 1 : 0;
+        r.late_whole_cycle += d >= cycle ? 1 : 0;
+    }
+    return r;
+}
+
+TimerLatency measure_timer_latency(const TimerProbeOptions& options) {
+    const Duration cycle = std::max<Duration>(options.cycle, microseconds(10));
+    const auto expected = static_cast<std::size_t>(options.duration / cycle) + 1;
+    std::vector<Duration> lateness;
+    lateness.reserve(expected); // nothing allocates while measuring
+    std::vector<std::string> warnings;
+    std::uint64_t skipped = 0;
+    TimePoint started{};
+    TimePoint ended{};
+    std::thread probe([&] {
+        warnings = apply_realtime(options.realtime);
+        started = SteadyClock::now();
+        const TimePoint end = started + options.duration;
+        TimePoint slot = started;
+        while (lateness.size() < expected) {
+            slot += cycle;
+            if (slot > end) {
+                break;
+            }
+            const auto ns = slot.time_since_epoch().count();
+            const timespec ts{static_cast<time_t>(ns / 1'000'000'000),
+                              static_cast<long>(ns % 1'000'000'000)};
+            while (::clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &ts, nullptr) == EINTR) {
+            }
+            const Duration late = SteadyClock::now() - slot;
+            lateness.push_back(late);
+            if (late >= cycle) { // the slots it missed are skipped, as the controller does
+                const auto missed = static_cast<std::uint64_t>(late / cycle);
+                skipped += missed;
+                slot += cycle * static_cast<long>(missed);
+            }
+        }
+        ended = SteadyClock::now();
+    });
+    probe.join();
+    TimerLatency r = summarize_lateness(lateness, cycle, skipped);
+    r.measured = ended - started;
+    r.warnings = std::move(warnings);
+    return r;
+}
+
+} // namespace codrive::controller
