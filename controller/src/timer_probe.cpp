@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cerrno>
+#include <cmath>
 #include <ctime>
 #include <fmt/format.h>
 #include <thread>
@@ -19,17 +20,65 @@ std::string span_text(Duration d) {
     return fmt::format("{:.1f} ms", to_ms(d));
 }
 
-/// The sample at quantile q (0..1) of the sorted samples: the smallest value with at least
-/// q of them at or below it.
-Duration quantile(std::span<const Duration> sorted, double q) {
-    if (sorted.empty()) {
-        return Duration::zero();
+/// Lateness in 1 us bins up to 1 s and one bin beyond, the maximum exactly: the same memory
+/// (4 MB, taken before measuring) for a minute or an hour at any cycle.
+class LatenessHistogram {
+public:
+    static constexpr std::size_t kBins = 1'000'000;
+
+    explicit LatenessHistogram(Duration cycle) : cycle_(cycle), bins_(kBins + 1, 0) {}
+
+    void add(Duration late) {
+        late = std::max(late, Duration::zero());
+        const auto us =
+            static_cast<std::size_t>(std::chrono::duration_cast<microseconds>(late).count());
+        ++bins_[std::min(us, kBins)];
+        ++count_;
+        max_ = std::max(max_, late);
+        half_ += 2 * late >= cycle_ ? 1 : 0;
+        whole_ += late >= cycle_ ? 1 : 0;
     }
-    const auto n = sorted.size();
-    auto at = static_cast<std::size_t>(q * static_cast<double>(n) + 0.999999);
-    at = std::clamp<std::size_t>(at, 1, n);
-    return sorted[at - 1];
-}
+
+    [[nodiscard]] TimerLatency summary(std::uint64_t skipped_slots) const {
+        TimerLatency r;
+        r.cycle = cycle_;
+        r.wakeups = count_;
+        r.skipped_slots = skipped_slots;
+        r.p50 = quantile(0.50);
+        r.p99 = quantile(0.99);
+        r.p999 = quantile(0.999);
+        r.max = max_;
+        r.late_half_cycle = half_;
+        r.late_whole_cycle = whole_;
+        return r;
+    }
+
+private:
+    /// The smallest bin with at least q of the samples at or below it (the maximum past the
+    /// last bin).
+    [[nodiscard]] Duration quantile(double q) const {
+        if (count_ == 0) {
+            return Duration::zero();
+        }
+        const auto want = std::max<std::uint64_t>(
+            1, static_cast<std::uint64_t>(std::ceil(q * static_cast<double>(count_))));
+        std::uint64_t seen = 0;
+        for (std::size_t us = 0; us < kBins; ++us) {
+            seen += bins_[us];
+            if (seen >= want) {
+                return microseconds(static_cast<long>(us));
+            }
+        }
+        return max_;
+    }
+
+    Duration cycle_;
+    std::vector<std::uint32_t> bins_;
+    std::uint64_t count_ = 0;
+    Duration max_{};
+    std::uint64_t half_ = 0;
+    std::uint64_t whole_ = 0;
+};
 
 /// Cycles read best in microseconds: "1000 us", "250 us", "4000 us".
 std::string cycle_text(Duration d) {
@@ -78,29 +127,18 @@ std::string TimerLatency::to_string() const {
     return out;
 }
 
-TimerLatency summarize_lateness(std::span<Duration> lateness, Duration cycle,
+TimerLatency summarize_lateness(std::span<const Duration> lateness, Duration cycle,
                                 std::uint64_t skipped_slots) {
-    TimerLatency r;
-    r.cycle = cycle;
-    r.wakeups = lateness.size();
-    r.skipped_slots = skipped_slots;
-    std::sort(lateness.begin(), lateness.end());
-    r.p50 = quantile(lateness, 0.50);
-    r.p99 = quantile(lateness, 0.99);
-    r.p999 = quantile(lateness, 0.999);
-    r.max = lateness.empty() ? Duration::zero() : lateness.back();
+    LatenessHistogram h(cycle);
     for (const Duration d : lateness) {
-        r.late_half_cycle += 2 * d >= cycle ? 1 : 0;
-        r.late_whole_cycle += d >= cycle ? 1 : 0;
+        h.add(d);
     }
-    return r;
+    return h.summary(skipped_slots);
 }
 
 TimerLatency measure_timer_latency(const TimerProbeOptions& options) {
     const Duration cycle = std::max<Duration>(options.cycle, microseconds(10));
-    const auto expected = static_cast<std::size_t>(options.duration / cycle) + 1;
-    std::vector<Duration> lateness;
-    lateness.reserve(expected); // nothing allocates while measuring
+    LatenessHistogram lateness(cycle); // nothing allocates while measuring
     std::vector<std::string> warnings;
     std::uint64_t skipped = 0;
     TimePoint started{};
@@ -108,20 +146,16 @@ TimerLatency measure_timer_latency(const TimerProbeOptions& options) {
     std::thread probe([&] {
         warnings = apply_realtime(options.realtime);
         started = SteadyClock::now();
-        const TimePoint end = started + options.duration;
-        TimePoint slot = started;
-        while (lateness.size() < expected) {
-            slot += cycle;
-            if (slot > end) {
-                break;
-            }
+        const TimePoint end = started + std::max(options.duration, Duration::zero());
+        TimePoint slot = started + cycle;
+        for (; slot <= end; slot += cycle) {
             const auto ns = slot.time_since_epoch().count();
             const timespec ts{static_cast<time_t>(ns / 1'000'000'000),
                               static_cast<long>(ns % 1'000'000'000)};
             while (::clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &ts, nullptr) == EINTR) {
             }
             const Duration late = SteadyClock::now() - slot;
-            lateness.push_back(late);
+            lateness.add(late);
             if (late >= cycle) { // the slots it missed are skipped, as the controller does
                 const auto missed = static_cast<std::uint64_t>(late / cycle);
                 skipped += missed;
@@ -131,7 +165,7 @@ TimerLatency measure_timer_latency(const TimerProbeOptions& options) {
         ended = SteadyClock::now();
     });
     probe.join();
-    TimerLatency r = summarize_lateness(lateness, cycle, skipped);
+    TimerLatency r = lateness.summary(skipped);
     r.measured = ended - started;
     r.warnings = std::move(warnings);
     return r;

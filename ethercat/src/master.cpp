@@ -63,8 +63,9 @@ void Master::count_unawaited(std::optional<std::uint8_t> index) {
     // A frame of ours whose deadline passed is late whatever it carries now; anything else read
     // while waiting (a corrupted frame, the awaited one garbled, one already read) is not.
     if (index && overdue_.test(*index)) {
+        ++(overdue_cyclic_.test(*index) ? stats_.late_frames : stats_.late_other_frames);
         overdue_.reset(*index);
-        ++stats_.late_frames;
+        overdue_cyclic_.reset(*index);
     } else {
         ++stats_.unreadable_frames;
     }
@@ -92,8 +93,8 @@ VoidResult Master::exchange(std::span<Datagram> datagrams) {
         while (true) {
             auto r = link_.receive(rx_buffer_, deadline);
             if (!r) {
+                mark_overdue(idx, false);
                 if (r.error() == CoreErrc::Timeout) {
-                    overdue_.set(idx);
                     break;
                 }
                 return set_error(r.error(), fmt::format("cannot receive on {}: {}", link_.name(),

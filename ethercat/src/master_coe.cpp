@@ -125,7 +125,8 @@ Result<MailboxMessage> Master::mailbox_read(std::size_t slave, Duration timeout)
     }
     const TimePoint deadline = clock_.now() + timeout;
     bool repeated = false;
-    // A read with no time left (a poll) still repeats a few times: its message is already out.
+    // At least this many repeats in all, so a read with no time left (a poll) still recovers a
+    // message that is already out; more while the read has time.
     int repeats_left = std::max(1, config_.frame_retries);
     while (true) {
         bool lost = false;
@@ -153,7 +154,7 @@ Result<MailboxMessage> Master::mailbox_read(std::size_t slave, Duration timeout)
             }
             return std::move(m);
         }
-        if (lost && (clock_.now() < deadline || repeats_left-- > 0)) {
+        if (lost && (repeats_left-- > 0 || clock_.now() < deadline)) {
             // A read whose frame did not come back may have emptied SM1 on its way: ask the
             // slave for that message again instead of losing it (ETG.1000.4 §6.7.2), after
             // every such read while the read has time, as the cyclic channel does.

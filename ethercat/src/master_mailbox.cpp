@@ -454,6 +454,7 @@ VoidResult Master::run_mailbox_cycle() {
         auto r = link_.receive(rx_buffer_, deadline);
         if (!r) {
             if (r.error() != CoreErrc::Timeout) {
+                mark_overdue(idx, false);
                 return set_error(r.error(), fmt::format("cannot receive on {}: {}", link_.name(),
                                                         r.error().message()));
             }
@@ -468,7 +469,7 @@ VoidResult Master::run_mailbox_cycle() {
         count_unawaited(fi);
     }
     if (lost) {
-        overdue_.set(idx);
+        mark_overdue(idx, false);
     }
     mailbox_done(lost, clock_.now());
     deliver_finished();

@@ -404,7 +404,7 @@ Result<std::uint16_t> Master::receive_process_data(TimePoint deadline) {
                 stats_.max_consecutive_lost =
                     std::max(stats_.max_consecutive_lost, stats_.consecutive_lost);
                 last_wkc_mismatch_.reset();
-                overdue_.set(*cyclic_index_);
+                mark_overdue(*cyclic_index_, true);
                 cyclic_index_.reset();
                 // The mailbox channels whose datagrams rode in it: writes go again, lost reads
                 // ask for a repeat; nothing waits here for them.
@@ -415,6 +415,7 @@ Result<std::uint16_t> Master::receive_process_data(TimePoint deadline) {
                 cyclic_note_ = CyclicNote::FrameLost; // put into words by last_error()
                 return fail(EcatErrc::NoResponse);
             }
+            mark_overdue(*cyclic_index_, false); // not counted lost, so not late either
             return fail(r.error());
         }
         const auto got = std::span<const std::uint8_t>(rx_buffer_).first(*r);

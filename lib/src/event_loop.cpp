@@ -377,7 +377,8 @@ VoidResult EventLoop::run_until(TimePoint deadline) {
 bool EventLoop::run_until(const std::function<bool()>& pred, Duration timeout) {
     last_now_ = now();
     now_fresh_ = true;
-    const TimePoint deadline = last_now_ + timeout;
+    // kForever (or any timeout past the clock's end) is no deadline, not an overflow.
+    const TimePoint deadline = timeout >= kNever - last_now_ ? kNever : last_now_ + timeout;
     const RunDeadline scope(run_deadline_, deadline);
     stop_ = false;
     // The time comes from the loop's own clock reads and receive times: a clock read only when

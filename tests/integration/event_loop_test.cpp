@@ -159,6 +159,15 @@ TEST(EventLoop, ForeverWaitsUntilWorkArrives) {
     }
     poster.join();
     EXPECT_TRUE(ran);
+    // The same with run_until(): kForever is no deadline (now + kForever would overflow into the
+    // past and return at once).
+    bool again = false;
+    std::thread second([&] {
+        std::this_thread::sleep_for(std::chrono::milliseconds(50));
+        l.post([&] { again = true; });
+    });
+    EXPECT_TRUE(l.run_until([&] { return again; }, EventLoop::kForever));
+    second.join();
 }
 
 namespace {

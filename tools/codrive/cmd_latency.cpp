@@ -19,11 +19,12 @@ struct LatencyArgs {
 };
 
 int run_latency(const LatencyArgs& a) {
-    if (a.cycle_us < 50 || a.cycle_us > 1e6) {
+    // Written so that NaN fails too.
+    if (!(a.cycle_us >= 50 && a.cycle_us <= 1e6)) {
         fmt::print(stderr, "codrive: --cycle-us must be 50..1000000, not {}\n", a.cycle_us);
         return kExitUsage;
     }
-    if (a.seconds <= 0 || a.seconds > 3600) {
+    if (!(a.seconds > 0 && a.seconds <= 3600)) {
         fmt::print(stderr, "codrive: --seconds must be above 0 and at most 3600, not {}\n",
                    a.seconds);
         return kExitUsage;

@@ -78,6 +78,26 @@ TEST(TimerProbe, AWholeCycleLateSaysHowManySlotsAMasterWouldSkip) {
         << text;
 }
 
+TEST(TimerProbe, StallsBeyondASecondAreKeptExactlyAsTheMaximum) {
+    auto v = samples(990, microseconds(70));
+    for (int i = 0; i < 10; ++i) {
+        v.push_back(milliseconds(2500) + microseconds(i));
+    }
+    const auto r = summarize_lateness(v, milliseconds(1), 25000);
+    EXPECT_EQ(r.p99, microseconds(70));
+    EXPECT_EQ(r.p999, milliseconds(2500) + microseconds(9)) << "past the bins: the maximum";
+    EXPECT_EQ(r.max, milliseconds(2500) + microseconds(9));
+    EXPECT_EQ(r.late_whole_cycle, 10U);
+}
+
+TEST(TimerProbe, HalfACycleIsComparedExactlyNotToTheMicrosecond) {
+    // 1001 us cycle: half is 500.5 us. 500.4 us is within it, 500.5 us is not.
+    std::vector<Duration> v{nanoseconds(500'400)};
+    EXPECT_EQ(summarize_lateness(v, microseconds(1001), 0).verdict(), TimerVerdict::Sound);
+    v.push_back(nanoseconds(500'500));
+    EXPECT_EQ(summarize_lateness(v, microseconds(1001), 0).verdict(), TimerVerdict::Jittery);
+}
+
 TEST(TimerProbe, NoSamplesIsZeroNotACrash) {
     std::vector<Duration> none;
     const auto r = summarize_lateness(none, milliseconds(1), 0);

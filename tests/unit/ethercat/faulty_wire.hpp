@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: Apache-2.0
 // A wire with faults the in-process SegmentLink does not make itself, for the master's unit
-// tests: frames that come back garbled or twice, and mailbox reads whose frame comes back late.
+// tests: frames that come back garbled or twice, and blocking reads whose frame comes back late.
 #pragma once
 
 #include <codrive/ethercat/datagram.hpp>
@@ -23,7 +23,7 @@ class FaultyWire final : public IEcatLink {
 public:
     FaultyWire(sim::ecat::SegmentLink& inner, FakeClock& clock) : inner_(inner), clock_(clock) {}
     VoidResult send(std::span<const std::uint8_t> frame) override {
-        if (late_reads_ > 0 && reads_offset(frame, mailbox_offset_)) {
+        if (late_reads_ > 0 && reads_offset(frame, read_offset_)) {
             // Every other read of the mailbox: the first attempt of each blocking read.
             hold_next_ = (++reads_seen_ % 2) == 1;
             late_reads_ -= hold_next_ ? 1 : 0;
@@ -65,11 +65,11 @@ public:
     void garble_next(int n) { garble_ = n; }
     /// The next `n` frames that come back come back twice.
     void repeat_next(int n) { repeat_ = n; }
-    /// Of the next 2n frames whose first datagram is an FPRD of `offset` (a slave's SM1
-    /// mailbox), every other one comes back after its deadline: n mailbox reads in a row empty
-    /// SM1 and their answer reaches the master too late.
-    void delay_mailbox_reads(std::uint16_t offset, int n) {
-        mailbox_offset_ = offset;
+    /// Of the next 2n frames whose first datagram is an FPRD of `offset`, every other one comes
+    /// back after its deadline: the first attempt of n blocking reads in a row. For a slave's
+    /// SM1 mailbox, n reads empty SM1 and their answer reaches the master too late.
+    void delay_reads(std::uint16_t offset, int n) {
+        read_offset_ = offset;
         late_reads_ = n;
         reads_seen_ = 0;
     }
@@ -89,7 +89,7 @@ private:
     FakeClock& clock_;
     int garble_ = 0;
     int repeat_ = 0;
-    std::uint16_t mailbox_offset_ = 0;
+    std::uint16_t read_offset_ = 0;
     int late_reads_ = 0;
     int reads_seen_ = 0;
     bool hold_next_ = false;

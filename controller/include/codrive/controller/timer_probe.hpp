@@ -43,12 +43,14 @@ struct TimerLatency {
     [[nodiscard]] std::string to_string() const;
 };
 
-/// Summarises lateness samples (each wake-up's time after its slot; reordered in place).
-[[nodiscard]] TimerLatency summarize_lateness(std::span<Duration> lateness, Duration cycle,
+/// Summarises lateness samples (each wake-up's time after its slot). Quantiles are kept to the
+/// microsecond (below 1 s; beyond, the maximum), the maximum exactly.
+[[nodiscard]] TimerLatency summarize_lateness(std::span<const Duration> lateness, Duration cycle,
                                               std::uint64_t skipped_slots);
 
-/// Runs the probe on a thread of its own for `options.duration` and returns the summary.
-/// `lock_memory` locks the whole process's memory (mlockall), as it does for the controller.
+/// Runs the probe on a thread of its own for `options.duration` and returns the summary. Its
+/// memory is the same (4 MB) for any duration and cycle. `lock_memory` locks the whole
+/// process's memory (mlockall), as it does for the controller.
 [[nodiscard]] TimerLatency measure_timer_latency(const TimerProbeOptions& options);
 
 } // namespace codrive::controller

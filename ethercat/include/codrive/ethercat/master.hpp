@@ -161,10 +161,14 @@ struct ProcessDataStats {
     /// the newest one's. Not `cycles − wkc_errors`: the frames before OP (whose short working
     /// counter is expected, see set_state_all()) count as cycles but bring no inputs in.
     std::uint64_t input_frames = 0;
-    /// Frames read after their own deadline had passed, while the master waited for a newer
-    /// one, and dropped: each was counted lost (or as a lost attempt of a blocking exchange)
-    /// when it was due. The host or the wire was slow; the frame itself was not lost.
+    /// Of the lost_frames, those read after all by a later wait and dropped: the host or the
+    /// wire was slow, the frame was not lost. `lost_frames − late_frames` never came back (but
+    /// the newest may still be on its way).
     std::uint64_t late_frames = 0;
+    /// Late frames that were not counted in lost_frames: lost attempts of blocking calls
+    /// (scan(), register access, SDO outside cyclic operation) and a cyclic frame whose wait
+    /// failed with a receive error. Read after their deadline, dropped.
+    std::uint64_t late_other_frames = 0;
     /// Frames read while waiting that were not a late frame of ours and would not decode as
     /// the awaited one: no EtherCAT header, a corrupted datagram, an index never sent or
     /// already read. Dropped; the wait goes on.
@@ -485,7 +489,13 @@ private:
     /// The index of the next frame sent. It is no longer overdue: a frame with it is awaited.
     std::uint8_t next_index() {
         overdue_.reset(index_);
+        overdue_cyclic_.reset(index_);
         return index_++;
+    }
+    /// The frame with this index was not back by its deadline (or its wait failed).
+    void mark_overdue(std::uint8_t index, bool cyclic) {
+        overdue_.set(index);
+        overdue_cyclic_.set(index, cyclic);
     }
     /// A frame came back that is not the awaited one (another index, or not decodable as it):
     /// count it late if its index is overdue, unreadable otherwise.
@@ -545,8 +555,10 @@ private:
     std::size_t frame_used_ = 0;
     std::optional<std::uint8_t> cyclic_index_;
     /// Indexes of frames whose deadline passed before they came back (set when counted lost,
-    /// cleared when read back late or when the index is sent again).
+    /// cleared when read back late or when the index is sent again), and which of them were
+    /// cyclic frames (counted in lost_frames).
     std::bitset<256> overdue_;
+    std::bitset<256> overdue_cyclic_;
     std::vector<std::unique_ptr<detail::MailboxChannel>> channels_;
     std::vector<std::unique_ptr<detail::CoeTransfer>> finished_;
     std::size_t mailbox_first_ = 0; ///< round robin: whose datagram goes first

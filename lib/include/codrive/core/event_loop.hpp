@@ -75,7 +75,8 @@ public:
     VoidResult run();
     /// Runs until `deadline` (or stop()).
     VoidResult run_until(TimePoint deadline);
-    /// Runs until pred() is true after a dispatch, or the timeout passes. True if pred held.
+    /// Runs until pred() is true after a dispatch, or the timeout passes (kForever: none).
+    /// True if pred held.
     bool run_until(const std::function<bool()>& pred, Duration timeout);
     /// poll_once()'s "no limit": wait until an fd, a timer or posted work is ready.
     static constexpr Duration kForever = Duration::max();
