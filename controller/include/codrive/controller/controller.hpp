@@ -95,9 +95,9 @@ struct ControllerStats {
     std::uint64_t ecat_frame_errors = 0; ///< EtherCAT cycles with a lost frame or a WKC error
     /// Of the lost frames, those that came back after their cycle (read and dropped by a later
     /// one): the host was late, not the wire. ecat_frame_errors minus this is what never came
-    /// back or came back with a short working counter (the newest late frame may still be on
-    /// its way). The master's ProcessDataStats::late_frames is the source: a frame that came
-    /// back in time but garbled is not counted here, it stays a wire error.
+    /// back or came back with a short working counter (the frames lost since the last one read
+    /// may still be on their way). The master's ProcessDataStats::late_frames is the source: a
+    /// frame that came back in time but garbled is not counted here, it stays a wire error.
     std::uint64_t ecat_late_frames = 0;
     /// The frame errors that are not late returns: frames the segment never sent back and short
     /// working counters. On a sound segment in OP this stays near 0 however busy the host is.

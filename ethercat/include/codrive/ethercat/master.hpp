@@ -162,8 +162,9 @@ struct ProcessDataStats {
     /// counter is expected, see set_state_all()) count as cycles but bring no inputs in.
     std::uint64_t input_frames = 0;
     /// Of the lost_frames, those read after all by a later wait and dropped: the host or the
-    /// wire was slow, the frame was not lost. `lost_frames − late_frames` never came back (but
-    /// the newest may still be on its way).
+    /// wire was slow, the frame was not lost. `lost_frames − late_frames` never came back, but
+    /// for the frames lost since the last one read (consecutive_lost), which may still be on
+    /// their way. A frame back more than 255 frames late finds its index reused: not counted.
     std::uint64_t late_frames = 0;
     /// Late frames that were not counted in lost_frames: lost attempts of blocking calls
     /// (scan(), register access, SDO outside cyclic operation) and a cyclic frame whose wait
@@ -554,9 +555,9 @@ private:
     std::vector<Datagram> frame_; ///< datagrams of the frame in flight (LRW first when cyclic)
     std::size_t frame_used_ = 0;
     std::optional<std::uint8_t> cyclic_index_;
-    /// Indexes of frames whose deadline passed before they came back (set when counted lost,
-    /// cleared when read back late or when the index is sent again), and which of them were
-    /// cyclic frames (counted in lost_frames).
+    /// Indexes of frames whose deadline passed before they came back, or whose wait failed
+    /// (cleared when read back late or when the index is sent again), and which of them were
+    /// cyclic frames counted in lost_frames.
     std::bitset<256> overdue_;
     std::bitset<256> overdue_cyclic_;
     std::vector<std::unique_ptr<detail::MailboxChannel>> channels_;
