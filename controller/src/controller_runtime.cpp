@@ -8,9 +8,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
-#include <cerrno>
 #include <csignal>
-#include <ctime>
 
 namespace codrive::controller {
 
@@ -94,10 +92,7 @@ void Controller::cyclic_main() {
         for (auto& seg : segments_) {
             wake = std::min(wake, seg->next_cycle());
         }
-        const auto ns = wake.time_since_epoch().count();
-        timespec ts{static_cast<time_t>(ns / 1000000000), static_cast<long>(ns % 1000000000)};
-        while (::clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &ts, nullptr) == EINTR) {
-        }
+        sleep_until(wake);
         if (cb_handoff_.load(std::memory_order_acquire)) {
             std::swap(cycle_cb_, pending_cb_);
             cb_handoff_.store(false, std::memory_order_release);

@@ -4,6 +4,7 @@
 
 #include <cerrno>
 #include <cstring>
+#include <ctime>
 #include <fmt/format.h>
 #include <pthread.h>
 #include <sched.h>
@@ -54,6 +55,14 @@ std::vector<std::string> apply_realtime(const RealtimeOptions& options) {
         }
     }
     return warnings;
+}
+
+void sleep_until(TimePoint t) {
+    const auto ns = t.time_since_epoch().count();
+    const timespec ts{static_cast<time_t>(ns / 1'000'000'000),
+                      static_cast<long>(ns % 1'000'000'000)};
+    while (::clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &ts, nullptr) == EINTR) {
+    }
 }
 
 SavedThreadSchedule::SavedThreadSchedule() {

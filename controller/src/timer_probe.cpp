@@ -3,9 +3,7 @@
 #include <codrive/controller/timer_probe.hpp>
 
 #include <algorithm>
-#include <cerrno>
 #include <cmath>
-#include <ctime>
 #include <fmt/format.h>
 #include <thread>
 
@@ -149,11 +147,7 @@ TimerLatency measure_timer_latency(const TimerProbeOptions& options) {
         const TimePoint end = started + std::max(options.duration, Duration::zero());
         TimePoint slot = started + cycle;
         for (; slot <= end; slot += cycle) {
-            const auto ns = slot.time_since_epoch().count();
-            const timespec ts{static_cast<time_t>(ns / 1'000'000'000),
-                              static_cast<long>(ns % 1'000'000'000)};
-            while (::clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &ts, nullptr) == EINTR) {
-            }
+            sleep_until(slot); // the cyclic thread's own wait
             const Duration late = SteadyClock::now() - slot;
             lateness.add(late);
             if (late >= cycle) { // the slots it missed are skipped, as the controller does

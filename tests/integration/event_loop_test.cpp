@@ -149,11 +149,15 @@ TEST(EventLoop, ForeverWaitsUntilWorkArrives) {
     auto loop = EventLoop::create();
     ASSERT_TRUE(loop);
     EventLoop& l = **loop;
+    // Another thread posts work that sets `flag` 50 ms from now.
+    const auto post_later = [&l](bool& flag) {
+        return std::thread([&l, &flag] {
+            std::this_thread::sleep_for(std::chrono::milliseconds(50));
+            l.post([&flag] { flag = true; });
+        });
+    };
     bool ran = false;
-    std::thread poster([&] {
-        std::this_thread::sleep_for(std::chrono::milliseconds(50));
-        l.post([&] { ran = true; });
-    });
+    std::thread poster = post_later(ran);
     while (!ran) {
         ASSERT_TRUE(l.poll_once(EventLoop::kForever));
     }
@@ -162,10 +166,7 @@ TEST(EventLoop, ForeverWaitsUntilWorkArrives) {
     // The same with run_until(): kForever is no deadline (now + kForever would overflow into the
     // past and return at once).
     bool again = false;
-    std::thread second([&] {
-        std::this_thread::sleep_for(std::chrono::milliseconds(50));
-        l.post([&] { again = true; });
-    });
+    std::thread second = post_later(again);
     EXPECT_TRUE(l.run_until([&] { return again; }, EventLoop::kForever));
     second.join();
 }

@@ -76,8 +76,8 @@ public:
     [[nodiscard]] int held() const { return held_; }
 
 private:
-    /// Ethernet header (14) + EtherCAT header (2): the first datagram's header.
-    static constexpr std::size_t kFirstDatagram = 16;
+    /// Where the first datagram's header starts.
+    static constexpr std::size_t kFirstDatagram = kEthernetHeaderSize + kEcatHeaderSize;
     static constexpr std::size_t kFirstCommand = kFirstDatagram;
     static bool reads_offset(std::span<const std::uint8_t> frame, std::uint16_t offset) {
         return frame.size() >= kFirstDatagram + 10 && // a datagram header

@@ -3,6 +3,8 @@
 // mlockall. Each one that cannot be applied gives a warning sentence, never a silent no-op.
 #pragma once
 
+#include <codrive/core/time.hpp>
+
 #include <string>
 #include <vector>
 
@@ -19,6 +21,11 @@ struct RealtimeOptions {
 /// be applied, e.g. "cannot use SCHED_FIFO priority 80: not permitted (run as root, grant
 /// CAP_SYS_NICE, or raise rtprio in /etc/security/limits.conf); running with normal scheduling".
 std::vector<std::string> apply_realtime(const RealtimeOptions& options);
+
+/// Sleeps until `t` on CLOCK_MONOTONIC (clock_nanosleep with TIMER_ABSTIME; a signal does not
+/// cut it short): how the dedicated cyclic thread waits for its next slot, and what
+/// measure_timer_latency() measures. No allocation, no lock.
+void sleep_until(TimePoint t);
 
 /// The calling thread's scheduling policy, priority and CPU affinity, saved before
 /// apply_realtime() changes them on a thread the controller does not own (Threading::Single runs
