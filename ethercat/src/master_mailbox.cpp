@@ -455,6 +455,10 @@ VoidResult Master::run_mailbox_cycle() {
         if (!r) {
             if (r.error() != CoreErrc::Timeout) {
                 mark_overdue(idx, false);
+                // Every channel whose datagram rode in the frame treats it as lost (a read may
+                // have emptied SM1: it asks for a repeat), not only the caller's slave. A lost
+                // frame finishes no transfer, so no callback runs before the sentence is set.
+                mailbox_done(true, clock_.now());
                 return set_error(r.error(), fmt::format("cannot receive on {}: {}", link_.name(),
                                                         r.error().message()));
             }
@@ -502,14 +506,18 @@ void Master::cancel_mailbox_transfers(std::size_t slave, std::string_view why) {
 void Master::run_mailbox_until_idle(std::size_t slave) {
     while (mailbox_transfers(slave) > 0) {
         if (auto r = run_mailbox_cycle(); !r) {
-            // The link itself failed: end the slave's transfers with that sentence.
+            // The link itself failed: end the slave's transfers, each sentence naming the
+            // slave and the transfer before the link's own words.
             const TimePoint now = clock_.now();
+            const std::string why = last_error();
             MailboxChannel& ch = channel(slave);
             while (!ch.queue.empty()) {
                 if (!ch.active) {
                     ch.active = true;
                 }
-                mailbox_fail(slave, r.error(), last_error(), now);
+                mailbox_fail(slave, r.error(),
+                             fmt::format("{} failed: {}", transfer_name(*ch.queue.front()), why),
+                             now);
             }
             deliver_finished();
             return;

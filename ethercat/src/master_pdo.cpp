@@ -390,6 +390,18 @@ bool Master::take_al_probes() {
     return fresh;
 }
 
+void Master::give_up_cyclic_frame(bool counted_lost) {
+    mark_overdue(*cyclic_index_, counted_lost);
+    cyclic_index_.reset();
+    // The datagrams that rode in it are lost with it: mailbox writes go again, reads that may
+    // have emptied SM1 ask for a repeat, AL control writes stay queued, probes ask again.
+    // Nothing waits here for them.
+    mailbox_done(true, clock_.now());
+    probes_done(true);
+    al_control_done(true);
+    deliver_finished();
+}
+
 Result<std::uint16_t> Master::receive_process_data(TimePoint deadline) {
     if (!cyclic_index_) {
         return fail(EcatErrc::NotConfigured);
@@ -398,25 +410,23 @@ Result<std::uint16_t> Master::receive_process_data(TimePoint deadline) {
     while (true) {
         auto r = link_.receive(rx_buffer_, deadline);
         if (!r) {
-            if (r.error() == CoreErrc::Timeout) {
+            const bool timeout = r.error() == CoreErrc::Timeout;
+            if (timeout) {
                 ++stats_.lost_frames;
                 ++stats_.consecutive_lost;
                 stats_.max_consecutive_lost =
                     std::max(stats_.max_consecutive_lost, stats_.consecutive_lost);
                 last_wkc_mismatch_.reset();
-                mark_overdue(*cyclic_index_, true);
-                cyclic_index_.reset();
-                // The mailbox channels whose datagrams rode in it: writes go again, lost reads
-                // ask for a repeat; nothing waits here for them.
-                mailbox_done(true, clock_.now());
-                probes_done(true);
-                al_control_done(true);
-                deliver_finished();
                 cyclic_note_ = CyclicNote::FrameLost; // put into words by last_error()
-                return fail(EcatErrc::NoResponse);
+            } else {
+                // The link failed (the interface went down, say): whether the frame came back
+                // is unknown. Not counted lost, so not late either; given up all the same.
+                ++stats_.receive_errors;
+                noted_error_ = r.error();
+                cyclic_note_ = CyclicNote::ReceiveError;
             }
-            mark_overdue(*cyclic_index_, false); // not counted lost, so not late either
-            return fail(r.error());
+            give_up_cyclic_frame(timeout);
+            return fail(timeout ? make_error_code(EcatErrc::NoResponse) : r.error());
         }
         const auto got = std::span<const std::uint8_t>(rx_buffer_).first(*r);
         const auto fi = frame_index(got);
@@ -463,6 +473,10 @@ const std::string& Master::last_error() const {
     switch (std::exchange(cyclic_note_, CyclicNote::None)) {
     case CyclicNote::FrameLost:
         last_error_ = fmt::format("cyclic LRW frame lost on {}: no answer in time", link_.name());
+        break;
+    case CyclicNote::ReceiveError:
+        last_error_ = fmt::format("cyclic LRW frame given up on {}: cannot receive: {}",
+                                  link_.name(), noted_error_.message());
         break;
     case CyclicNote::WorkingCounter:
         last_error_ =

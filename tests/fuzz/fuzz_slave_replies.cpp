@@ -2,9 +2,10 @@
 // libFuzzer target: everything an EtherCAT slave sends, as the master meets it. The master runs
 // its real bring-up and CoE work (scan with SII reads, AL status, ESM transitions, SDO upload and
 // download in every size, SDO information, emergencies, process data) against simulated drives
-// whose answers the fuzzer corrupts on their way back: SII words, AL status codes, mailbox
-// headers, CoE SDO and SDO information replies. Whatever comes back, every call must end (on
-// the fake clock) with a result, and every failure must read as a sentence naming the slave.
+// whose answers the fuzzer corrupts on their way back (SII words, AL status codes, mailbox
+// headers, CoE SDO and SDO information replies), loses, or takes with a failing receive. Whatever
+// comes back, every call must end (on the fake clock) with a result, and every failure must read as
+// a sentence naming the slave.
 #include "fuzz_input.hpp"
 
 #include <codrive/ethercat/master.hpp>
@@ -14,6 +15,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <string>
+#include <system_error>
 #include <vector>
 
 using namespace codrive;
@@ -38,6 +40,9 @@ public:
         if (op == 0x7F) { // lost on the wire: the master waits out its deadline
             clock_.set(std::max(clock_.now(), deadline));
             return fail(CoreErrc::Timeout);
+        }
+        if (op == 0x7E) { // the socket fails (interface down): the frame's answers are gone
+            return fail(std::make_error_code(std::errc::network_down));
         }
         if ((op & 0x80) == 0 || *got == 0) {
             return got;

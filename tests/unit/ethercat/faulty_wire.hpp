@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 // A wire with faults the in-process SegmentLink does not make itself, for the master's unit
-// tests: frames that come back garbled or twice, and blocking reads whose frame comes back late.
+// tests: frames that come back garbled or twice, blocking reads whose frame comes back late, and
+// frames whose receive fails.
 #pragma once
 
 #include <codrive/ethercat/datagram.hpp>
@@ -13,6 +14,7 @@
 #include <algorithm>
 #include <deque>
 #include <string>
+#include <system_error>
 #include <vector>
 
 namespace codrive::ethercat::test {
@@ -48,6 +50,10 @@ public:
             clock_.set(std::max(clock_.now(), deadline));
             return fail(CoreErrc::Timeout);
         }
+        if (fail_reads_ > 0 && carries_answered_read(buffer.first(*got), fail_offset_)) {
+            --fail_reads_; // the slave took the read; the master's socket reports an error
+            return fail(fail_error_);
+        }
         if (garble_ > 0) {
             --garble_;
             buffer[kFirstCommand] ^= 0x0F; // LRW (0x0C) becomes 0x03 (BWR)
@@ -73,6 +79,15 @@ public:
         late_reads_ = n;
         reads_seen_ = 0;
     }
+    /// The next `n` frames that come back with an answered FPRD of `offset` anywhere in them
+    /// (an SM1 read that emptied the mailbox, say) are not seen: the receive fails with `ec`,
+    /// as a socket does when its interface goes down.
+    void fail_reads(std::uint16_t offset, int n, std::error_code ec) {
+        fail_offset_ = offset;
+        fail_reads_ = n;
+        fail_error_ = ec;
+    }
+    [[nodiscard]] int fail_reads_left() const { return fail_reads_; }
     [[nodiscard]] int held() const { return held_; }
 
 private:
@@ -85,6 +100,14 @@ private:
                get_le<std::uint16_t>(frame.data() + kFirstDatagram + 4) == offset;
     }
 
+    static bool carries_answered_read(std::span<std::uint8_t> frame, std::uint16_t offset) {
+        bool found = false;
+        (void)for_each_datagram(frame, [&](DatagramRef& d) {
+            found = found || (d.command == Command::Fprd && d.ado() == offset && d.wkc() == 1);
+        });
+        return found;
+    }
+
     sim::ecat::SegmentLink& inner_;
     FakeClock& clock_;
     int garble_ = 0;
@@ -94,6 +117,9 @@ private:
     int reads_seen_ = 0;
     bool hold_next_ = false;
     int held_ = 0;
+    std::uint16_t fail_offset_ = 0;
+    int fail_reads_ = 0;
+    std::error_code fail_error_;
     std::deque<std::vector<std::uint8_t>> back_;
 };
 

@@ -174,6 +174,10 @@ struct ProcessDataStats {
     /// the awaited one: no EtherCAT header, a corrupted datagram, an index never sent or
     /// already read. Dropped; the wait goes on.
     std::uint64_t unreadable_frames = 0;
+    /// Cyclic waits that ended with a receive error of the link (the interface went down, say)
+    /// rather than a timeout: not in lost_frames, but the frame's mailbox datagrams, AL probes
+    /// and AL control writes count as lost and go again.
+    std::uint64_t receive_errors = 0;
     /// Cyclic frames that carried the reference clock's system time (FRMW 0x0910).
     std::uint64_t dc_time_distributions = 0;
 };
@@ -406,7 +410,8 @@ public:
     /// advances the mailbox channels whose datagrams rode in it, copies inputs, returns its
     /// WKC. A lost frame is counted (stats().lost_frames, consecutive_lost). Errors:
     /// NoResponse (lost frame); a WKC mismatch is counted and returned as WorkingCounter with
-    /// last_error() naming the slaves that did not answer.
+    /// last_error() naming the slaves that did not answer; a receive error of the link is
+    /// returned as it is (stats().receive_errors), the frame given up as if lost.
     Result<std::uint16_t> receive_process_data(TimePoint deadline);
     /// send + receive with the frame timeout.
     Result<std::uint16_t> exchange_process_data();
@@ -523,6 +528,8 @@ private:
     void probes_done(bool lost);
     void al_control_add();
     void al_control_done(bool lost);
+    /// The awaited cyclic frame will not be read: everything that rode in it counts as lost.
+    void give_up_cyclic_frame(bool counted_lost);
     /// The continuous drift compensation datagram of the cyclic frame (master_dc.cpp).
     void dc_time_add();
     /// Programs SM2/SM3 and FMMU0/1 of one slave for its part of the process image.
@@ -541,9 +548,10 @@ private:
     std::vector<std::uint8_t> rx_buffer_ = std::vector<std::uint8_t>(kMaxFrameSize + 64);
     mutable std::string last_error_;
     /// A failure of the cyclic exchange not yet put into words (see last_error()).
-    enum class CyclicNote : std::uint8_t { None, FrameLost, WorkingCounter };
+    enum class CyclicNote : std::uint8_t { None, FrameLost, ReceiveError, WorkingCounter };
     mutable CyclicNote cyclic_note_ = CyclicNote::None;
     std::uint16_t noted_wkc_ = 0;
+    std::error_code noted_error_;
     EmergencyHandler emergency_handler_;
     // Process data.
     bool mapped_ = false;
