@@ -265,8 +265,9 @@ void EcatSegment::cycle(TimePoint now) {
         }
     }
     bool ok = false;
+    LinkFailure failure;
     const std::uint64_t late_before = master_->stats().late_frames;
-    if (master_->send_process_data()) {
+    if (auto sent = master_->send_process_data(); sent) {
         auto r = master_->receive_process_data(deadline);
         ok = r.has_value();
         if (!r && r.error() == ethercat::EcatErrc::NoResponse) {
@@ -275,7 +276,15 @@ void EcatSegment::cycle(TimePoint now) {
             if (run == config_.lost_frames_event) {
                 lost_run_.store(run, std::memory_order_release);
             }
+        } else if (!r && r.error() != ethercat::EcatErrc::WorkingCounter) {
+            failure.error = r.error(); // the frame was given up (Master::receive_process_data)
         }
+    } else {
+        failure = {true, sent.error()};
+    }
+    if (failure.error && !link_failure_ready_.load(std::memory_order_acquire)) {
+        link_failure_ = failure;
+        link_failure_ready_.store(true, std::memory_order_release);
     }
     if (!ok) {
         frame_errors_.fetch_add(1, std::memory_order_relaxed);
@@ -343,6 +352,18 @@ void EcatSegment::acyclic(TimePoint now) {
         }
         recover_slaves(now);
         probes_ready_.store(false, std::memory_order_release);
+    }
+    if (link_failure_ready_.load(std::memory_order_acquire)) {
+        // Reported once per run of failed cycles, as the other causes; the cycles go on trying
+        // (an interface brought up again carries the next frame).
+        if (!frame_error_reported_) {
+            frame_error_reported_ = true;
+            failed_at_report_ = frame_errors_.load(std::memory_order_relaxed);
+            emit_(fmt::format("{}: cyclic exchange failed: cannot {} the cyclic frame: {}", where,
+                              link_failure_.sending ? "send" : "receive",
+                              link_failure_.error.message()));
+        }
+        link_failure_ready_.store(false, std::memory_order_release);
     }
     if (const std::uint64_t run = lost_run_.exchange(0, std::memory_order_acquire); run != 0) {
         if (!frame_error_reported_) {

@@ -19,6 +19,7 @@
 #include <functional>
 #include <memory>
 #include <string>
+#include <system_error>
 #include <vector>
 
 namespace codrive::controller {
@@ -148,6 +149,15 @@ private:
     std::vector<ethercat::Master::AlProbe> probes_; ///< written by the cycle while !probes_ready_
     std::uint16_t probes_wkc_ = 0;
     std::atomic<bool> probes_ready_{false};
+    /// A cycle that failed in the link or the master rather than on the wire (the interface
+    /// went down: ENETDOWN from send or receive); written by the cycle while
+    /// !link_failure_ready_, put into words by acyclic() once per run of failed cycles.
+    struct LinkFailure {
+        bool sending = false;
+        std::error_code error;
+    };
+    LinkFailure link_failure_;
+    std::atomic<bool> link_failure_ready_{false};
     std::atomic<std::uint64_t> lost_run_{0};
     std::atomic<std::uint64_t> lost_frames_{0};
     sync::PeriodStats period_error_;

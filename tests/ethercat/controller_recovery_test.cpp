@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: Apache-2.0
 // The Controller brings back a slave of its EtherCAT segment that left OP by itself: the FIO's
 // SM watchdog drops it to SAFE-OP while it is mute (codrive-ecat-sim on veth); the controller
-// reports the AL status code once, acknowledges it and requests OP from the cycle's frames.
+// reports the AL status code once, acknowledges it and requests OP from the cycle's frames. The
+// master's interface going down is named once too, and its return reported.
 #include "veth_segment.hpp"
 
 #include <codrive/controller/controller.hpp>
@@ -73,6 +74,39 @@ TEST_F(ControllerRecovery, ASlaveThatLeftOpIsReportedOnceAndBroughtBack) {
     (*c)->run_for(300ms);
     EXPECT_EQ(count("left OP"), 1U) << events_;
     EXPECT_EQ((*c)->stats().ecat_frame_errors > 0, true);
+    (*c)->shutdown();
+}
+
+// The master's own interface is taken away during cyclic operation (`ip link set down`): send
+// and receive fail with ENETDOWN, not a timeout. The cyclic thread goes on trying every cycle;
+// the controller names the cause once and reports the return once the interface is up again.
+TEST_F(ControllerRecovery, AnInterfaceThatGoesDownIsNamedOnceAndItsReturnIsReported) {
+    if (IsSkipped() || HasFatalFailure()) {
+        return;
+    }
+    path_ = write_table_bus_file();
+    controller::ControllerOptions o;
+    o.threading = controller::Threading::DedicatedCyclic;
+    auto c = controller::Controller::from_file(path_, o);
+    ASSERT_TRUE(c) << c.error().detail;
+    (*c)->set_event_callback([this](const std::string& t) { events_ += t + "\n"; });
+    auto started = (*c)->start();
+    ASSERT_TRUE(started) << started.error().detail;
+    (*c)->run_for(200ms);
+    ASSERT_EQ(count("cyclic exchange failed"), 0U) << events_;
+    ASSERT_TRUE(veth_->set_master_up(false)) << veth_->error();
+    const std::string failed =
+        fmt::format("EtherCAT segment on {}: cyclic exchange failed: cannot ", veth_->master_if());
+    const bool named = (*c)->run_until([&] { return count(failed) > 0; }, 3s);
+    (*c)->run_for(50ms);
+    ASSERT_TRUE(veth_->set_master_up(true)) << veth_->error();
+    ASSERT_TRUE(named) << events_;
+    EXPECT_NE(events_.find(" the cyclic frame: Network is down\n"), std::string::npos) << events_;
+    ASSERT_TRUE((*c)->run_until([&] { return count("cyclic exchange works again") > 0; }, 5s))
+        << events_;
+    std::printf("%s", events_.c_str());
+    EXPECT_EQ(count("cyclic exchange failed"), 1U) << "once per run of failed cycles\n" << events_;
+    EXPECT_GT((*c)->stats().ecat_frame_errors, 0U);
     (*c)->shutdown();
 }
 

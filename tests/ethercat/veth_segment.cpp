@@ -59,6 +59,17 @@ bool VethPair::create() {
            step({kIp, "netns", "exec", netns_, kIp, "link", "set", "lo", "up"});
 }
 
+bool VethPair::set_master_up(bool up) {
+    auto r =
+        run({kIp, "link", "set", master_if_, up ? "up" : "down"}, std::chrono::milliseconds(10000));
+    if (r.status != 0) {
+        error_ = fmt::format("`ip link set {} {}` failed ({}): {}", master_if_, up ? "up" : "down",
+                             r.status, r.output);
+        return false;
+    }
+    return true;
+}
+
 VethPair::~VethPair() {
     if (created_) {
         run({kIp, "link", "del", master_if_}, std::chrono::milliseconds(5000));

@@ -34,6 +34,10 @@ public:
     [[nodiscard]] const std::string& master_if() const { return master_if_; }
     [[nodiscard]] const std::string& slave_if() const { return slave_if_; }
     [[nodiscard]] const std::string& netns() const { return netns_; }
+    /// `ip link set <master_if> up|down`: a master whose interface is taken away (an unplugged
+    /// USB adapter, a network manager) sees ENETDOWN from send and receive. False with
+    /// `error()` if `ip` fails.
+    bool set_master_up(bool up);
 
 private:
     std::string master_if_;
