@@ -2,8 +2,10 @@
 // The timer-latency probe: the cyclic thread's wait, measured, and put into words.
 #include <codrive/controller/timer_probe.hpp>
 
+#include "probe_recorder.hpp"
+
 #include <algorithm>
-#include <cmath>
+#include <atomic>
 #include <fmt/format.h>
 #include <thread>
 
@@ -18,72 +20,29 @@ std::string span_text(Duration d) {
     return fmt::format("{:.1f} ms", to_ms(d));
 }
 
-/// Lateness in 1 us bins up to 1 s and one bin beyond, the maximum exactly: the same memory
-/// (4 MB, taken before measuring) for a minute or an hour at any cycle.
-class LatenessHistogram {
-public:
-    static constexpr std::size_t kBins = 1'000'000;
-
-    explicit LatenessHistogram(Duration cycle) : cycle_(cycle), bins_(kBins + 1, 0) {}
-
-    void add(Duration late) {
-        late = std::max(late, Duration::zero());
-        const auto us =
-            static_cast<std::size_t>(std::chrono::duration_cast<microseconds>(late).count());
-        ++bins_[std::min(us, kBins)];
-        ++count_;
-        max_ = std::max(max_, late);
-        half_ += 2 * late >= cycle_ ? 1 : 0;
-        whole_ += late >= cycle_ ? 1 : 0;
-    }
-
-    [[nodiscard]] TimerLatency summary(std::uint64_t skipped_slots) const {
-        TimerLatency r;
-        r.cycle = cycle_;
-        r.wakeups = count_;
-        r.skipped_slots = skipped_slots;
-        r.p50 = quantile(0.50);
-        r.p99 = quantile(0.99);
-        r.p999 = quantile(0.999);
-        r.max = max_;
-        r.late_half_cycle = half_;
-        r.late_whole_cycle = whole_;
-        return r;
-    }
-
-private:
-    /// The smallest bin with at least q of the samples at or below it (the maximum past the
-    /// last bin).
-    [[nodiscard]] Duration quantile(double q) const {
-        if (count_ == 0) {
-            return Duration::zero();
-        }
-        const auto want = std::max<std::uint64_t>(
-            1, static_cast<std::uint64_t>(std::ceil(q * static_cast<double>(count_))));
-        std::uint64_t seen = 0;
-        for (std::size_t us = 0; us < kBins; ++us) {
-            seen += bins_[us];
-            if (seen >= want) {
-                return microseconds(static_cast<long>(us));
-            }
-        }
-        return max_;
-    }
-
-    Duration cycle_;
-    std::vector<std::uint32_t> bins_;
-    std::uint64_t count_ = 0;
-    Duration max_{};
-    std::uint64_t half_ = 0;
-    std::uint64_t whole_ = 0;
-};
-
 /// Cycles read best in microseconds: "1000 us", "250 us", "4000 us".
 std::string cycle_text(Duration d) {
     return fmt::format("{} us", std::chrono::duration_cast<microseconds>(d).count());
 }
 
 } // namespace
+
+std::string TimerWindow::to_string() const {
+    return fmt::format("window {} ({:.1f}-{:.1f} s): {} wake-ups, max {}, {} half a cycle late or "
+                       "more, {} slot(s) skipped",
+                       number, std::chrono::duration<double>(from).count(),
+                       std::chrono::duration<double>(to).count(), wakeups, span_text(max),
+                       late_half_cycle, skipped_slots);
+}
+
+const TimerWindow* TimerLatency::worst_window() const {
+    const auto worse = [](const TimerWindow& a, const TimerWindow& b) {
+        return a.skipped_slots != b.skipped_slots ? a.skipped_slots < b.skipped_slots
+                                                  : a.max < b.max;
+    };
+    const auto it = std::max_element(windows.begin(), windows.end(), worse);
+    return it == windows.end() ? nullptr : &*it;
+}
 
 TimerVerdict TimerLatency::verdict() const {
     if (late_whole_cycle > 0) {
@@ -101,6 +60,9 @@ std::string TimerLatency::to_string() const {
                        "late or more, {} a whole cycle or more ({} slot(s) skipped)\n",
                        span_text(p50), span_text(p99), span_text(p999), span_text(max),
                        late_half_cycle, late_whole_cycle, skipped_slots);
+    if (const TimerWindow* w = worst_window(); w != nullptr) {
+        out += fmt::format("worst of {} windows: {}\n", windows.size(), w->to_string());
+    }
     switch (verdict()) {
     case TimerVerdict::Sound:
         out += fmt::format("verdict: sound for a {} cycle: every wake-up came within half a "
@@ -127,39 +89,63 @@ std::string TimerLatency::to_string() const {
 
 TimerLatency summarize_lateness(std::span<const Duration> lateness, Duration cycle,
                                 std::uint64_t skipped_slots) {
-    LatenessHistogram h(cycle);
+    detail::ProbeRecorder r(cycle, Duration::zero(), Duration::zero());
     for (const Duration d : lateness) {
-        h.add(d);
+        r.add(Duration::zero(), d, 0);
     }
-    return h.summary(skipped_slots);
+    TimerLatency out = r.summary();
+    out.skipped_slots = skipped_slots;
+    return out;
 }
 
 TimerLatency measure_timer_latency(const TimerProbeOptions& options) {
     const Duration cycle = std::max<Duration>(options.cycle, microseconds(10));
-    LatenessHistogram lateness(cycle); // nothing allocates while measuring
+    const Duration duration = std::max(options.duration, Duration::zero());
+    // Nothing allocates while measuring: the bins and the windows are taken here.
+    detail::ProbeRecorder recorder(cycle, duration, options.window);
     std::vector<std::string> warnings;
-    std::uint64_t skipped = 0;
     TimePoint started{};
     TimePoint ended{};
+    std::atomic<bool> over{false};
+    std::atomic<bool> stop{false};
     std::thread probe([&] {
         warnings = apply_realtime(options.realtime);
         started = SteadyClock::now();
-        const TimePoint end = started + std::max(options.duration, Duration::zero());
+        const TimePoint end = started + duration;
         TimePoint slot = started + cycle;
-        for (; slot <= end; slot += cycle) {
+        for (; slot <= end && !stop.load(std::memory_order_relaxed); slot += cycle) {
             sleep_until(slot); // the cyclic thread's own wait
             const Duration late = SteadyClock::now() - slot;
-            lateness.add(late);
-            if (late >= cycle) { // the slots it missed are skipped, as the controller does
-                const auto missed = static_cast<std::uint64_t>(late / cycle);
-                skipped += missed;
-                slot += cycle * static_cast<long>(missed);
-            }
+            // The slots it missed are skipped, as the controller does.
+            const auto missed = late >= cycle ? static_cast<std::uint64_t>(late / cycle) : 0U;
+            recorder.add(slot - started, late, missed);
+            slot += cycle * static_cast<long>(missed);
         }
         ended = SteadyClock::now();
+        recorder.finish(ended - started);
+        over.store(true, std::memory_order_release);
     });
+    if (options.on_window || options.stop) {
+        // This thread hands the windows over as they end and asks whether to stop; the probe
+        // never waits for it.
+        std::size_t told = 0;
+        while (true) {
+            const bool done = over.load(std::memory_order_acquire);
+            for (const std::size_t ready = recorder.windows_done();
+                 options.on_window && told < ready; ++told) {
+                options.on_window(recorder.window(told));
+            }
+            if (done) {
+                break;
+            }
+            if (options.stop && options.stop()) {
+                stop.store(true, std::memory_order_relaxed);
+            }
+            std::this_thread::sleep_for(milliseconds(100));
+        }
+    }
     probe.join();
-    TimerLatency r = lateness.summary(skipped);
+    TimerLatency r = recorder.summary();
     r.measured = ended - started;
     r.warnings = std::move(warnings);
     return r;

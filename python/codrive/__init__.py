@@ -18,6 +18,7 @@ from ._native import (
     SdoTimeoutError,
     VirtualNetwork,
     __version__,
+    measure_timer_latency,
 )
 from . import dump, eds, sim
 

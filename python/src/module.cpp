@@ -23,5 +23,6 @@ PYBIND11_MODULE(_native, m) {
     bind_eds(m);
     bind_dump(m);
     bind_controller(m);
+    bind_timer_latency(m);
     install_sigint_relay();
 }

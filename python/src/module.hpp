@@ -20,5 +20,6 @@ void bind_sim(pybind11::module_& m);                   ///< sim.VirtualDrive
 void bind_eds(pybind11::module_& m);                   ///< eds.load
 void bind_dump(pybind11::module_& m);                  ///< dump.read
 void bind_controller(pybind11::module_& m);            ///< Controller, Axis
+void bind_timer_latency(pybind11::module_& m);         ///< measure_timer_latency
 
 } // namespace codrive::python

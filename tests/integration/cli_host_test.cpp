@@ -7,6 +7,7 @@
 
 #include <gtest/gtest.h>
 
+#include <csignal>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -187,6 +188,48 @@ TEST(CliHost, LatencyMeasuresTheTimerAndGivesAVerdict) {
         EXPECT_NE(r.output.find("verdict: not sound for a 2000 us cycle"), std::string::npos)
             << r.output;
     }
+}
+
+// A long qualification run reports each window as it ends, then the worst one. Three windows
+// of 0.1 s at a 2 ms cycle; whatever this machine's stalls, each window is there, in order.
+TEST(CliHost, LatencyReportsEveryWindowAndTheWorst) {
+    const auto r = ct::run({ct::tool_path("codrive"), "latency", "--cycle-us", "2000", "--seconds",
+                            "0.3", "--window", "0.1"},
+                           30s);
+    ASSERT_TRUE(r.status == 0 || r.status == 1) << r.output;
+    const auto first = r.output.find("window 1 (0.0-0.1 s): ");
+    const auto third = r.output.find("window 3 (0.2-0.3 s): ");
+    const auto summary = r.output.find("timer latency: ");
+    ASSERT_NE(first, std::string::npos) << r.output;
+    ASSERT_NE(third, std::string::npos) << r.output;
+    EXPECT_LT(first, third);
+    EXPECT_LT(third, summary) << "the windows come as they end, before the summary";
+    EXPECT_EQ(r.output.find("window 4 "), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find("worst of 3 windows: window "), std::string::npos) << r.output;
+    const auto refused =
+        ct::run({ct::tool_path("codrive"), "latency", "--seconds", "0.5", "--window", "1"}, 30s);
+    EXPECT_EQ(refused.status, 2) << refused.output;
+    EXPECT_NE(refused.output.find("--window must be 0.1 s to --seconds (0.5), not 1"),
+              std::string::npos)
+        << refused.output;
+}
+
+// Ctrl-C ends an hour's qualification run at once, with the figures of what was measured.
+TEST(CliHost, LatencyStopsOnSigintWithTheFiguresSoFar) {
+    ct::Process p({ct::tool_path("codrive"), "latency", "--cycle-us", "2000", "--seconds", "3600",
+                   "--window", "0.1"});
+    ASSERT_TRUE(p.wait_for_output("window 2 (0.1-0.2 s): ", 10s)) << p.output();
+    p.signal(SIGINT);
+    const auto status = p.wait(5s);
+    ASSERT_TRUE(status.has_value()) << "still measuring after SIGINT: " << p.output();
+    EXPECT_TRUE(*status == 0 || *status == 1) << p.output();
+    EXPECT_NE(p.output().find("codrive: SIGINT received: the figures cover the "),
+              std::string::npos)
+        << p.output();
+    EXPECT_NE(p.output().find("timer latency: "), std::string::npos) << p.output();
+    EXPECT_NE(p.output().find("verdict: "), std::string::npos) << p.output();
+    EXPECT_EQ(p.output().find("(3599.9-3600.0 s)"), std::string::npos)
+        << "windows never reached are not reported";
 }
 
 TEST(CliHost, LatencySaysWhichRealtimeSettingItCouldNotApply) {

@@ -8,17 +8,45 @@
 #include <codrive/controller/realtime.hpp>
 #include <codrive/core/time.hpp>
 
+#include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <span>
 #include <string>
 #include <vector>
 
 namespace codrive::controller {
 
+/// One window of a long run (TimerProbeOptions::window): qualifying a machine for an hour, the
+/// worst minute is what matters, not the hour's quantiles.
+struct TimerWindow {
+    std::size_t number = 0; ///< 1 for the first
+    Duration from{};        ///< from the start of the run
+    Duration to{};
+    std::uint64_t wakeups = 0;
+    Duration max{};
+    std::uint64_t late_half_cycle = 0;
+    std::uint64_t late_whole_cycle = 0;
+    std::uint64_t skipped_slots = 0;
+    /// "window 3 (120.0-180.0 s): 60000 wake-ups, max 1.6 ms, 2 half a cycle late or more,
+    /// 1 slot(s) skipped"
+    [[nodiscard]] std::string to_string() const;
+};
+
 struct TimerProbeOptions {
     Duration cycle = milliseconds(1);
     Duration duration = seconds(10);
     RealtimeOptions realtime; ///< applied to the probe's own thread, as to the cyclic thread
+    /// Above zero: the run is also cut into windows of this length (the last one may be
+    /// shorter; at most 100000 windows, shorter ones are widened), each summarised in
+    /// TimerLatency::windows.
+    Duration window{};
+    /// Called on the caller's thread with each window soon after it ends (within 100 ms), in
+    /// order, while the probe goes on measuring on its own thread: a live report of a long run.
+    std::function<void(const TimerWindow&)> on_window;
+    /// Asked on the caller's thread about every 100 ms: true ends the run early (Ctrl-C), and
+    /// the summary covers what was measured until then (`measured` says how long).
+    std::function<bool()> stop;
 };
 
 /// What a cyclic master at this cycle would have met.
@@ -37,9 +65,14 @@ struct TimerLatency {
     std::uint64_t late_half_cycle = 0;  ///< wake-ups half a cycle late or more
     std::uint64_t late_whole_cycle = 0; ///< wake-ups a whole cycle late or more
     std::vector<std::string> warnings;  ///< real-time settings that could not be applied
+    std::vector<TimerWindow> windows;   ///< with TimerProbeOptions::window, in order
 
     [[nodiscard]] TimerVerdict verdict() const;
-    /// Three lines: what was measured, the lateness figures, the verdict with what to do.
+    /// The window with the most skipped slots, of those the one with the latest wake-up;
+    /// nullptr without windows.
+    [[nodiscard]] const TimerWindow* worst_window() const;
+    /// Three lines: what was measured, the lateness figures, the verdict with what to do; with
+    /// windows, the worst one's line before the verdict.
     [[nodiscard]] std::string to_string() const;
 };
 
@@ -49,8 +82,8 @@ struct TimerLatency {
                                               std::uint64_t skipped_slots);
 
 /// Runs the probe on a thread of its own for `options.duration` and returns the summary. Its
-/// memory is the same (4 MB) for any duration and cycle. `lock_memory` locks the whole
-/// process's memory (mlockall), as it does for the controller.
+/// memory is the same (8 MB, plus 64 bytes a window) for any duration and cycle. `lock_memory`
+/// locks the whole process's memory (mlockall), as it does for the controller.
 [[nodiscard]] TimerLatency measure_timer_latency(const TimerProbeOptions& options);
 
 } // namespace codrive::controller
