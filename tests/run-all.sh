@@ -288,7 +288,7 @@ tsan_stage() {
     tsan_rest_t0=$(date +%s)
     local -a gtest_prefix=(env "TSAN_OPTIONS=$tsan_options")
     run_gtest_retry tsan "$root/build-tsan/tests/ethercat_tests" \
-        --gtest_filter='ControllerOverEthercat.*:DemoScenarioOverEthercat.ObjectAccess*:Threading/ObjectAccessAtShutdown.*:-*EcatDemoProgram*:*AllocatesNothing*'
+        --gtest_filter='ControllerOverEthercat.*:ControllerRecovery.AnInterfaceThatGoesDown*:DemoScenarioOverEthercat.ObjectAccess*:Threading/ObjectAccessAtShutdown.*:-*EcatDemoProgram*:*AllocatesNothing*'
 }
 
 echo "== build: ASan+UBSan (unit, virtual-bus and EtherCAT tests, the tools they start, fuzz targets)"
