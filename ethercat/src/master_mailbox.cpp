@@ -439,12 +439,16 @@ VoidResult Master::run_mailbox_cycle() {
     for (auto& d : frame) {
         d.index = idx;
     }
+    // On a failure the frame never left: nothing in it is lost. Transfers mailbox_add() timed
+    // out end first, so that their callbacks cannot overwrite this call's sentence.
     auto n = encode_frame(frame, tx_buffer_);
     if (!n) {
+        deliver_finished();
         return set_error(n.error(),
                          fmt::format("cannot build an EtherCAT frame: {}", n.error().message()));
     }
     if (auto s = link_.send(std::span<const std::uint8_t>(tx_buffer_).first(*n)); !s) {
+        deliver_finished();
         return set_error(s.error(),
                          fmt::format("cannot send on {}: {}", link_.name(), s.error().message()));
     }
@@ -456,9 +460,10 @@ VoidResult Master::run_mailbox_cycle() {
             if (r.error() != CoreErrc::Timeout) {
                 mark_overdue(idx, false);
                 // Every channel whose datagram rode in the frame treats it as lost (a read may
-                // have emptied SM1: it asks for a repeat), not only the caller's slave. A lost
-                // frame finishes no transfer, so no callback runs before the sentence is set.
+                // have emptied SM1: it asks for a repeat), not only the caller's slave. Then the
+                // transfers mailbox_add() timed out end, before this call's sentence is set.
                 mailbox_done(true, clock_.now());
+                deliver_finished();
                 return set_error(r.error(), fmt::format("cannot receive on {}: {}", link_.name(),
                                                         r.error().message()));
             }

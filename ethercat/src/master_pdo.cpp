@@ -304,12 +304,19 @@ VoidResult Master::send_process_data() {
     for (auto& d : frame) {
         d.index = idx;
     }
+    // Transfers mailbox_add() timed out end now even if the frame cannot go out: an interface
+    // that stays down must not hold their callbacks back past their own timeout.
     auto n = encode_frame(frame, tx_buffer_);
     if (!n) {
+        deliver_finished();
         return fail(n.error());
     }
+    if (auto s = link_.send(std::span<const std::uint8_t>(tx_buffer_).first(*n)); !s) {
+        deliver_finished(); // the frame never left: nothing in it is lost, it goes again
+        return fail(s.error());
+    }
     cyclic_index_ = idx;
-    return link_.send(std::span<const std::uint8_t>(tx_buffer_).first(*n));
+    return {};
 }
 
 void Master::probes_add() {
@@ -411,21 +418,22 @@ Result<std::uint16_t> Master::receive_process_data(TimePoint deadline) {
         auto r = link_.receive(rx_buffer_, deadline);
         if (!r) {
             const bool timeout = r.error() == CoreErrc::Timeout;
+            last_wkc_mismatch_.reset();
             if (timeout) {
                 ++stats_.lost_frames;
                 ++stats_.consecutive_lost;
                 stats_.max_consecutive_lost =
                     std::max(stats_.max_consecutive_lost, stats_.consecutive_lost);
-                last_wkc_mismatch_.reset();
-                cyclic_note_ = CyclicNote::FrameLost; // put into words by last_error()
             } else {
                 // The link failed (the interface went down, say): whether the frame came back
                 // is unknown. Not counted lost, so not late either; given up all the same.
                 ++stats_.receive_errors;
-                noted_error_ = r.error();
-                cyclic_note_ = CyclicNote::ReceiveError;
             }
             give_up_cyclic_frame(timeout);
+            // After the callbacks give_up_cyclic_frame() ran, which may set sentences of their
+            // own: this call's failure is the one last_error() puts into words.
+            noted_error_ = r.error();
+            cyclic_note_ = timeout ? CyclicNote::FrameLost : CyclicNote::ReceiveError;
             return fail(timeout ? make_error_code(EcatErrc::NoResponse) : r.error());
         }
         const auto got = std::span<const std::uint8_t>(rx_buffer_).first(*r);

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 // A wire with faults the in-process SegmentLink does not make itself, for the master's unit
-// tests: frames that come back garbled or twice, blocking reads whose frame comes back late, and
-// frames whose receive fails.
+// tests: frames that come back garbled or twice, blocking reads whose frame comes back late,
+// frames whose receive fails, and sends that fail.
 #pragma once
 
 #include <codrive/ethercat/datagram.hpp>
@@ -25,6 +25,9 @@ class FaultyWire final : public IEcatLink {
 public:
     FaultyWire(sim::ecat::SegmentLink& inner, FakeClock& clock) : inner_(inner), clock_(clock) {}
     VoidResult send(std::span<const std::uint8_t> frame) override {
+        if (send_error_) {
+            return fail(send_error_); // the frame does not leave
+        }
         if (late_reads_ > 0 && reads_offset(frame, read_offset_)) {
             // Every other read of the mailbox: the first attempt of each blocking read.
             hold_next_ = (++reads_seen_ % 2) == 1;
@@ -88,6 +91,8 @@ public:
         fail_error_ = ec;
     }
     [[nodiscard]] int fail_reads_left() const { return fail_reads_; }
+    /// Every send fails with `ec` until called again with no error (an interface that is down).
+    void fail_sends(std::error_code ec) { send_error_ = ec; }
     [[nodiscard]] int held() const { return held_; }
 
 private:
@@ -120,6 +125,7 @@ private:
     std::uint16_t fail_offset_ = 0;
     int fail_reads_ = 0;
     std::error_code fail_error_;
+    std::error_code send_error_;
     std::deque<std::vector<std::uint8_t>> back_;
 };
 

@@ -84,6 +84,50 @@ TEST_F(ReceiveError, TheCyclicFrameIsGivenUpAndTheMailboxAnswerInItIsAskedForAga
         << "the answer the failed frame took from SM1 came from a repeat";
 }
 
+TEST_F(ReceiveError, WhileSendsFailTimedOutTransfersStillEndOnTime) {
+    ASSERT_TRUE(master_.set_state_all(AlState::Op)) << master_.last_error();
+    std::optional<CoeOutcome> out;
+    upload(0, 0x1018, 1, out);
+    link_.fail_sends(kNetworkDown); // the interface goes down and stays down
+    for (int cycle = 0; cycle < 1500 && !out; ++cycle) {
+        // As the controller's cycle does: no wait for a frame that did not leave.
+        auto s = master_.send_process_data();
+        ASSERT_FALSE(s);
+        EXPECT_EQ(s.error(), kNetworkDown);
+        clock_.advance(milliseconds(1));
+    }
+    ASSERT_TRUE(out) << "the transfer outlived its own timeout while the interface was down";
+    EXPECT_TRUE(out->error);
+    EXPECT_NE(out->sentence.find("slave 0 ("), std::string::npos) << out->sentence;
+    EXPECT_NE(out->sentence.find("timed out"), std::string::npos) << out->sentence;
+    EXPECT_EQ(master_.receive_process_data(clock_.now()).error(), EcatErrc::NotConfigured)
+        << "no frame is awaited after a send that failed";
+    link_.fail_sends({});
+    auto back = master_.exchange_process_data();
+    // The frame comes back; the FIO's SM watchdog ran out meanwhile, so its count may be short.
+    EXPECT_TRUE(back || back.error() == EcatErrc::WorkingCounter) << master_.last_error();
+}
+
+TEST_F(ReceiveError, ALostFramesSentenceIsNotOverwrittenByACallbackItDelivers) {
+    ASSERT_TRUE(master_.set_state_all(AlState::Op)) << master_.last_error();
+    bool called = false;
+    ASSERT_TRUE(master_.sdo_upload_async(0, 0x1018, 1, [&](CoeOutcome) {
+        called = true;
+        // Anything the callback does may leave a sentence of its own behind.
+        EXPECT_FALSE(master_.sdo_upload_async(99, 0x1018, 1, [](CoeOutcome) {}));
+    }));
+    ASSERT_TRUE(master_.exchange_process_data()) << master_.last_error(); // the request goes
+    clock_.advance(seconds(5)); // the transfer's time runs out before the next frame
+    link_.garble_next(1);       // and that frame is lost
+    ASSERT_TRUE(master_.send_process_data()) << master_.last_error();
+    auto r = master_.receive_process_data(clock_.now() + milliseconds(1));
+    ASSERT_FALSE(r);
+    EXPECT_EQ(r.error(), EcatErrc::NoResponse);
+    EXPECT_TRUE(called);
+    EXPECT_EQ(master_.last_error().rfind("cyclic LRW frame lost on faulty wire", 0), 0U)
+        << master_.last_error();
+}
+
 TEST_F(ReceiveError, AMailboxCycleThatFailsLosesNoOtherSlavesAnswer) {
     std::optional<CoeOutcome> long_one;
     std::optional<CoeOutcome> short_one;
