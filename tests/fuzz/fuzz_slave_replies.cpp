@@ -3,9 +3,9 @@
 // its real bring-up and CoE work (scan with SII reads, AL status, ESM transitions, SDO upload and
 // download in every size, SDO information, emergencies, process data) against simulated drives
 // whose answers the fuzzer corrupts on their way back (SII words, AL status codes, mailbox
-// headers, CoE SDO and SDO information replies), loses, or takes with a failing receive. Whatever
-// comes back, every call must end (on the fake clock) with a result, and every failure must read as
-// a sentence naming the slave.
+// headers, CoE SDO and SDO information replies), loses, or takes with a failing receive or send.
+// Whatever comes back, every call must end (on the fake clock) with a result, and every failure
+// must read as a sentence naming the slave.
 #include "fuzz_input.hpp"
 
 #include <codrive/ethercat/master.hpp>
@@ -16,6 +16,7 @@
 #include <cstdint>
 #include <string>
 #include <system_error>
+#include <utility>
 #include <vector>
 
 using namespace codrive;
@@ -29,7 +30,12 @@ public:
     CorruptingLink(sim::ecat::EcatSegment& segment, FakeClock& clock, fuzz::Input& in)
         : inner_(segment, clock), clock_(clock), in_(in) {}
 
-    VoidResult send(std::span<const std::uint8_t> frame) override { return inner_.send(frame); }
+    VoidResult send(std::span<const std::uint8_t> frame) override {
+        if (std::exchange(fail_send_, false)) { // the interface is down: the frame does not leave
+            return fail(std::make_error_code(std::errc::network_down));
+        }
+        return inner_.send(frame);
+    }
 
     Result<std::size_t> receive(std::span<std::uint8_t> buffer, TimePoint deadline) override {
         auto got = inner_.receive(buffer, deadline);
@@ -43,6 +49,10 @@ public:
         }
         if (op == 0x7E) { // the socket fails (interface down): the frame's answers are gone
             return fail(std::make_error_code(std::errc::network_down));
+        }
+        if (op == 0x7D) { // this frame arrives as it is; the next send fails
+            fail_send_ = true;
+            return got;
         }
         if ((op & 0x80) == 0 || *got == 0) {
             return got;
@@ -65,6 +75,7 @@ private:
     sim::ecat::SegmentLink inner_;
     FakeClock& clock_;
     fuzz::Input& in_;
+    bool fail_send_ = false;
 };
 
 /// A failed call leaves a sentence behind; CoE failures name the slave they concern.
