@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <exception>
 #include <fmt/format.h>
 #include <thread>
 
@@ -125,26 +126,36 @@ TimerLatency measure_timer_latency(const TimerProbeOptions& options) {
         recorder.finish(ended - started);
         over.store(true, std::memory_order_release);
     });
+    std::exception_ptr failed;
     if (options.on_window || options.stop) {
         // This thread hands the windows over as they end and asks whether to stop; the probe
-        // never waits for it.
-        std::size_t told = 0;
-        while (true) {
-            const bool done = over.load(std::memory_order_acquire);
-            for (const std::size_t ready = recorder.windows_done();
-                 options.on_window && told < ready; ++told) {
-                options.on_window(recorder.window(told));
+        // never waits for it. A callback that throws ends the run: the probe is stopped and
+        // joined before the exception goes on.
+        try {
+            std::size_t told = 0;
+            while (true) {
+                const bool done = over.load(std::memory_order_acquire);
+                for (const std::size_t ready = recorder.windows_done();
+                     options.on_window && told < ready; ++told) {
+                    options.on_window(recorder.window(told));
+                }
+                if (done) {
+                    break;
+                }
+                if (options.stop && options.stop()) {
+                    stop.store(true, std::memory_order_relaxed);
+                }
+                std::this_thread::sleep_for(milliseconds(100));
             }
-            if (done) {
-                break;
-            }
-            if (options.stop && options.stop()) {
-                stop.store(true, std::memory_order_relaxed);
-            }
-            std::this_thread::sleep_for(milliseconds(100));
+        } catch (...) {
+            failed = std::current_exception();
+            stop.store(true, std::memory_order_relaxed);
         }
     }
     probe.join();
+    if (failed) {
+        std::rethrow_exception(failed);
+    }
     TimerLatency r = recorder.summary();
     r.measured = ended - started;
     r.warnings = std::move(warnings);

@@ -56,11 +56,29 @@ TEST(ProbeWindows, AWindowIsCompleteOnlyOnceTheNextOneHasAWakeUp) {
     r.add(milliseconds(101), microseconds(10), 0);
     EXPECT_EQ(r.windows_done(), 1U);
     EXPECT_EQ(r.window(0).wakeups, 1U);
-    r.add(milliseconds(250), microseconds(10), 0); // a stall past a whole window
-    EXPECT_EQ(r.windows_done(), 2U) << "the window the stall passed is complete, and empty";
+    r.add(milliseconds(250), microseconds(10), 0);
+    EXPECT_EQ(r.windows_done(), 2U) << "the second window ends when the third has a wake-up";
     EXPECT_EQ(r.window(1).wakeups, 1U);
     r.finish(milliseconds(300));
     EXPECT_EQ(r.windows_done(), 3U);
+}
+
+TEST(ProbeWindows, AStallLongerThanAWindowLeavesThatWindowEmptyNotLost) {
+    ProbeRecorder r(milliseconds(1), milliseconds(400), milliseconds(100));
+    r.add(milliseconds(99), microseconds(10), 0);
+    // The wake-up for the slot at 100 ms comes 150 ms late: 150 slots skipped, the next
+    // wake-up is for the slot at 251 ms. The second window has none of its own.
+    r.add(milliseconds(100), milliseconds(150), 150);
+    r.add(milliseconds(251), microseconds(10), 0);
+    EXPECT_EQ(r.windows_done(), 2U);
+    r.finish(milliseconds(400));
+    const TimerLatency s = r.summary();
+    ASSERT_EQ(s.windows.size(), 4U);
+    EXPECT_EQ(s.windows[0].skipped_slots, 150U) << "counted where the late wake-up was due";
+    EXPECT_EQ(s.windows[1].wakeups, 0U);
+    EXPECT_EQ(s.windows[1].max, Duration::zero());
+    EXPECT_EQ(s.windows[2].wakeups, 1U);
+    EXPECT_EQ(s.worst_window()->number, 1U);
 }
 
 TEST(ProbeWindows, WithoutStallsTheWorstIsTheLatestWakeUpAndTheLastWindowMayBeShorter) {

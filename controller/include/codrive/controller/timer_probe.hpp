@@ -41,11 +41,15 @@ struct TimerProbeOptions {
     /// shorter; at most 100000 windows, shorter ones are widened), each summarised in
     /// TimerLatency::windows.
     Duration window{};
-    /// Called on the caller's thread with each window soon after it ends (within 100 ms), in
-    /// order, while the probe goes on measuring on its own thread: a live report of a long run.
+    /// Called on the caller's thread with each window, in order, while the probe goes on
+    /// measuring on its own thread: a live report of a long run. A window is handed over once
+    /// the next one's first wake-up is in (about 0.1 s plus a cycle after it ends, later if a
+    /// stall delays that wake-up). An exception thrown here ends the run and comes out of
+    /// measure_timer_latency().
     std::function<void(const TimerWindow&)> on_window;
-    /// Asked on the caller's thread about every 100 ms: true ends the run early (Ctrl-C), and
-    /// the summary covers what was measured until then (`measured` says how long).
+    /// Asked on the caller's thread about every 100 ms: true ends the run early (Ctrl-C), within
+    /// about 0.2 s plus a cycle, and the summary covers what was measured until then
+    /// (`measured` says how long).
     std::function<bool()> stop;
 };
 
