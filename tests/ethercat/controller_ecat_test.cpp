@@ -329,7 +329,7 @@ TEST_F(ControllerOverEthercat, DestroyedControllerLeavesNoFdsOrThreadsAndStopsWi
         EXPECT_EQ(axis->state(), drives::cia402::State::SwitchOnDisabled) << events;
     }
     EXPECT_EQ(open_fds(), fds_before);
-    EXPECT_EQ(threads(), threads_before);
+    EXPECT_EQ(codrive::testing::threads_after_joins(threads_before), threads_before);
 }
 
 TEST_F(ControllerOverEthercat, DedicatedCyclicThreadEnablesMovesAndStopsWithinOneSecond) {
@@ -386,7 +386,7 @@ TEST_F(ControllerOverEthercat, DedicatedCyclicThreadEnablesMovesAndStopsWithinOn
 #endif
     }
     EXPECT_EQ(open_fds(), fds_before);
-    EXPECT_EQ(threads(), threads_before);
+    EXPECT_EQ(codrive::testing::threads_after_joins(threads_before), threads_before);
 }
 
 TEST_F(ControllerOverEthercat, DedicatedCyclicObjectAccessWhileTheAxisMovesCostsNoCycle) {

@@ -132,7 +132,7 @@ void enable_move_stop(controller::Threading mode, const char* label) {
         }
     }
     EXPECT_EQ(open_fds(), fds_before);
-    EXPECT_EQ(threads(), threads_before);
+    EXPECT_EQ(codrive::testing::threads_after_joins(threads_before), threads_before);
     // Threading::Single ran SCHED_FIFO on this (the caller's) thread: the controller gives the
     // thread back as it found it, or every later process on this CPU would starve.
     int policy = -1;

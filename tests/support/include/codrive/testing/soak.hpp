@@ -164,16 +164,38 @@ inline int count_dir_entries(const char* path) {
 }
 
 /// Threads of this process (reads /proc/self/task). Call start_runtime_threads() before taking
-/// a baseline.
+/// a baseline, and threads_after_joins() after threads have been joined.
 inline int count_threads() {
     return count_dir_entries("/proc/self/task");
 }
 
+/// The thread count once threads that were joined have left /proc/self/task. pthread_join()
+/// returns when the kernel clears the thread's tid (in exit_mm), a moment before the task is
+/// unhashed from the thread group, so a count taken at once can still include a joined thread.
+/// Waits up to `limit` for the count to reach `expected`, and returns the count it saw last.
+inline int threads_after_joins(int expected,
+                               std::chrono::milliseconds limit = std::chrono::milliseconds(2000)) {
+    const auto deadline = std::chrono::steady_clock::now() + limit;
+    int n = count_threads();
+    while (n != expected && std::chrono::steady_clock::now() < deadline) {
+        std::this_thread::sleep_for(std::chrono::milliseconds(1));
+        n = count_threads();
+    }
+    return n;
+}
+
 /// ThreadSanitizer's runtime starts a background thread of its own at the process's first
 /// pthread_create(): one throwaway thread, so that a thread count taken afterwards changes only
-/// with the threads the code under test starts and ends, in any build and test order.
+/// with the threads the code under test starts and ends, in any build and test order. Returns
+/// once the throwaway thread has left /proc/self/task (see threads_after_joins()).
 inline void start_runtime_threads() {
-    std::thread([] {}).join();
+    pid_t tid = 0;
+    std::thread([&tid] { tid = ::gettid(); }).join();
+    const std::string task = fmt::format("/proc/self/task/{}", tid);
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(2);
+    while (::access(task.c_str(), F_OK) == 0 && std::chrono::steady_clock::now() < deadline) {
+        std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    }
 }
 
 /// Current process resources (reads /proc; not for the cyclic path).
