@@ -313,6 +313,10 @@ VoidResult Master::send_process_data() {
     }
     if (auto s = link_.send(std::span<const std::uint8_t>(tx_buffer_).first(*n)); !s) {
         deliver_finished(); // the frame never left: nothing in it is lost, it goes again
+        // After the callbacks, which may set sentences of their own; put into words by
+        // last_error(), as formatting here would allocate on the cyclic path.
+        noted_error_ = s.error();
+        cyclic_note_ = CyclicNote::SendError;
         return fail(s.error());
     }
     cyclic_index_ = idx;
@@ -485,6 +489,10 @@ const std::string& Master::last_error() const {
     case CyclicNote::ReceiveError:
         last_error_ = fmt::format("cyclic LRW frame given up on {}: cannot receive: {}",
                                   link_.name(), noted_error_.message());
+        break;
+    case CyclicNote::SendError:
+        last_error_ = fmt::format("cyclic LRW frame not sent on {}: cannot send: {}", link_.name(),
+                                  noted_error_.message());
         break;
     case CyclicNote::WorkingCounter:
         last_error_ =

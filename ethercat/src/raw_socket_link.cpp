@@ -83,7 +83,18 @@ VoidResult RawSocketLink::send(std::span<const std::uint8_t> frame) {
             ::poll(&p, 1, 10);
             continue;
         }
-        return fail_errno(errno);
+        const int err = errno;
+        if (err == ENETDOWN) {
+            // The interface went down with this socket bound to it, so the kernel also left
+            // ENETDOWN pending on the socket (sk_err, set by af_packet's NETDEV_DOWN notifier).
+            // The next send that allocates, or receive that finds no frame, would return it:
+            // the first cycle after the interface is back up would fail on the fault already
+            // reported here. Reading SO_ERROR clears it.
+            int pending = 0;
+            socklen_t len = sizeof(pending);
+            (void)::getsockopt(fd_, SOL_SOCKET, SO_ERROR, &pending, &len);
+        }
+        return fail_errno(err);
     }
 }
 

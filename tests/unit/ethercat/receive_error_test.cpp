@@ -94,6 +94,8 @@ TEST_F(ReceiveError, WhileSendsFailTimedOutTransfersStillEndOnTime) {
         auto s = master_.send_process_data();
         ASSERT_FALSE(s);
         EXPECT_EQ(s.error(), kNetworkDown);
+        ASSERT_EQ(master_.last_error(),
+                  "cyclic LRW frame not sent on faulty wire: cannot send: Network is down");
         clock_.advance(milliseconds(1));
     }
     ASSERT_TRUE(out) << "the transfer outlived its own timeout while the interface was down";

@@ -404,7 +404,8 @@ public:
     /// The LRW working counter when every slave answers: 2 per slave with outputs (write) plus
     /// 1 per slave with inputs (read).
     [[nodiscard]] std::uint16_t expected_wkc() const { return expected_wkc_; }
-    /// Sends the cyclic LRW frame (no waiting). Errors: NotConfigured, link errors.
+    /// Sends the cyclic LRW frame (no waiting). Errors: NotConfigured, link errors (last_error()
+    /// reads `cyclic LRW frame not sent on <link>: cannot send: <cause>`).
     VoidResult send_process_data();
     /// Waits for the cyclic frame until `deadline` (a cyclic caller gives at most its period),
     /// advances the mailbox channels whose datagrams rode in it, copies inputs, returns its
@@ -548,7 +549,13 @@ private:
     std::vector<std::uint8_t> rx_buffer_ = std::vector<std::uint8_t>(kMaxFrameSize + 64);
     mutable std::string last_error_;
     /// A failure of the cyclic exchange not yet put into words (see last_error()).
-    enum class CyclicNote : std::uint8_t { None, FrameLost, ReceiveError, WorkingCounter };
+    enum class CyclicNote : std::uint8_t {
+        None,
+        FrameLost,
+        ReceiveError,
+        SendError,
+        WorkingCounter
+    };
     mutable CyclicNote cyclic_note_ = CyclicNote::None;
     std::uint16_t noted_wkc_ = 0;
     std::error_code noted_error_;
