@@ -21,5 +21,14 @@ if [[ -n ${DEADLINE:-} ]]; then
     FUZZ_DEADLINE=$(date -d "$DEADLINE" +%s)
     export FUZZ_DEADLINE
 fi
+# Under autogroup scheduling (CONFIG_SCHED_AUTOGROUP, sched(7)) nice ranks processes only
+# within one session; between sessions the kernel shares the CPUs by each session's autogroup
+# nice. A campaign started with setsid (a session of its own, as a long unattended run is) took
+# 70 % of each CPU at nice 19 against a CI run (session 27): its session's autogroup was at 0.
+# When this script leads its own session, the whole session is the campaign: give it nice 19
+# there too. Started from a terminal's session it leaves that session's autogroup alone.
+if [[ $(ps -o sid= -p $$ | tr -d ' ') == "$$" && -w /proc/self/autogroup ]]; then
+    echo 19 >/proc/self/autogroup || true
+fi
 # The seconds argument is unused when FUZZ_RUNS is set.
 exec nice -n 19 "$root/tests/fuzz/run.sh" 0 "$@"
