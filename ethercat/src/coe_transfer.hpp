@@ -81,6 +81,7 @@ struct MailboxChannel {
     bool repeated = false;             ///< the next read follows a repeat
     std::uint8_t repeat_want = 0;      ///< SM1 activate value with RepeatReq toggled
     unsigned frames_lost = 0;          ///< of the current step, not back in time
+    unsigned frames_unsent = 0;        ///< of the current step, could not be sent
     int datagram = -1;                 ///< position of its datagram in the frame in flight
 };
 

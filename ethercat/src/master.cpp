@@ -74,6 +74,7 @@ void Master::count_unawaited(std::optional<std::uint8_t> index) {
 VoidResult Master::exchange(std::span<Datagram> datagrams) {
     const int attempts = std::max(1, config_.frame_retries);
     last_exchange_lost_ = 0;
+    std::error_code unsent; // the last attempt's send found the transmit queue full
     for (int attempt = 0; attempt < attempts; ++attempt) {
         last_exchange_lost_ = attempt;
         const std::uint8_t idx = next_index();
@@ -85,15 +86,24 @@ VoidResult Master::exchange(std::span<Datagram> datagrams) {
             return set_error(
                 n.error(), fmt::format("cannot build an EtherCAT frame: {}", n.error().message()));
         }
+        unsent.clear();
         if (auto s = link_.send(std::span<const std::uint8_t>(tx_buffer_).first(*n)); !s) {
-            return set_error(
-                s.error(), fmt::format("cannot send on {}: {}", link_.name(), s.error().message()));
+            ++stats_.send_errors;
+            if (!transmit_queue_full(s.error())) {
+                return set_error(s.error(), fmt::format("cannot send on {}: {}", link_.name(),
+                                                        s.error().message()));
+            }
+            // No room for the frame: the attempt counts as lost. Its time passes (late frames
+            // of earlier attempts are read meanwhile) and the next attempt sends again.
+            unsent = s.error();
         }
         const TimePoint deadline = clock_.now() + config_.frame_timeout;
         while (true) {
             auto r = link_.receive(rx_buffer_, deadline);
             if (!r) {
-                mark_overdue(idx, false);
+                if (!unsent) { // an index that never left cannot come back late
+                    mark_overdue(idx, false);
+                }
                 if (r.error() == CoreErrc::Timeout) {
                     break;
                 }
@@ -110,6 +120,12 @@ VoidResult Master::exchange(std::span<Datagram> datagrams) {
         }
     }
     last_exchange_lost_ = attempts;
+    if (unsent) {
+        return set_error(unsent, fmt::format("cannot send on {}: {} (the transmit queue was "
+                                             "still full at the last of {} attempts of {:.1f} ms)",
+                                             link_.name(), unsent.message(), attempts,
+                                             to_ms(config_.frame_timeout)));
+    }
     return set_error(make_error_code(EcatErrc::NoResponse),
                      fmt::format("no EtherCAT frame came back on {} ({} {} datagram(s), {} "
                                  "attempts of {:.1f} ms): is the segment connected?",

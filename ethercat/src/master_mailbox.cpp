@@ -119,6 +119,7 @@ void Master::mailbox_send(std::size_t slave, TimePoint now) {
     ch.started = now;
     ch.deadline = now + config_.mailbox_timeout;
     ch.frames_lost = 0;
+    ch.frames_unsent = 0;
     ch.sm0_full = false;
     ch.last_write = false;
     if (ch.out.size() > sii.rx_mailbox_size) {
@@ -172,6 +173,9 @@ void Master::mailbox_add(TimePoint now) {
                 // Silent as far as the master could see: say how much it could not see, so a
                 // mute slave is told from frames that came back late or not at all.
                 why += fmt::format("; {} of its frames did not come back in time", ch.frames_lost);
+            }
+            if (ch.frames_unsent > 0) { // the host's side: the interface down or its queue full
+                why += fmt::format("; {} of its frames could not be sent", ch.frames_unsent);
             }
             mailbox_fail(i, make_error_code(EcatErrc::MailboxTimeout),
                          fmt::format("{} timed out after {:.0f} ms ({})", transfer_name(t),
@@ -240,6 +244,16 @@ void Master::mailbox_add(TimePoint now) {
     }
     if (n > 0) {
         mailbox_first_ = (mailbox_first_ + 1) % n;
+    }
+}
+
+void Master::mailbox_unsent() {
+    for (std::size_t i = 0; i < channels_.size() && i < slaves_.size(); ++i) {
+        MailboxChannel& ch = *channels_[i];
+        if (ch.datagram >= 0) {
+            ch.datagram = -1;
+            ++ch.frames_unsent;
+        }
     }
 }
 
@@ -404,6 +418,7 @@ void Master::mailbox_step(std::size_t slave, detail::TransferStep step, TimePoin
     case detail::CoeTransfer::Step::Wait:
         ch.deadline = now + config_.mailbox_timeout;
         ch.frames_lost = 0;
+        ch.frames_unsent = 0;
         break;
     case detail::CoeTransfer::Step::Done:
     case detail::CoeTransfer::Step::Failed:
@@ -448,6 +463,8 @@ VoidResult Master::run_mailbox_cycle() {
                          fmt::format("cannot build an EtherCAT frame: {}", n.error().message()));
     }
     if (auto s = link_.send(std::span<const std::uint8_t>(tx_buffer_).first(*n)); !s) {
+        ++stats_.send_errors;
+        mailbox_unsent();
         deliver_finished();
         return set_error(s.error(),
                          fmt::format("cannot send on {}: {}", link_.name(), s.error().message()));
@@ -511,6 +528,12 @@ void Master::cancel_mailbox_transfers(std::size_t slave, std::string_view why) {
 void Master::run_mailbox_until_idle(std::size_t slave) {
     while (mailbox_transfers(slave) > 0) {
         if (auto r = run_mailbox_cycle(); !r) {
+            if (transmit_queue_full(r.error())) {
+                // No room for the frame: it goes again after a poll interval. Each transfer's
+                // own timeout bounds the wait, its sentence counting the frames not sent.
+                link_.idle(config_.mailbox_poll);
+                continue;
+            }
             // The link itself failed: end the slave's transfers, each sentence naming the
             // slave and the transfer before the link's own words.
             const TimePoint now = clock_.now();

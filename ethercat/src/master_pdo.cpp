@@ -312,6 +312,8 @@ VoidResult Master::send_process_data() {
         return fail(n.error());
     }
     if (auto s = link_.send(std::span<const std::uint8_t>(tx_buffer_).first(*n)); !s) {
+        ++stats_.send_errors;
+        mailbox_unsent();
         deliver_finished(); // the frame never left: nothing in it is lost, it goes again
         // After the callbacks, which may set sentences of their own; put into words by
         // last_error(), as formatting here would allocate on the cyclic path.

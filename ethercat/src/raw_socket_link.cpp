@@ -78,11 +78,11 @@ VoidResult RawSocketLink::send(std::span<const std::uint8_t> frame) {
         if (errno == EINTR) {
             continue;
         }
-        if (errno == EAGAIN || errno == ENOBUFS) {
-            pollfd p{fd_, POLLOUT, 0};
-            ::poll(&p, 1, 10);
-            continue;
-        }
+        // ENOBUFS (the interface's queue dropped the frame) and EAGAIN (the socket's send
+        // buffer is full) are returned at once: the link never waits for room. The cyclic path
+        // must not block, and a transmit queue that stays full (a NIC whose transmission hangs,
+        // a shaper) would hold any wait here for as long as it lasts. The master decides:
+        // the cycle goes on without this frame; a blocking exchange counts it as a lost attempt.
         const int err = errno;
         if (err == ENETDOWN) {
             // The interface went down with this socket bound to it, so the kernel also left

@@ -177,6 +177,43 @@ TEST_F(EcatVethTest, InterfaceDownBetweenCyclesFailsTheSendsAndTheFirstCycleAfte
     EXPECT_EQ(master_->stats().receive_errors, 0U);
 }
 
+// The master's transmit queue fills and stays full (a shaper that lets a byte a second through,
+// as a NIC whose transmission hangs): the link's send returns ENOBUFS at once instead of waiting
+// for room, so the cycle cannot hang in it; the cyclic exchange says so, and a blocking call
+// ends after its attempts with the cause.
+TEST_F(EcatVethTest, AFullTransmitQueueFailsSendsAtOnceAndNeverHangsTheCycle) {
+    start(kChain);
+    if (IsSkipped() || HasFatalFailure()) {
+        return;
+    }
+    ASSERT_TRUE(master_->scan()) << master_->last_error();
+    ASSERT_TRUE(master_->set_state_all(AlState::Op)) << master_->last_error();
+    ASSERT_TRUE(veth_->choke_master_queue()) << veth_->error();
+    int refused = 0;
+    Duration slowest{};
+    for (int i = 0; i < 200 && refused < 5; ++i) {
+        const auto t0 = SteadyClock::now();
+        auto s = master_->send_process_data();
+        slowest = std::max(slowest, SteadyClock::now() - t0);
+        if (!s) {
+            ++refused;
+            EXPECT_TRUE(transmit_queue_full(s.error())) << s.error().message();
+            EXPECT_EQ(master_->last_error(),
+                      fmt::format("cyclic LRW frame not sent on {}: cannot send: No buffer space "
+                                  "available",
+                                  veth_->master_if()));
+        }
+    }
+    EXPECT_EQ(refused, 5) << "the queue never filled";
+    EXPECT_LT(slowest, milliseconds(5)) << "a send waited for room";
+    EXPECT_GE(master_->stats().send_errors, 5U);
+    auto st = master_->read_al_status(0);
+    ASSERT_FALSE(st);
+    EXPECT_NE(master_->last_error().find("the transmit queue was still full at the last of"),
+              std::string::npos)
+        << master_->last_error();
+}
+
 TEST_F(EcatVethTest, SlaveThatStopsAnsweringIsNamedInASentence) {
     start(chain_with({"--mute-on-signal", "2"}));
     if (IsSkipped() || HasFatalFailure()) {

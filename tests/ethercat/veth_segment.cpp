@@ -16,6 +16,7 @@ namespace codrive::testing {
 namespace {
 std::atomic<int> g_counter{0};
 const char* kIp = "/usr/sbin/ip";
+const char* kTc = "/usr/sbin/tc";
 } // namespace
 
 bool ethercat_skip_requested() {
@@ -64,6 +65,21 @@ bool VethPair::set_master_up(bool up) {
         run({kIp, "link", "set", master_if_, up ? "up" : "down"}, std::chrono::milliseconds(10000));
     if (r.status != 0) {
         error_ = fmt::format("`ip link set {} {}` failed ({}): {}", master_if_, up ? "up" : "down",
+                             r.status, r.output);
+        return false;
+    }
+    return true;
+}
+
+bool VethPair::choke_master_queue() {
+    // A token bucket of 1,600 bytes that refills at one byte a second, with a 1,600-byte queue
+    // behind it: a few dozen frames leave, a few dozen wait, then every frame is dropped at
+    // the queue (ENOBUFS to the sender) for about a minute per frame.
+    auto r = run({kTc, "qdisc", "add", "dev", master_if_, "root", "tbf", "rate", "8bit", "burst",
+                  "1600", "limit", "1600"},
+                 std::chrono::milliseconds(10000));
+    if (r.status != 0) {
+        error_ = fmt::format("`tc qdisc add dev {} root tbf ...` failed ({}): {}", master_if_,
                              r.status, r.output);
         return false;
     }

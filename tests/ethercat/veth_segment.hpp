@@ -38,6 +38,10 @@ public:
     /// USB adapter, a network manager) sees ENETDOWN from send and receive. False with
     /// `error()` if `ip` fails.
     bool set_master_up(bool up);
+    /// `tc qdisc add dev <master_if> root tbf ...` so slow that the interface's transmit queue
+    /// is full after a few dozen frames and stays full (a NIC whose transmission hangs): sends
+    /// then fail with ENOBUFS. False with `error()` if `tc` fails.
+    bool choke_master_queue();
 
 private:
     std::string master_if_;

@@ -3,7 +3,8 @@
 // its real bring-up and CoE work (scan with SII reads, AL status, ESM transitions, SDO upload and
 // download in every size, SDO information, emergencies, process data) against simulated drives
 // whose answers the fuzzer corrupts on their way back (SII words, AL status codes, mailbox
-// headers, CoE SDO and SDO information replies), loses, or takes with a failing receive or send.
+// headers, CoE SDO and SDO information replies), loses, or takes with a failing receive or send
+// (the interface down, or its transmit queue full).
 // Whatever comes back, every call must end (on the fake clock) with a result, and every failure
 // must read as a sentence naming the slave.
 #include "fuzz_input.hpp"
@@ -14,6 +15,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <system_error>
 #include <utility>
@@ -31,8 +33,8 @@ public:
         : inner_(segment, clock), clock_(clock), in_(in) {}
 
     VoidResult send(std::span<const std::uint8_t> frame) override {
-        if (std::exchange(fail_send_, false)) { // the interface is down: the frame does not leave
-            return fail(std::make_error_code(std::errc::network_down));
+        if (fail_send_) { // the interface is down, or its queue full: the frame does not leave
+            return fail(std::make_error_code(*std::exchange(fail_send_, std::nullopt)));
         }
         return inner_.send(frame);
     }
@@ -50,8 +52,8 @@ public:
         if (op == 0x7E) { // the socket fails (interface down): the frame's answers are gone
             return fail(std::make_error_code(std::errc::network_down));
         }
-        if (op == 0x7D) { // this frame arrives as it is; the next send fails
-            fail_send_ = true;
+        if (op == 0x7D || op == 0x7C) { // this frame arrives as it is; the next send fails
+            fail_send_ = op == 0x7D ? std::errc::network_down : std::errc::no_buffer_space;
             return got;
         }
         if ((op & 0x80) == 0 || *got == 0) {
@@ -75,7 +77,7 @@ private:
     sim::ecat::SegmentLink inner_;
     FakeClock& clock_;
     fuzz::Input& in_;
-    bool fail_send_ = false;
+    std::optional<std::errc> fail_send_; ///< the next send's error, if it fails
 };
 
 /// A failed call leaves a sentence behind; CoE failures name the slave they concern.

@@ -25,7 +25,8 @@ class FaultyWire final : public IEcatLink {
 public:
     FaultyWire(sim::ecat::SegmentLink& inner, FakeClock& clock) : inner_(inner), clock_(clock) {}
     VoidResult send(std::span<const std::uint8_t> frame) override {
-        if (send_error_) {
+        if (send_error_ && sends_to_fail_ != 0) {
+            sends_to_fail_ -= sends_to_fail_ > 0 ? 1 : 0;
             return fail(send_error_); // the frame does not leave
         }
         if (late_reads_ > 0 && reads_offset(frame, read_offset_)) {
@@ -91,8 +92,12 @@ public:
         fail_error_ = ec;
     }
     [[nodiscard]] int fail_reads_left() const { return fail_reads_; }
-    /// Every send fails with `ec` until called again with no error (an interface that is down).
-    void fail_sends(std::error_code ec) { send_error_ = ec; }
+    /// Every send fails with `ec` until called again with no error (an interface that is down),
+    /// or only the next `n` sends (a transmit queue that is full for a while).
+    void fail_sends(std::error_code ec, int n = -1) {
+        send_error_ = ec;
+        sends_to_fail_ = n;
+    }
     [[nodiscard]] int held() const { return held_; }
 
 private:
@@ -126,6 +131,7 @@ private:
     int fail_reads_ = 0;
     std::error_code fail_error_;
     std::error_code send_error_;
+    int sends_to_fail_ = -1; ///< -1: every send while send_error_ is set
     std::deque<std::vector<std::uint8_t>> back_;
 };
 

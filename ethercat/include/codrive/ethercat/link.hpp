@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <span>
 #include <string>
+#include <system_error>
 
 namespace codrive::ethercat {
 
@@ -16,7 +17,8 @@ namespace codrive::ethercat {
 class IEcatLink {
 public:
     virtual ~IEcatLink() = default;
-    /// Sends one Ethernet frame. Errors: the socket's errno, or Closed.
+    /// Sends one Ethernet frame without waiting for room to send it. Errors: the socket's errno
+    /// (ENOBUFS or EAGAIN when the transmit queue is full: see transmit_queue_full()), or Closed.
     virtual VoidResult send(std::span<const std::uint8_t> frame) = 0;
     /// Waits for the next EtherCAT frame until `deadline`; returns its length. Frames longer than
     /// `buffer` are truncated. Errors: CoreErrc::Timeout at the deadline, the socket's errno.
@@ -27,5 +29,13 @@ public:
     /// "eth0", "in-process chain".
     [[nodiscard]] virtual std::string name() const = 0;
 };
+
+/// True for a send error that says the frame found no room (ENOBUFS: the interface's queue
+/// dropped it; EAGAIN: the socket's send buffer is full). A later send may succeed; the frame
+/// did not leave.
+[[nodiscard]] inline bool transmit_queue_full(const std::error_code& ec) {
+    return ec == std::errc::no_buffer_space || ec == std::errc::resource_unavailable_try_again ||
+           ec == std::errc::operation_would_block;
+}
 
 } // namespace codrive::ethercat

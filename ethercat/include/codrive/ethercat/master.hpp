@@ -178,6 +178,10 @@ struct ProcessDataStats {
     /// rather than a timeout: not in lost_frames, but the frame's mailbox datagrams, AL probes
     /// and AL control writes count as lost and go again.
     std::uint64_t receive_errors = 0;
+    /// Frames that could not be sent: the link's error (the interface is down, its transmit
+    /// queue is full). Cyclic, mailbox-only and blocking calls' frames alike; not lost (they
+    /// never left), so not in lost_frames.
+    std::uint64_t send_errors = 0;
     /// Cyclic frames that carried the reference clock's system time (FRMW 0x0910).
     std::uint64_t dc_time_distributions = 0;
 };
@@ -517,6 +521,9 @@ private:
     [[nodiscard]] std::size_t frame_room() const;
     void mailbox_add(TimePoint now);
     void mailbox_done(bool lost, TimePoint now);
+    /// The frame with the channels' datagrams could not be sent: nothing in it is lost (the
+    /// same step goes in the next frame); each channel counts it for its timeout sentence.
+    void mailbox_unsent();
     void mailbox_message(std::size_t slave, std::span<const std::uint8_t> sm1, TimePoint now);
     void mailbox_start(std::size_t slave, TimePoint now);
     void mailbox_send(std::size_t slave, TimePoint now);
