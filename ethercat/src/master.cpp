@@ -73,10 +73,9 @@ void Master::count_unawaited(std::optional<std::uint8_t> index) {
 
 VoidResult Master::exchange(std::span<Datagram> datagrams) {
     const int attempts = std::max(1, config_.frame_retries);
-    last_exchange_lost_ = 0;
-    std::error_code unsent; // the last attempt's send found the transmit queue full
+    last_exchange_lost_ = 0; // attempts whose frame left and did not come back
+    std::error_code unsent;  // the last attempt's send found the transmit queue full
     for (int attempt = 0; attempt < attempts; ++attempt) {
-        last_exchange_lost_ = attempt;
         const std::uint8_t idx = next_index();
         for (auto& d : datagrams) {
             d.index = idx;
@@ -105,6 +104,9 @@ VoidResult Master::exchange(std::span<Datagram> datagrams) {
                     mark_overdue(idx, false);
                 }
                 if (r.error() == CoreErrc::Timeout) {
+                    // Only a frame that left can have been taken by a slave on its way (an
+                    // SM1 read that emptied the mailbox: mailbox_read_once() asks for a repeat).
+                    last_exchange_lost_ += unsent ? 0 : 1;
                     break;
                 }
                 return set_error(r.error(), fmt::format("cannot receive on {}: {}", link_.name(),
@@ -119,7 +121,6 @@ VoidResult Master::exchange(std::span<Datagram> datagrams) {
             return {};
         }
     }
-    last_exchange_lost_ = attempts;
     if (unsent) {
         return set_error(unsent, fmt::format("cannot send on {}: {} (the transmit queue was "
                                              "still full at the last of {} attempts of {:.1f} ms)",

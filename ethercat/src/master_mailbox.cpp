@@ -166,9 +166,11 @@ void Master::mailbox_add(TimePoint now) {
         if (ch.active && now >= ch.deadline) {
             // The transfer's own timeout: only this transfer fails; the frame goes on.
             const auto& t = *ch.queue.front();
-            std::string why = ch.sm0_full                       ? "receive mailbox SM0 stayed full"
-                              : ch.phase == MailboxPhase::Write ? "request frames lost"
-                                                                : "mailbox silent";
+            const bool write_never_left = ch.frames_lost == 0 && ch.frames_unsent > 0;
+            std::string why = ch.sm0_full ? "receive mailbox SM0 stayed full"
+                              : ch.phase == MailboxPhase::Write
+                                  ? (write_never_left ? "request not sent" : "request frames lost")
+                                  : "mailbox silent";
             if (ch.frames_lost > 0 && !ch.sm0_full && ch.phase != MailboxPhase::Write) {
                 // Silent as far as the master could see: say how much it could not see, so a
                 // mute slave is told from frames that came back late or not at all.

@@ -70,6 +70,7 @@ VoidResult RawSocketLink::send(std::span<const std::uint8_t> frame) {
     if (tap_) {
         tap_(frame, true);
     }
+    bool stale_checked = false;
     while (true) {
         const ssize_t n = ::send(fd_, frame.data(), frame.size(), 0);
         if (n >= 0) {
@@ -89,10 +90,15 @@ VoidResult RawSocketLink::send(std::span<const std::uint8_t> frame) {
             // ENETDOWN pending on the socket (sk_err, set by af_packet's NETDEV_DOWN notifier).
             // The next send that allocates, or receive that finds no frame, would return it:
             // the first cycle after the interface is back up would fail on the fault already
-            // reported here. Reading SO_ERROR clears it.
+            // reported here. Reading SO_ERROR clears it. If the interface went down and came
+            // back with no send in between, this error was that stale one: send once more.
             int pending = 0;
             socklen_t len = sizeof(pending);
             (void)::getsockopt(fd_, SOL_SOCKET, SO_ERROR, &pending, &len);
+            if (!stale_checked && interface_up()) {
+                stale_checked = true;
+                continue;
+            }
         }
         return fail_errno(err);
     }
@@ -131,6 +137,12 @@ Result<std::size_t> RawSocketLink::receive(std::span<std::uint8_t> buffer, TimeP
         pollfd p{fd_, POLLIN, 0};
         ::ppoll(&p, 1, &ts, nullptr);
     }
+}
+
+bool RawSocketLink::interface_up() const {
+    ifreq ifr{};
+    ifname_.copy(ifr.ifr_name, sizeof(ifr.ifr_name) - 1);
+    return ::ioctl(fd_, SIOCGIFFLAGS, &ifr) == 0 && (ifr.ifr_flags & IFF_UP) != 0;
 }
 
 void RawSocketLink::idle(Duration d) {

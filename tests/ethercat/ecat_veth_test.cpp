@@ -145,7 +145,26 @@ TEST_F(EcatVethTest, CyclicLrwThousandCyclesWithCorrectWorkingCounter) {
 // between fail with ENETDOWN and say so; once it is up, the cycles run again. The kernel leaves
 // ENETDOWN pending on a packet socket bound to an interface that goes down (returned by the next
 // send that allocates, or receive that finds no frame): the first cycle after the return must
-// not fail on that old fault as if the interface were still down.
+// not fail on that old fault as if the interface were still down, whether sends failed while it
+// was down or none was tried.
+/// Cycles until a frame comes back (its working counter may be short: the slaves' SM watchdog
+/// may have run out meanwhile on a loaded host), for at most 3 s. Frames sent before the kernel
+/// has activated the interface's queue may be dropped (a timeout each); none may fail on the
+/// interface being down.
+void expect_a_cycle_runs_again(Master& master, const char* when) {
+    bool back = false;
+    const auto until = SteadyClock::now() + milliseconds(3000);
+    while (!back && SteadyClock::now() < until) {
+        auto r = master.exchange_process_data();
+        back = r || r.error() == EcatErrc::WorkingCounter;
+        if (!back) {
+            ASSERT_EQ(master.last_error().find("Network is down"), std::string::npos)
+                << "the interface is up again, " << when << ": " << master.last_error();
+        }
+    }
+    EXPECT_TRUE(back) << when << ": " << master.last_error();
+}
+
 TEST_F(EcatVethTest, InterfaceDownBetweenCyclesFailsTheSendsAndTheFirstCycleAfterwardsRuns) {
     start(kChain);
     if (IsSkipped() || HasFatalFailure()) {
@@ -162,18 +181,12 @@ TEST_F(EcatVethTest, InterfaceDownBetweenCyclesFailsTheSendsAndTheFirstCycleAfte
                               veth_->master_if()));
     }
     ASSERT_TRUE(veth_->set_master_up(true)) << veth_->error();
-    // Frames sent before the kernel has activated the interface's queue may be dropped (lost
-    // frames, a timeout each); none may fail on the fault the sends above already reported.
-    bool answered = false;
-    const auto until = SteadyClock::now() + milliseconds(3000);
-    while (!answered && SteadyClock::now() < until) {
-        answered = static_cast<bool>(master_->exchange_process_data());
-        if (!answered) {
-            ASSERT_EQ(master_->last_error().find("Network is down"), std::string::npos)
-                << "the interface is up again: " << master_->last_error();
-        }
-    }
-    EXPECT_TRUE(answered) << master_->last_error();
+    expect_a_cycle_runs_again(*master_, "after sends failed while it was down");
+    // Down and up again with no send in between: the fault left pending on the socket is
+    // met by the first send after the return, which must go through all the same.
+    ASSERT_TRUE(veth_->set_master_up(false)) << veth_->error();
+    ASSERT_TRUE(veth_->set_master_up(true)) << veth_->error();
+    expect_a_cycle_runs_again(*master_, "after a flap with no send");
     EXPECT_EQ(master_->stats().receive_errors, 0U);
 }
 
@@ -205,7 +218,7 @@ TEST_F(EcatVethTest, AFullTransmitQueueFailsSendsAtOnceAndNeverHangsTheCycle) {
         }
     }
     EXPECT_EQ(refused, 5) << "the queue never filled";
-    EXPECT_LT(slowest, milliseconds(5)) << "a send waited for room";
+    EXPECT_LT(slowest, milliseconds(100)) << "a send waited for room";
     EXPECT_GE(master_->stats().send_errors, 5U);
     auto st = master_->read_al_status(0);
     ASSERT_FALSE(st);

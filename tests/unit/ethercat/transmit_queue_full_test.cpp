@@ -97,8 +97,21 @@ TEST_F(TransmitQueueFull, AnSdoTransferWhoseQueueStaysFullTimesOutCountingTheFra
                              0),
               0U)
         << sentence;
+    EXPECT_NE(sentence.find("(request not sent; "), std::string::npos)
+        << "no request frame left, so none was lost: " << sentence;
     EXPECT_NE(sentence.find(" of its frames could not be sent)"), std::string::npos) << sentence;
     EXPECT_LT(clock_.now() - start, milliseconds(1100)) << "the transfer's own timeout bounds it";
+}
+
+// A mailbox read whose first attempt found no room cannot have emptied SM1: unlike a read whose
+// frame left and was lost, it asks the slave for no repeat (which would make it send its last
+// message again).
+TEST_F(TransmitQueueFull, AMailboxReadThatNeverLeftAsksForNoRepeat) {
+    const std::uint64_t repeats = master_.mailbox_repeats();
+    link_.fail_sends(kQueueFull, 1);
+    master_.poll_mailboxes();
+    EXPECT_EQ(master_.stats().send_errors, 1U) << "the poll's first read found no room";
+    EXPECT_EQ(master_.mailbox_repeats(), repeats);
 }
 
 TEST_F(TransmitQueueFull, TheCycleGoesOnWithoutTheFrameAndSaysWhy) {

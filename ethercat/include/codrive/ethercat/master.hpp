@@ -550,7 +550,9 @@ private:
     MasterConfig config_;
     std::vector<SlaveInfo> slaves_;
     std::uint8_t index_ = 0;
-    int last_exchange_lost_ = 0; ///< attempts of the last exchange() whose frame did not return
+    /// Attempts of the last exchange() whose frame left and did not return (not those whose
+    /// send found the transmit queue full).
+    int last_exchange_lost_ = 0;
     std::uint64_t mailbox_repeats_ = 0;
     std::vector<std::uint8_t> tx_buffer_ = std::vector<std::uint8_t>(kMaxFrameSize);
     std::vector<std::uint8_t> rx_buffer_ = std::vector<std::uint8_t>(kMaxFrameSize + 64);

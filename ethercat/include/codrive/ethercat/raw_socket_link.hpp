@@ -37,6 +37,8 @@ public:
 
 private:
     RawSocketLink(int fd, std::string ifname) : fd_(fd), ifname_(std::move(ifname)) {}
+    /// The interface's IFF_UP flag (SIOCGIFFLAGS); false if it cannot be read.
+    [[nodiscard]] bool interface_up() const;
     int fd_ = -1;
     std::string ifname_;
     Tap tap_;
