@@ -141,12 +141,6 @@ TEST_F(EcatVethTest, CyclicLrwThousandCyclesWithCorrectWorkingCounter) {
     EXPECT_NEAR(position(), 999, 1) << "the drive did not settle on the last CSP target";
 }
 
-// The master's interface is taken down between two cycles and brought back: the sends in
-// between fail with ENETDOWN and say so; once it is up, the cycles run again. The kernel leaves
-// ENETDOWN pending on a packet socket bound to an interface that goes down (returned by the next
-// send that allocates, or receive that finds no frame): the first cycle after the return must
-// not fail on that old fault as if the interface were still down, whether sends failed while it
-// was down or none was tried.
 /// Cycles until a frame comes back (its working counter may be short: the slaves' SM watchdog
 /// may have run out meanwhile on a loaded host), for at most 3 s. Frames sent before the kernel
 /// has activated the interface's queue may be dropped (a timeout each); none may fail on the
@@ -165,6 +159,12 @@ void expect_a_cycle_runs_again(Master& master, const char* when) {
     EXPECT_TRUE(back) << when << ": " << master.last_error();
 }
 
+// The master's interface is taken down between two cycles and brought back: the sends in
+// between fail with ENETDOWN and say so; once it is up, the cycles run again. The kernel leaves
+// ENETDOWN pending on a packet socket bound to an interface that goes down (returned by the next
+// send that allocates, or receive that finds no frame): the first cycle after the return must
+// not fail on that old fault as if the interface were still down, whether sends failed while it
+// was down or none was tried.
 TEST_F(EcatVethTest, InterfaceDownBetweenCyclesFailsTheSendsAndTheFirstCycleAfterwardsRuns) {
     start(kChain);
     if (IsSkipped() || HasFatalFailure()) {
