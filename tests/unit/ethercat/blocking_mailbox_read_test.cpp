@@ -3,24 +3,17 @@
 // back after its deadline has emptied SM1 on its way, so the master asks the slave to send that
 // message again (ETG.1000.4 §6.7.2) after every such read while the read has time left, as the
 // cyclic mailbox channel does; the message is not lost however many reads in a row come late.
-#include "faulty_wire.hpp"
-
-#include <codrive/ethercat/master.hpp>
-#include <codrive/sim/ecat/drive_profiles.hpp>
-#include <codrive/sim/ecat/segment.hpp>
+#include "faulty_wire_fixture.hpp"
 
 #include <gtest/gtest.h>
 
 namespace codrive::ethercat {
 namespace {
 
-class BlockingMailboxRead : public ::testing::Test {
+class BlockingMailboxRead : public test::FaultyWireSegment {
 protected:
     BlockingMailboxRead() { segment_.add(sim::ecat::make_drive_slave("akd2g", 22)); }
-    void SetUp() override {
-        ASSERT_TRUE(master_.scan()) << master_.last_error();
-        ASSERT_TRUE(master_.set_state_all(AlState::PreOp)) << master_.last_error();
-    }
+    void SetUp() override { bring_up(AlState::PreOp); }
     /// An expedited SDO upload request of 1018h:01 (vendor ID) in SM0 (ETG.1000.6 §5.6.2.4).
     void ask_vendor_id() {
         MailboxMessage m;
@@ -34,12 +27,6 @@ protected:
         m.header.length = static_cast<std::uint16_t>(m.payload.size());
         ASSERT_TRUE(master_.mailbox_write(0, m)) << master_.last_error();
     }
-
-    FakeClock clock_;
-    sim::ecat::EcatSegment segment_;
-    sim::ecat::SegmentLink segment_link_{segment_, clock_};
-    test::FaultyWire link_{segment_link_, clock_};
-    Master master_{link_, clock_};
 };
 
 TEST_F(BlockingMailboxRead, SixLateReadsInARowStillBringTheAnswer) {

@@ -3,11 +3,7 @@
 // deadline passes, late when a later cycle reads it after all, unreadable when what arrives is
 // not a late frame of ours (garbled on the wire, or a copy of one already read). The controller
 // and the FoE veth test tell "the host was slow" from "the wire failed" by these counters.
-#include "faulty_wire.hpp"
-
-#include <codrive/ethercat/master.hpp>
-#include <codrive/sim/ecat/drive_profiles.hpp>
-#include <codrive/sim/ecat/segment.hpp>
+#include "faulty_wire_fixture.hpp"
 
 #include <gtest/gtest.h>
 
@@ -16,12 +12,11 @@ namespace {
 
 using test::FaultyWire;
 
-class FrameAccounting : public ::testing::Test {
+class FrameAccounting : public test::FaultyWireSegment {
 protected:
     FrameAccounting() { segment_.add(sim::ecat::make_drive_slave("fio", 11)); }
     void SetUp() override {
-        ASSERT_TRUE(master_.scan()) << master_.last_error();
-        ASSERT_TRUE(master_.set_state_all(AlState::Op)) << master_.last_error();
+        bring_up(AlState::Op);
         ASSERT_TRUE(master_.exchange_process_data()) << master_.last_error();
         start_ = master_.stats();
     }
@@ -42,12 +37,6 @@ protected:
     [[nodiscard]] std::uint64_t unreadable() const {
         return master_.stats().unreadable_frames - start_.unreadable_frames;
     }
-
-    FakeClock clock_;
-    sim::ecat::EcatSegment segment_;
-    sim::ecat::SegmentLink segment_link_{segment_, clock_};
-    FaultyWire link_{segment_link_, clock_};
-    Master master_{link_, clock_};
     ProcessDataStats start_;
 };
 

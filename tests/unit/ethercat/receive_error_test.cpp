@@ -3,11 +3,7 @@
 // master gives the frame up like a lost one. The mailbox datagrams in it may have emptied a
 // slave's SM1 on their way, so their channels ask for a repeat (ETG.1000.4 §6.7.2) instead of
 // waiting for a message that is gone; the call reports the error with a sentence.
-#include "faulty_wire.hpp"
-
-#include <codrive/ethercat/master.hpp>
-#include <codrive/sim/ecat/drive_profiles.hpp>
-#include <codrive/sim/ecat/segment.hpp>
+#include "faulty_wire_fixture.hpp"
 
 #include <gtest/gtest.h>
 
@@ -19,16 +15,13 @@ namespace {
 
 const std::error_code kNetworkDown = std::make_error_code(std::errc::network_down);
 
-class ReceiveError : public ::testing::Test {
+class ReceiveError : public test::FaultyWireSegment {
 protected:
     ReceiveError() {
         segment_.add(sim::ecat::make_drive_slave("fio", 11));
         segment_.add(sim::ecat::make_drive_slave("akd2g", 12));
     }
-    void SetUp() override {
-        ASSERT_TRUE(master_.scan()) << master_.last_error();
-        ASSERT_TRUE(master_.set_state_all(AlState::PreOp)) << master_.last_error();
-    }
+    void SetUp() override { bring_up(AlState::PreOp); }
     /// The slave's SM1 (its mailbox towards the master): an answered FPRD of it emptied it.
     [[nodiscard]] std::uint16_t sm1(std::size_t slave) const {
         return master_.slaves()[slave].sii.tx_mailbox_offset;
@@ -40,12 +33,6 @@ protected:
             out = std::move(o);
         })) << master_.last_error();
     }
-
-    FakeClock clock_;
-    sim::ecat::EcatSegment segment_;
-    sim::ecat::SegmentLink segment_link_{segment_, clock_};
-    test::FaultyWire link_{segment_link_, clock_};
-    Master master_{link_, clock_};
 };
 
 TEST_F(ReceiveError, TheCyclicFrameIsGivenUpAndTheMailboxAnswerInItIsAskedForAgain) {

@@ -5,12 +5,9 @@
 // sends again, a mailbox transfer waits a poll interval and goes on until its own timeout, and
 // each failure that outlasts its bound says what happened. An interface that is down still
 // fails a call at once.
-#include "faulty_wire.hpp"
+#include "faulty_wire_fixture.hpp"
 
 #include <codrive/ethercat/error.hpp>
-#include <codrive/ethercat/master.hpp>
-#include <codrive/sim/ecat/drive_profiles.hpp>
-#include <codrive/sim/ecat/segment.hpp>
 
 #include <gtest/gtest.h>
 
@@ -21,19 +18,10 @@ namespace {
 
 const std::error_code kQueueFull = std::make_error_code(std::errc::no_buffer_space);
 
-class TransmitQueueFull : public ::testing::Test {
+class TransmitQueueFull : public test::FaultyWireSegment {
 protected:
     TransmitQueueFull() { segment_.add(sim::ecat::make_drive_slave("fio", 11)); }
-    void SetUp() override {
-        ASSERT_TRUE(master_.scan()) << master_.last_error();
-        ASSERT_TRUE(master_.set_state_all(AlState::PreOp)) << master_.last_error();
-    }
-
-    FakeClock clock_;
-    sim::ecat::EcatSegment segment_;
-    sim::ecat::SegmentLink segment_link_{segment_, clock_};
-    test::FaultyWire link_{segment_link_, clock_};
-    Master master_{link_, clock_};
+    void SetUp() override { bring_up(AlState::PreOp); }
 };
 
 TEST(TransmitQueueFullError, NamesTheErrorsOfAFullQueueAndNoOther) {
