@@ -5,6 +5,8 @@
 // cyclic mailbox channel does; the message is not lost however many reads in a row come late.
 #include "faulty_wire_fixture.hpp"
 
+#include <codrive/ethercat/error.hpp>
+
 #include <gtest/gtest.h>
 
 namespace codrive::ethercat {

@@ -10,8 +10,6 @@
 namespace codrive::ethercat {
 namespace {
 
-using test::FaultyWire;
-
 class FrameAccounting : public test::FaultyWireSegment {
 protected:
     FrameAccounting() { segment_.add(sim::ecat::make_drive_slave("fio", 11)); }

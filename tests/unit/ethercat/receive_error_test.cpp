@@ -5,6 +5,8 @@
 // waiting for a message that is gone; the call reports the error with a sentence.
 #include "faulty_wire_fixture.hpp"
 
+#include <codrive/ethercat/error.hpp>
+
 #include <gtest/gtest.h>
 
 #include <optional>
