@@ -130,15 +130,22 @@ std::string where(NodeId node, std::uint16_t index, std::uint8_t sub) {
     return buf;
 }
 
-/// An object address from Python, checked: ValueError names the value out of range.
-std::pair<std::uint16_t, std::uint8_t> object_arg(long index, long sub) {
+/// An SDO index from Python, checked: ValueError names the value out of range. Index and
+/// subindex come as two plain values, not a pair to unpack: clang 14 does not let a lambda
+/// capture a structured binding, and the transfers' callbacks capture them.
+std::uint16_t index_arg(long index) {
     if (index < 0 || index > 0xFFFF) {
         throw py::value_error("SDO index " + std::to_string(index) + " is not 0..0xFFFF");
     }
+    return static_cast<std::uint16_t>(index);
+}
+
+/// An SDO subindex from Python, checked.
+std::uint8_t sub_arg(long sub) {
     if (sub < 0 || sub > 0xFF) {
         throw py::value_error("SDO subindex " + std::to_string(sub) + " is not 0..0xFF");
     }
-    return {static_cast<std::uint16_t>(index), static_cast<std::uint8_t>(sub)};
+    return static_cast<std::uint8_t>(sub);
 }
 
 /// A node id from Python, checked (1..127).
@@ -161,7 +168,8 @@ public:
 
     py::object read(long index, long sub, const std::string& type, std::optional<double> timeout,
                     const std::string& mode, const py::object& progress) {
-        const auto [i, s] = object_arg(index, sub);
+        const std::uint16_t i = index_arg(index);
+        const std::uint8_t s = sub_arg(sub);
         CallbackError cb_error;
         sdo::TransferOptions options = make_options(timeout, mode, progress, cb_error);
         return visit_type(type, [&]<typename T>() -> py::object {
@@ -179,7 +187,8 @@ public:
 
     void write(long index, long sub, const py::object& value, std::optional<std::string> type,
                std::optional<double> timeout, const std::string& mode, const py::object& progress) {
-        const auto [i, s] = object_arg(index, sub);
+        const std::uint16_t i = index_arg(index);
+        const std::uint8_t s = sub_arg(sub);
         std::string t;
         if (type) {
             t = *type;
@@ -211,7 +220,8 @@ public:
     std::size_t upload_file(long index, long sub, const std::string& path,
                             std::optional<double> timeout, const std::string& mode,
                             const py::object& progress) {
-        const auto [i, s] = object_arg(index, sub);
+        const std::uint16_t i = index_arg(index);
+        const std::uint8_t s = sub_arg(sub);
         CallbackError cb_error;
         sdo::TransferOptions options = make_options(timeout, mode, progress, cb_error);
         std::unique_ptr<std::FILE, int (*)(std::FILE*)> file(std::fopen(path.c_str(), "wb"),
@@ -235,7 +245,8 @@ public:
 
     void download_file(long index, long sub, const std::string& path, std::optional<double> timeout,
                        const std::string& mode, const py::object& progress) {
-        const auto [i, s] = object_arg(index, sub);
+        const std::uint16_t i = index_arg(index);
+        const std::uint8_t s = sub_arg(sub);
         CallbackError cb_error;
         sdo::TransferOptions options = make_options(timeout, mode, progress, cb_error);
         auto source = sdo::file_source(path);
@@ -260,7 +271,8 @@ public:
     /// C++ loop on the same bus and client (the C++ blocking client's figure in the same run).
     /// Returns the seconds taken.
     double cpp_round_trips(long index, long sub, long count) {
-        const auto [i, s] = object_arg(index, sub);
+        const std::uint16_t i = index_arg(index);
+        const std::uint8_t s = sub_arg(sub);
         return with_bus(*bus_, [&] {
             const auto t0 = SteadyClock::now();
             for (long n = 0; n < count; ++n) {
@@ -347,7 +359,8 @@ py::list read_many(const std::shared_ptr<Bus>& bus, const py::sequence& requests
                                   " is not (node, index, subindex[, type])");
         }
         const NodeId node = node_arg(r[0].cast<long>());
-        const auto [index, sub] = object_arg(r[1].cast<long>(), r[2].cast<long>());
+        const std::uint16_t index = index_arg(r[1].cast<long>());
+        const std::uint8_t sub = sub_arg(r[2].cast<long>());
         const std::string type = r.size() == 4 ? r[3].cast<std::string>() : "bytes";
         visit_type(type, [&]<typename T>() -> py::object {
             starts.push_back([bus, node, index, sub, options](Slot& slot, Ended& ended) {
