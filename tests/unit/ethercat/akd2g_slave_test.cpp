@@ -2,12 +2,9 @@
 // The simulated AKD2G EtherCAT slave against its manual, through the master in-process
 // (FakeClock): both axes' objects, the fixed and default PDO maps, flexible mapping with
 // padding, the sync managers' addresses and the only AL status codes the drive reports.
-#include <codrive/ethercat/error.hpp>
-#include <codrive/ethercat/master.hpp>
 #include <codrive/ethercat/registers.hpp>
-#include <codrive/sim/ecat/drive_profiles.hpp>
-#include <codrive/sim/ecat/segment.hpp>
 #include <codrive/sim/sim_device.hpp>
+#include <codrive/testing/sim_segment.hpp>
 
 #include <codrive/core/sdo_abort.hpp>
 
@@ -16,27 +13,16 @@
 namespace codrive::ethercat {
 namespace {
 
-using sim::ecat::EcatSegment;
 using sim::ecat::make_drive_slave;
-using sim::ecat::SegmentLink;
 
-class Akd2gSlave : public ::testing::Test {
+class Akd2gSlave : public codrive::testing::SimSegmentTest {
 protected:
     Akd2gSlave() { segment_.add(make_drive_slave("akd2g", 7)); }
-    void to_preop() {
-        ASSERT_TRUE(master_.scan()) << master_.last_error();
-        ASSERT_TRUE(master_.set_state_all(AlState::PreOp)) << master_.last_error();
-    }
     std::uint32_t u32(std::uint16_t index, std::uint8_t sub) {
         auto r = master_.sdo_read<std::uint32_t>(0, index, sub);
         EXPECT_TRUE(r) << master_.last_error();
         return r.value_or(0);
     }
-
-    FakeClock clock_;
-    EcatSegment segment_;
-    SegmentLink link_{segment_, clock_};
-    Master master_{link_, clock_};
 };
 
 TEST_F(Akd2gSlave, MailboxesSitAtTheManualsAddresses) {
@@ -48,7 +34,7 @@ TEST_F(Akd2gSlave, MailboxesSitAtTheManualsAddresses) {
 }
 
 TEST_F(Akd2gSlave, BothAxesObjectsAndMapsFollowTheManual) {
-    to_preop();
+    bring_up(AlState::PreOp);
     // Axis 2's objects at +800h: 6860h exists (the error codrive run used to stop at).
     ASSERT_TRUE(master_.sdo_write<std::int8_t>(0, 0x6860, 0, 8)) << master_.last_error();
     // Defaults (§3.11.2): 1600h/1A00h axis 1, 1601h/1A01h axis 2, both assigned.
@@ -74,7 +60,7 @@ TEST_F(Akd2gSlave, BothAxesObjectsAndMapsFollowTheManual) {
 }
 
 TEST_F(Akd2gSlave, FlexibleMappingTakesPaddingAndRefusesWhatCannotBeMapped) {
-    to_preop();
+    bring_up(AlState::PreOp);
     ASSERT_TRUE(master_.sdo_write<std::uint8_t>(0, 0x1602, 0, 0)) << master_.last_error();
     // §3.11.1: index 0000h with a length of whole bytes is padding; 4 bits is not.
     EXPECT_TRUE(master_.sdo_write<std::uint32_t>(0, 0x1602, 1, 0x68400010));
@@ -102,7 +88,7 @@ TEST_F(Akd2gSlave, FlexibleMappingTakesPaddingAndRefusesWhatCannotBeMapped) {
 }
 
 TEST_F(Akd2gSlave, ReportsOnlyTheAlStatusCodesOfItsManual) {
-    to_preop();
+    bring_up(AlState::PreOp);
     // A wrong SM2 length: ETG.1000.6 would say 0x001D; the AKD2G says 0x0017 (§3.1).
     SyncManager sm2;
     sm2.start = 0x1100;
@@ -123,7 +109,7 @@ TEST_F(Akd2gSlave, AWarningIsAnEmergencyOverCoeAsOnCan) {
     std::vector<std::pair<std::size_t, emcy::EmcyMessage>> seen;
     master_.on_emergency(
         [&](std::size_t slave, const emcy::EmcyMessage& m) { seen.emplace_back(slave, m); });
-    to_preop();
+    bring_up(AlState::PreOp);
     ASSERT_TRUE(master_.sdo_write<std::uint8_t>(0, sim::kControlObject + 1, sim::kControlSto, 1))
         << master_.last_error();
     for (int i = 0; i < 50 && seen.empty(); ++i) {

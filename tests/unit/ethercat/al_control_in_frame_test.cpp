@@ -1,24 +1,21 @@
 // SPDX-License-Identifier: Apache-2.0
 // AL control writes riding in the cyclic frame (Master::queue_al_control): a slave that left OP
 // is acknowledged and brought back while the LRW goes on, a lost frame repeats the write.
-#include <codrive/ethercat/master.hpp>
-#include <codrive/sim/ecat/drive_profiles.hpp>
-#include <codrive/sim/ecat/segment.hpp>
+#include <codrive/testing/sim_segment.hpp>
 
 #include <gtest/gtest.h>
 
 namespace codrive::ethercat {
 namespace {
 
-class AlControlInFrame : public ::testing::Test {
+class AlControlInFrame : public codrive::testing::SimSegmentTest {
 protected:
     AlControlInFrame() {
         segment_.add(sim::ecat::make_drive_slave("fio", 11));
         segment_.add(sim::ecat::make_drive_slave("ds-bvs", 22));
     }
     void SetUp() override {
-        ASSERT_TRUE(master_.scan()) << master_.last_error();
-        ASSERT_TRUE(master_.set_state_all(AlState::Op)) << master_.last_error();
+        ASSERT_NO_FATAL_FAILURE(bring_up(AlState::Op));
         ASSERT_TRUE(master_.exchange_process_data()) << master_.last_error();
     }
     /// One cyclic frame; the AL status probes it carried, if any.
@@ -29,11 +26,6 @@ protected:
         }
         return master_.al_probes()[slave];
     }
-
-    FakeClock clock_;
-    sim::ecat::EcatSegment segment_;
-    sim::ecat::SegmentLink link_{segment_, clock_};
-    Master master_{link_, clock_};
 };
 
 TEST_F(AlControlInFrame, ASlaveThatLeftOpIsAcknowledgedAndBroughtBackWithinTheCycle) {

@@ -1,10 +1,8 @@
 // SPDX-License-Identifier: Apache-2.0
 // Continuous drift compensation (ETG.1000.4 §9.1.3): the cyclic frame carries the reference
 // clock's system time, and drifting simulated clocks stay together with it and apart without.
-#include <codrive/ethercat/master.hpp>
 #include <codrive/ethercat/registers.hpp>
-#include <codrive/sim/ecat/drive_profiles.hpp>
-#include <codrive/sim/ecat/segment.hpp>
+#include <codrive/testing/sim_segment.hpp>
 
 #include <gtest/gtest.h>
 
@@ -14,7 +12,7 @@
 namespace codrive::ethercat {
 namespace {
 
-class DcDrift : public ::testing::Test {
+class DcDrift : public codrive::testing::SimSegmentTest {
 protected:
     DcDrift() {
         segment_.add(sim::ecat::make_drive_slave("fio", 11));
@@ -25,7 +23,7 @@ protected:
         segment_.slave(1).dc_clock().set_drift_ppm(50);
         segment_.slave(2).dc_clock().set_drift_ppm(-50);
     }
-    void bring_up(bool dc) {
+    void to_op(bool dc) {
         ASSERT_TRUE(master_.scan()) << master_.last_error();
         if (dc) {
             ASSERT_TRUE(master_.configure_dc()) << master_.last_error();
@@ -58,15 +56,10 @@ protected:
         }
         return worst;
     }
-
-    FakeClock clock_;
-    sim::ecat::EcatSegment segment_;
-    sim::ecat::SegmentLink link_{segment_, clock_};
-    Master master_{link_, clock_};
 };
 
 TEST_F(DcDrift, CyclicFrameCarriesTheReferenceTimeBehindTheLrw) {
-    bring_up(true);
+    to_op(true);
     ASSERT_EQ(master_.dc_reference(), std::size_t{0});
     link_.record(true);
     const auto before = master_.stats().dc_time_distributions;
@@ -85,7 +78,7 @@ TEST_F(DcDrift, CyclicFrameCarriesTheReferenceTimeBehindTheLrw) {
 }
 
 TEST_F(DcDrift, WithoutDcOrWithCompensationOffTheFrameHoldsOnlyTheCyclicTraffic) {
-    bring_up(false);
+    to_op(false);
     link_.record(true);
     ASSERT_TRUE(master_.exchange_process_data()) << master_.last_error();
     for (const auto& d : last_sent()) {
@@ -101,7 +94,7 @@ TEST_F(DcDrift, WithoutDcOrWithCompensationOffTheFrameHoldsOnlyTheCyclicTraffic)
 }
 
 TEST_F(DcDrift, DriftingClocksStayWithinNanosecondsWithCompensation) {
-    bring_up(true);
+    to_op(true);
     // 2 s of 1 ms cycles; the loop settles in the first few hundred ms.
     const std::int64_t first = run(1000, 1000);
     const std::int64_t settled = run(1000, 1000);
@@ -118,7 +111,7 @@ TEST_F(DcDrift, DriftingClocksStayWithinNanosecondsWithCompensation) {
 }
 
 TEST_F(DcDrift, DriftingClocksDriftApartWithoutCompensation) {
-    bring_up(true);
+    to_op(true);
     master_.config().continuous_drift_compensation = false;
     // Slave 2 runs 70 ppm slower than the reference, less what the start-up burst taught its
     // loop: microseconds apart after a second, twice as far after two.

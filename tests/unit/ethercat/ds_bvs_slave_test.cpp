@@ -1,32 +1,20 @@
 // SPDX-License-Identifier: Apache-2.0
 // The simulated DS-BVS EtherCAT slave's error objects against its manual, through the master
 // in-process (FakeClock): 1029h and the 4080h error history exist over CoE as on CAN.
-#include <codrive/ethercat/master.hpp>
-#include <codrive/sim/ecat/drive_profiles.hpp>
-#include <codrive/sim/ecat/segment.hpp>
 #include <codrive/sim/sim_device.hpp>
+#include <codrive/testing/sim_segment.hpp>
 
 #include <gtest/gtest.h>
 
 namespace codrive::ethercat {
 namespace {
 
-using sim::ecat::EcatSegment;
 using sim::ecat::make_drive_slave;
-using sim::ecat::SegmentLink;
 
-class DsBvsSlave : public ::testing::Test {
+class DsBvsSlave : public codrive::testing::SimSegmentTest {
 protected:
     DsBvsSlave() { segment_.add(make_drive_slave("ds-bvs", 3)); }
-    void SetUp() override {
-        ASSERT_TRUE(master_.scan()) << master_.last_error();
-        ASSERT_TRUE(master_.set_state_all(AlState::PreOp)) << master_.last_error();
-    }
-
-    FakeClock clock_;
-    EcatSegment segment_;
-    SegmentLink link_{segment_, clock_};
-    Master master_{link_, clock_};
+    void SetUp() override { bring_up(AlState::PreOp); }
 };
 
 TEST_F(DsBvsSlave, ErrorBehaviour1029hHasTheManualsDefaults) {

@@ -2,21 +2,16 @@
 // FoE file transfers on the in-process segment with the fake clock: reads and writes ride in the
 // cyclic frame one step per cycle, BUSY makes the master send the same DATA again, errors and
 // a mute mailbox end only the transfer, with a sentence naming slave, file and cause.
-#include <codrive/ethercat/error.hpp>
 #include <codrive/ethercat/foe.hpp>
-#include <codrive/ethercat/master.hpp>
-#include <codrive/sim/ecat/drive_profiles.hpp>
 #include <codrive/sim/ecat/foe_server.hpp>
-#include <codrive/sim/ecat/segment.hpp>
+#include <codrive/testing/sim_segment.hpp>
 
 #include <gtest/gtest.h>
 
 namespace codrive::ethercat {
 namespace {
 
-using sim::ecat::EcatSegment;
 using sim::ecat::make_drive_slave;
-using sim::ecat::SegmentLink;
 
 constexpr Duration kFoeCycle = milliseconds(1);
 
@@ -28,33 +23,18 @@ std::vector<std::uint8_t> pattern(std::size_t n) {
     return v;
 }
 
-class Foe : public ::testing::Test {
+class Foe : public codrive::testing::SimSegmentTest {
 protected:
     Foe() {
         segment_.add(make_drive_slave("fio", 11));
         segment_.add(make_drive_slave("akd2g", 22));
     }
-    void to(AlState s) {
-        ASSERT_TRUE(master_.scan()) << master_.last_error();
-        ASSERT_TRUE(master_.set_state_all(s)) << master_.last_error();
-    }
-    /// One control cycle: the frame may take half the period; counts the cycles that took
-    /// longer and those whose frame did not come back.
+    /// One control cycle; counts in `lost_` the cycles whose frame did not come back.
     void cycle() {
-        const TimePoint start = clock_.now();
-        if (auto s = master_.send_process_data(); s) {
-            auto r = master_.receive_process_data(start + kFoeCycle / 2);
-            if (!r && r.error() == EcatErrc::NoResponse) {
-                ++lost_;
-            }
+        auto r = control_cycle(kFoeCycle);
+        if (!r && r.error() == EcatErrc::NoResponse) {
+            ++lost_;
         }
-        if (clock_.now() - start > kFoeCycle / 2) {
-            ++late_cycles_;
-        }
-        for (std::size_t i = 0; i < segment_.size(); ++i) {
-            (void)segment_.slave(i).tick(clock_.now());
-        }
-        clock_.set(start + kFoeCycle);
     }
     /// Cycles until `out` is set (at most `limit` cycles); returns the cycles it took.
     int run_until(const std::optional<CoeOutcome>& out, int limit = 5000) {
@@ -67,7 +47,7 @@ protected:
     /// A 10 kB write to the AKD2G in SAFE-OP, 20 cycles in (a few DATA/ACK steps done, most to
     /// come); `out` gets its outcome.
     void start_write_under_way(std::optional<CoeOutcome>& out) {
-        to(AlState::SafeOp);
+        ASSERT_NO_FATAL_FAILURE(bring_up(AlState::SafeOp));
         ASSERT_TRUE(master_.foe_write_async(1, "drive.akd", pattern(10 * 1024),
                                             [&out](CoeOutcome r) { out = std::move(r); }));
         for (int i = 0; i < 20; ++i) {
@@ -78,16 +58,11 @@ protected:
         return foe_max_data(master_.slaves()[1].sii.rx_mailbox_size);
     }
 
-    FakeClock clock_;
-    EcatSegment segment_;
-    SegmentLink link_{segment_, clock_};
-    Master master_{link_, clock_};
-    int late_cycles_ = 0;
     int lost_ = 0;
 };
 
 TEST_F(Foe, TenKilobyteFileWrittenAndReadBackInTheCyclicFrame) {
-    to(AlState::SafeOp); // the AKD2G takes parameter files up to SAFE-OP (manual §2.3.3.4)
+    bring_up(AlState::SafeOp); // the AKD2G takes parameter files up to SAFE-OP (manual §2.3.3.4)
     const auto file = pattern(10 * 1024);
     std::vector<std::size_t> progress;
     FoeOptions o;
@@ -138,7 +113,7 @@ TEST_F(Foe, TenKilobyteFileWrittenAndReadBackInTheCyclicFrame) {
 // read asks for a repeat (ETG.1000.4 §6.7.2), however often one step needs it, and both transfers
 // complete with the file intact: none times out "mailbox silent" while the slave answers.
 TEST_F(Foe, FilesSurviveAThirdOfTheFramesComingBackLate) {
-    to(AlState::SafeOp);
+    bring_up(AlState::SafeOp);
     const auto file = pattern(10 * 1024);
     for (const unsigned seed : {1U, 2U, 3U}) {
         link_.delay_returns(330, seed);
@@ -170,7 +145,7 @@ TEST_F(Foe, FilesSurviveAThirdOfTheFramesComingBackLate) {
 }
 
 TEST_F(Foe, ReadOfAMissingFileNamesSlaveFileAndTheFoeError) {
-    to(AlState::PreOp);
+    bring_up(AlState::PreOp);
     auto r = master_.foe_read(1, "missing.akd");
     ASSERT_FALSE(r);
     EXPECT_EQ(r.error(), make_foe_error(foe_error::kNotFound));
@@ -179,7 +154,7 @@ TEST_F(Foe, ReadOfAMissingFileNamesSlaveFileAndTheFoeError) {
 }
 
 TEST_F(Foe, WriteInOpIsRefusedAsTheManualAsksForInitPreOpOrSafeOp) {
-    to(AlState::Op);
+    bring_up(AlState::Op);
     const auto file = pattern(300);
     std::optional<CoeOutcome> out;
     ASSERT_TRUE(master_.foe_write_async(1, "drive.akd", file, [&](CoeOutcome r) { out = r; }));
@@ -193,7 +168,7 @@ TEST_F(Foe, WriteInOpIsRefusedAsTheManualAsksForInitPreOpOrSafeOp) {
 }
 
 TEST_F(Foe, BusyAnswersMakeTheMasterSendTheSameDataAgain) {
-    to(AlState::PreOp);
+    bring_up(AlState::PreOp);
     segment_.slave(1).foe()->busy_next(3);
     const auto file = pattern(1000);
     ASSERT_TRUE(master_.foe_write(1, "busy.akd", file)) << master_.last_error();
@@ -202,7 +177,7 @@ TEST_F(Foe, BusyAnswersMakeTheMasterSendTheSameDataAgain) {
 }
 
 TEST_F(Foe, ASlaveBusyForeverFailsTheWriteAfterTheBusyTimeout) {
-    to(AlState::PreOp);
+    bring_up(AlState::PreOp);
     segment_.slave(1).foe()->busy_next(1'000'000);
     FoeOptions o;
     o.busy_timeout = milliseconds(200);
@@ -221,7 +196,7 @@ TEST_F(Foe, ASlaveBusyForeverFailsTheWriteAfterTheBusyTimeout) {
 }
 
 TEST_F(Foe, FilesFillingTheirLastPacketExactlyEndWithAnEmptyData) {
-    to(AlState::PreOp);
+    bring_up(AlState::PreOp);
     for (const std::size_t size : {std::size_t{0}, max_data(), 3 * max_data()}) {
         const auto file = pattern(size);
         ASSERT_TRUE(master_.foe_write(1, "exact.bin", file)) << master_.last_error();
@@ -277,7 +252,7 @@ TEST_F(Foe, AMuteMailboxWhileFramesComeBackLateSaysHowManyDidNot) {
 }
 
 TEST_F(Foe, ASlaveWithoutFoeIsRefusedAtOnce) {
-    to(AlState::PreOp);
+    bring_up(AlState::PreOp);
     auto r = master_.foe_read_async(0, "x.akd", [](CoeOutcome) { FAIL() << "not queued"; });
     ASSERT_FALSE(r);
     EXPECT_EQ(r.error(), EcatErrc::MailboxNotSupported);

@@ -2,10 +2,7 @@
 // The master's mailbox channels on the in-process segment with the fake clock: CoE transfers
 // ride in the cyclic frame one step per cycle, a mute mailbox fails only its own transfer, lost
 // frames are counted and never waited for, emergencies come in through the cycle.
-#include <codrive/ethercat/error.hpp>
-#include <codrive/ethercat/master.hpp>
-#include <codrive/sim/ecat/drive_profiles.hpp>
-#include <codrive/sim/ecat/segment.hpp>
+#include <codrive/testing/sim_segment.hpp>
 
 #include <codrive/core/sdo_abort.hpp>
 
@@ -14,50 +11,22 @@
 namespace codrive::ethercat {
 namespace {
 
-using sim::ecat::EcatSegment;
 using sim::ecat::make_drive_slave;
-using sim::ecat::SegmentLink;
 
 constexpr Duration kCycle = milliseconds(1);
 
-class MailboxChannels : public ::testing::Test {
+class MailboxChannels : public codrive::testing::SimSegmentTest {
 protected:
     MailboxChannels() {
         segment_.add(make_drive_slave("fio", 11));
         segment_.add(make_drive_slave("akd2g", 22));
         segment_.add(make_drive_slave("ds-bvs", 33));
     }
-    void to_op() {
-        ASSERT_TRUE(master_.scan()) << master_.last_error();
-        ASSERT_TRUE(master_.set_state_all(AlState::Op)) << master_.last_error();
-    }
-    /// One control cycle as the controller runs it: the frame may take half the period.
-    /// Returns the exchange's result; counts the cycles whose frame took longer than that.
-    Result<std::uint16_t> cycle() {
-        const TimePoint start = clock_.now();
-        Result<std::uint16_t> r = fail(EcatErrc::NotConfigured);
-        if (auto s = master_.send_process_data(); s) {
-            r = master_.receive_process_data(start + kCycle / 2);
-        }
-        if (clock_.now() - start > kCycle / 2) {
-            ++late_cycles_;
-        }
-        for (std::size_t i = 0; i < segment_.size(); ++i) {
-            (void)segment_.slave(i).tick(clock_.now()); // the SM watchdog runs on time
-        }
-        clock_.set(start + kCycle);
-        return r;
-    }
-
-    FakeClock clock_;
-    EcatSegment segment_;
-    SegmentLink link_{segment_, clock_};
-    Master master_{link_, clock_};
-    int late_cycles_ = 0;
+    Result<std::uint16_t> cycle() { return control_cycle(kCycle); }
 };
 
 TEST_F(MailboxChannels, MuteMailboxFailsOnlyItsOwnTransferAndNeverCostsACycle) {
-    to_op();
+    bring_up(AlState::Op);
     segment_.slave(2).faults().mailbox_silent = true; // DS-BVS: requests consumed, no answers
     std::optional<CoeOutcome> mute;
     std::optional<CoeOutcome> healthy;
@@ -107,7 +76,7 @@ TEST_F(MailboxChannels, MuteMailboxFailsOnlyItsOwnTransferAndNeverCostsACycle) {
 }
 
 TEST_F(MailboxChannels, SegmentedTransfersAdvanceOneStepPerCycle) {
-    to_op();
+    bring_up(AlState::Op);
     std::string text;
     for (int i = 0; i < 40; ++i) {
         text += "segment by cycle|";
@@ -137,7 +106,7 @@ TEST_F(MailboxChannels, SegmentedTransfersAdvanceOneStepPerCycle) {
 }
 
 TEST_F(MailboxChannels, LostFramesAreCountedNeverWaitedForAndTheMailboxRecovers) {
-    to_op();
+    bring_up(AlState::Op);
     std::optional<CoeOutcome> vendor;
     ASSERT_TRUE(master_.sdo_upload_async(1, 0x1018, 1, [&](CoeOutcome o) { vendor = o; }));
     ASSERT_TRUE(cycle()); // the request is written
@@ -179,7 +148,7 @@ TEST_F(MailboxChannels, LostFramesAreCountedNeverWaitedForAndTheMailboxRecovers)
 }
 
 TEST_F(MailboxChannels, EmergencyAndAbortComeInThroughTheCycle) {
-    to_op();
+    bring_up(AlState::Op);
     std::vector<std::string> seen;
     master_.on_emergency([&](std::size_t slave, const emcy::EmcyMessage& m) {
         seen.push_back(master_.describe_emergency(slave, m));
@@ -202,7 +171,7 @@ TEST_F(MailboxChannels, EmergencyAndAbortComeInThroughTheCycle) {
 }
 
 TEST_F(MailboxChannels, WorkingCounterProbesRideInTheNextCyclicFrame) {
-    to_op();
+    bring_up(AlState::Op);
     segment_.slave(1).faults().silent = true;
     auto w = cycle();
     ASSERT_FALSE(w);
@@ -216,7 +185,7 @@ TEST_F(MailboxChannels, WorkingCounterProbesRideInTheNextCyclicFrame) {
 }
 
 TEST_F(MailboxChannels, RequestsToASlaveWithoutCoeAreRefusedAtOnce) {
-    to_op();
+    bring_up(AlState::Op);
     auto r = master_.sdo_upload_async(7, 0x1018, 1, [](CoeOutcome) { FAIL() << "not called"; });
     ASSERT_FALSE(r);
     EXPECT_EQ(r.error(), EcatErrc::NoSuchSlave);
@@ -224,7 +193,7 @@ TEST_F(MailboxChannels, RequestsToASlaveWithoutCoeAreRefusedAtOnce) {
 }
 
 TEST_F(MailboxChannels, CancelEndsEveryTransferOnceWithItsSentenceAndTheChannelGoesOn) {
-    to_op();
+    bring_up(AlState::Op);
     segment_.slave(2).faults().mailbox_silent = true; // DS-BVS: its request is under way for ever
     std::vector<CoeOutcome> outcomes;
     int chained = 0;
@@ -269,7 +238,7 @@ TEST_F(MailboxChannels, CancelEndsEveryTransferOnceWithItsSentenceAndTheChannelG
 }
 
 TEST_F(MailboxChannels, CancelEndsWhenACallbackResubmitsOnEveryFailure) {
-    to_op();
+    bring_up(AlState::Op);
     segment_.slave(2).faults().mailbox_silent = true;
     int failures = 0;
     std::function<void(CoeOutcome)> again = [&](CoeOutcome o) {

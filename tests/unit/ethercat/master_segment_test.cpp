@@ -1,11 +1,8 @@
 // SPDX-License-Identifier: Apache-2.0
 // The master against simulated slaves in-process (FakeClock, no sockets): bring-up, ESM,
 // CoE SDO transfers, SDO information, emergencies, process data, faults and DC.
-#include <codrive/ethercat/error.hpp>
-#include <codrive/ethercat/master.hpp>
 #include <codrive/ethercat/registers.hpp>
-#include <codrive/sim/ecat/drive_profiles.hpp>
-#include <codrive/sim/ecat/segment.hpp>
+#include <codrive/testing/sim_segment.hpp>
 
 #include <codrive/core/sdo_abort.hpp>
 
@@ -14,11 +11,10 @@
 namespace codrive::ethercat {
 namespace {
 
-using sim::ecat::EcatSegment;
 using sim::ecat::make_drive_slave;
 using sim::ecat::SegmentLink;
 
-class EcatMasterSegment : public ::testing::Test {
+class EcatMasterSegment : public codrive::testing::SimSegmentTest {
 protected:
     EcatMasterSegment() {
         segment_.add(make_drive_slave("fio", 11));
@@ -26,15 +22,6 @@ protected:
         segment_.add(make_drive_slave("ds-bvs", 33));
     }
     void scan() { ASSERT_TRUE(master_.scan()) << master_.last_error(); }
-    void to_op() {
-        scan();
-        ASSERT_TRUE(master_.set_state_all(AlState::Op)) << master_.last_error();
-    }
-
-    FakeClock clock_;
-    EcatSegment segment_;
-    SegmentLink link_{segment_, clock_};
-    Master master_{link_, clock_};
 };
 
 TEST_F(EcatMasterSegment, ScanCountsSlavesAssignsAddressesAndReadsIdentityFromSii) {
@@ -106,7 +93,7 @@ TEST_F(EcatMasterSegment, ACountAboveMaxSlavesIsRefusedBeforeAnyPositionIsProbed
 }
 
 TEST_F(EcatMasterSegment, ScanReportsTheStateThePreviousMasterLeftBeforeResettingToInit) {
-    to_op();
+    bring_up(AlState::Op);
     ASSERT_TRUE(master_.exchange_process_data()) << master_.last_error();
     // The previous master stops: after 100 ms without outputs the SM watchdog of every slave
     // expires (SAFE-OP + error flag; 0x001B, the AKD2G writes no code).
@@ -145,7 +132,7 @@ TEST_F(EcatMasterSegment, ScanReportsTheStateThePreviousMasterLeftBeforeResettin
 }
 
 TEST_F(EcatMasterSegment, StateMachineReachesOpThroughEveryState) {
-    to_op();
+    bring_up(AlState::Op);
     for (std::size_t i = 0; i < segment_.size(); ++i) {
         EXPECT_EQ(segment_.slave(i).state(), AlState::Op);
         EXPECT_EQ(master_.slaves()[i].state, AlState::Op);
@@ -374,7 +361,7 @@ TEST_F(EcatMasterSegment, RepeatAfterAFrameLostOnTheWayOutDropsTheDuplicate) {
 }
 
 TEST_F(EcatMasterSegment, CyclicLrwKeepsTheExpectedWorkingCounterAndMovesTheDrive) {
-    to_op();
+    bring_up(AlState::Op);
     EXPECT_EQ(master_.expected_wkc(), 9);
     // FIO outputs: 6040 (2) 607A (4) 3202 (4) 6060 (1); inputs 6041 (2) 6064 (4) 6061 (1).
     auto out = master_.outputs(0);
@@ -409,7 +396,7 @@ TEST_F(EcatMasterSegment, CyclicLrwKeepsTheExpectedWorkingCounterAndMovesTheDriv
 // reads every slave's AL status instead of trusting the states it set, acknowledges the error
 // and brings that slave back (ETG.1000.6 §6.4.1.3), the others staying in OP.
 TEST_F(EcatMasterSegment, SetStateAllBringsASlaveThatFellToSafeOpBackToOp) {
-    to_op();
+    bring_up(AlState::Op);
     ASSERT_TRUE(master_.exchange_process_data()) << master_.last_error();
     clock_.advance(milliseconds(150)); // no process data for 150 ms: only slave 1 notices
     ASSERT_TRUE(segment_.slave(1).tick(clock_.now()));
@@ -427,7 +414,7 @@ TEST_F(EcatMasterSegment, SetStateAllBringsASlaveThatFellToSafeOpBackToOp) {
 }
 
 TEST_F(EcatMasterSegment, SilentSlaveDropsTheWorkingCounterAndIsNamed) {
-    to_op();
+    bring_up(AlState::Op);
     segment_.slave(1).faults().silent = true;
     auto w = master_.exchange_process_data();
     ASSERT_FALSE(w);

@@ -1,30 +1,22 @@
 // SPDX-License-Identifier: Apache-2.0
 // The simulated slave's application cycle per sync mode (ETG.1020 §21.1.3.1): free run steps
 // on its own timer, SM-synchronous (1C32h:01 = 1) only on the SM2 event of the master's frame.
-#include <codrive/ethercat/master.hpp>
-#include <codrive/sim/ecat/drive_profiles.hpp>
-#include <codrive/sim/ecat/segment.hpp>
+#include <codrive/testing/sim_segment.hpp>
 
 #include <gtest/gtest.h>
 
 namespace codrive::ethercat {
 namespace {
 
-class SyncModeSim : public ::testing::Test {
+class SyncModeSim : public codrive::testing::SimSegmentTest {
 protected:
     SyncModeSim() { segment_.add(sim::ecat::make_drive_slave("fio", 11)); }
     void to_op(std::uint16_t mode) {
-        ASSERT_TRUE(master_.scan()) << master_.last_error();
-        ASSERT_TRUE(master_.set_state_all(AlState::PreOp)) << master_.last_error();
+        ASSERT_NO_FATAL_FAILURE(bring_up(AlState::PreOp));
         ASSERT_TRUE(master_.sdo_write<std::uint16_t>(0, 0x1C32, 1, mode)) << master_.last_error();
         ASSERT_TRUE(master_.set_state_all(AlState::Op)) << master_.last_error();
     }
     sim::ecat::EscSlave& slave() { return segment_.slave(0); }
-
-    FakeClock clock_;
-    sim::ecat::EcatSegment segment_;
-    sim::ecat::SegmentLink link_{segment_, clock_};
-    Master master_{link_, clock_};
 };
 
 TEST_F(SyncModeSim, SmSynchronousApplicationRunsOncePerOutputFrameAndWaitsWithoutOne) {

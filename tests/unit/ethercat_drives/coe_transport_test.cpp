@@ -2,23 +2,18 @@
 // drives::Axis on the CoE DriveTransport against a simulated EtherCAT drive (in-process).
 #include <codrive/drives/axis.hpp>
 #include <codrive/ethercat/coe_transport.hpp>
-#include <codrive/sim/ecat/drive_profiles.hpp>
-#include <codrive/sim/ecat/segment.hpp>
+#include <codrive/testing/sim_segment.hpp>
 
 #include <gtest/gtest.h>
 
 namespace codrive::ethercat {
 namespace {
 
-class CoeTransportTest : public ::testing::Test {
+class CoeTransportTest : public codrive::testing::SimSegmentTest {
 protected:
     CoeTransportTest() {
         segment_.add(sim::ecat::make_drive_slave("akd2g", 5));
         segment_.add(sim::ecat::make_drive_slave("fio", 6));
-    }
-    void bring_up() {
-        ASSERT_TRUE(master_.scan()) << master_.last_error();
-        ASSERT_TRUE(master_.set_state_all(AlState::Op)) << master_.last_error();
     }
     /// One control cycle: acyclic work, LRW, axis update.
     void cycle(drives::Axis& axis, CoeTransport& t) {
@@ -27,15 +22,10 @@ protected:
         axis.on_cycle(clock_.now());
         clock_.advance(milliseconds(1));
     }
-
-    FakeClock clock_;
-    sim::ecat::EcatSegment segment_;
-    sim::ecat::SegmentLink link_{segment_, clock_};
-    Master master_{link_, clock_};
 };
 
 TEST_F(CoeTransportTest, ObjectAccessCompletesOnPollNotInsideTheCall) {
-    bring_up();
+    bring_up(AlState::Op);
     CoeTransport t(master_, 0);
     EXPECT_EQ(t.name(), "slave 0 (AKD2G)");
     std::optional<std::uint32_t> vendor;
@@ -59,7 +49,7 @@ TEST_F(CoeTransportTest, ObjectAccessCompletesOnPollNotInsideTheCall) {
 }
 
 TEST_F(CoeTransportTest, CyclicHandlesResolveAgainstTheMappedPdos) {
-    bring_up();
+    bring_up(AlState::Op);
     CoeTransport t(master_, 1); // FIO: 6040 607A 3202 6060 / 6041 6064 6061
     EXPECT_TRUE(t.output(0x6040, 0).valid());
     EXPECT_TRUE(t.output(0x607A, 0).valid());
@@ -69,7 +59,7 @@ TEST_F(CoeTransportTest, CyclicHandlesResolveAgainstTheMappedPdos) {
 }
 
 TEST_F(CoeTransportTest, AxisEnablesOverTheCyclicControlwordOnEtherCat) {
-    bring_up();
+    bring_up(AlState::Op);
     CoeTransport t(master_, 1); // FIO
     drives::AxisConfig cfg;
     drives::Axis axis(t, cfg);
@@ -100,7 +90,7 @@ class FioBusLossTest : public CoeTransportTest,
                        public ::testing::WithParamInterface<std::int16_t> {};
 
 TEST_P(FioBusLossTest, WatchdogDropsToSafeOpAndAppliesAbortConnectionOption) {
-    bring_up();
+    bring_up(AlState::Op);
     CoeTransport t(master_, 1); // FIO
     std::optional<drives::DriveVoid> option_set;
     t.write_as<std::int16_t>(0x6007, 0, GetParam(), [&](drives::DriveVoid r) { option_set = r; });
@@ -170,7 +160,7 @@ INSTANTIATE_TEST_SUITE_P(AbortConnectionOption, FioBusLossTest,
                          });
 
 TEST_F(CoeTransportTest, InputCountAdvancesOnlyWithFramesWhoseInputsWereTaken) {
-    bring_up();
+    bring_up(AlState::Op);
     CoeTransport t(master_, 0);
     const auto sw = t.input(0x6041, 0);
     ASSERT_TRUE(sw.valid());
@@ -220,7 +210,7 @@ TEST_F(CoeTransportTest, NoInputFromTheFramesThatTookTheSlavesToOp) {
     // working counter is expected and not counted as an error: they bring no inputs in. When the
     // first frame in OP was then lost (a loaded host), `codrive drive reset` took the image of
     // zeros for a statusword and ended "ok" on an AKD2G still in FAULT.
-    bring_up();
+    bring_up(AlState::Op);
     CoeTransport t(master_, 0);
     drives::Axis axis(t, drives::AxisConfig{});
     axis.bind();

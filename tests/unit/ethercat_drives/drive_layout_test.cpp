@@ -3,8 +3,7 @@
 // SAFE-OP, against simulated slaves in-process (fake clock).
 #include <codrive/drives/profile.hpp>
 #include <codrive/ethercat/drive_layout.hpp>
-#include <codrive/sim/ecat/drive_profiles.hpp>
-#include <codrive/sim/ecat/segment.hpp>
+#include <codrive/testing/sim_segment.hpp>
 
 #include <gtest/gtest.h>
 
@@ -26,7 +25,7 @@ bool maps(const std::vector<PdoMapping>& pdos, std::uint16_t index) {
     return false;
 }
 
-class DriveLayoutTest : public ::testing::Test {
+class DriveLayoutTest : public codrive::testing::SimSegmentTest {
 protected:
     DriveLayoutTest() {
         segment_.add(sim::ecat::make_drive_slave("fio", 1));
@@ -34,20 +33,12 @@ protected:
         segment_.add(sim::ecat::make_drive_slave("generic", 3));
         segment_.add(sim::ecat::make_drive_slave("generic-nopdo", 4));
     }
-    void SetUp() override {
-        ASSERT_TRUE(master_.scan()) << master_.last_error();
-        ASSERT_TRUE(master_.set_state_all(AlState::PreOp)) << master_.last_error();
-    }
+    void SetUp() override { bring_up(AlState::PreOp); }
     std::pair<std::vector<PdoMapping>, std::vector<PdoMapping>> assignment(std::size_t slave) {
         auto a = master_.read_pdo_assignment(slave);
         EXPECT_TRUE(a) << master_.last_error();
         return a ? *a : std::pair<std::vector<PdoMapping>, std::vector<PdoMapping>>{};
     }
-
-    FakeClock clock_;
-    sim::ecat::EcatSegment segment_;
-    sim::ecat::SegmentLink link_{segment_, clock_};
-    Master master_{link_, clock_};
 };
 
 TEST_F(DriveLayoutTest, AKnownDriveUsesItsProfileLayoutForTheMode) {
