@@ -78,11 +78,13 @@ struct MailboxChannel {
     TimePoint next_poll{};             ///< emergency poll while idle
     bool sm0_full = false;             ///< the last write found SM0 full
     bool last_write = false;           ///< the transfer ends once this write is taken (SendLast)
-    bool repeated = false;             ///< the next read follows a repeat
-    std::uint8_t repeat_want = 0;      ///< SM1 activate value with RepeatReq toggled
-    unsigned frames_lost = 0;          ///< of the current step, not back in time
-    unsigned frames_unsent = 0;        ///< of the current step, could not be sent
-    int datagram = -1;                 ///< position of its datagram in the frame in flight
+    /// The slave took a repeat request and no message was read since: one with the counter of
+    /// the last message read is a copy of it (the channel and Master::mailbox_read() share it).
+    bool repeated = false;
+    std::uint8_t repeat_want = 0; ///< SM1 activate value with RepeatReq toggled
+    unsigned frames_lost = 0;     ///< of the current step, not back in time
+    unsigned frames_unsent = 0;   ///< of the current step, could not be sent
+    int datagram = -1;            ///< position of its datagram in the frame in flight
 };
 
 } // namespace codrive::ethercat::detail

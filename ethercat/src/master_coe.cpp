@@ -124,7 +124,9 @@ Result<MailboxMessage> Master::mailbox_read(std::size_t slave, Duration timeout)
         return fail(EcatErrc::MailboxNotSupported);
     }
     const TimePoint deadline = clock_.now() + timeout;
-    bool repeated = false;
+    // Shared with the slave's mailbox channel: a repeat it requested in the cyclic frame may
+    // have put a copy into SM1 that this read finds.
+    bool& repeated = channel(slave).repeated;
     // At least this many repeats in all, so a read with no time left (a poll) still recovers a
     // message that is already out; more while the read has time.
     int repeats_left = std::max(1, config_.frame_retries);
@@ -157,11 +159,12 @@ Result<MailboxMessage> Master::mailbox_read(std::size_t slave, Duration timeout)
         if (lost && (repeats_left-- > 0 || clock_.now() < deadline)) {
             // A read whose frame did not come back may have emptied SM1 on its way: ask the
             // slave for that message again instead of losing it (ETG.1000.4 §6.7.2), after
-            // every such read while the read has time, as the cyclic channel does.
+            // every such read while the read has time, as the cyclic channel does. Flagged
+            // first: a request whose answer is lost may have been taken all the same.
+            repeated = true;
             if (auto r = mailbox_repeat(slave); !r) {
                 return fail(r.error());
             }
-            repeated = true;
             continue;
         }
         if (clock_.now() >= deadline) {

@@ -303,6 +303,10 @@ void Master::mailbox_done(bool lost, TimePoint now) {
             }
             break;
         case MailboxPhase::RepeatWrite:
+            // Taken, or lost on its way back after the slave took it: from now on SM1 may hold
+            // a copy of a message already read, whoever reads it next (this channel, a transfer
+            // that starts before the acknowledgement is seen, a blocking read).
+            ch.repeated = ch.repeated || ok || lost;
             if (ok) { // a lost write goes again with the same absolute value
                 ++mailbox_repeats_;
                 ch.phase = MailboxPhase::RepeatAck;
@@ -312,7 +316,6 @@ void Master::mailbox_done(bool lost, TimePoint now) {
             if (ok && ((d.data[0] & SyncManager::kPdiRepeatAck) != 0) ==
                           ((ch.repeat_want & SyncManager::kActivateRepeatRequest) != 0)) {
                 ch.phase = MailboxPhase::Read;
-                ch.repeated = true;
             }
             break;
         case MailboxPhase::Idle:

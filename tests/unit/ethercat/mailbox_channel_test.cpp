@@ -254,5 +254,62 @@ TEST_F(MailboxChannels, CancelEndsWhenACallbackResubmitsOnEveryFailure) {
     EXPECT_EQ(master_.mailbox_transfers(2), 1U) << "the 65th resubmission waits for its cycle";
 }
 
+// ETG.1000.4 §6.7.2: after a repeat request the slave puts its last message into SM1 again. When
+// the lost read had found SM1 empty, that message is one the master already has (same counter,
+// ETG.1000.6 §5.6.1). A loop that stops between the request and its acknowledgement (the CLI
+// leaving OP to restore the PDO assignment) must not hand that copy to the next transfer as
+// its answer: it read "expected initiate download response, received initiate upload
+// response" and aborted the download.
+TEST_F(MailboxChannels, ACopyRepeatedAfterTheCycleStoppedIsNotTheNextTransfersAnswer) {
+    bring_up(AlState::Op);
+    // The FIO's last mailbox message is now an upload response, read by the master.
+    ASSERT_TRUE(master_.sdo_read<std::uint32_t>(0, 0x1018, 1)) << master_.last_error();
+    // Emergency polls ride in the cyclic frame: the first frame that carries one is lost.
+    bool dropped_poll = false;
+    for (int i = 0; i < 100 && !dropped_poll; ++i) {
+        const auto carried = master_.stats().mailbox_datagrams;
+        link_.drop_next(1);
+        (void)cycle();
+        dropped_poll = master_.stats().mailbox_datagrams > carried;
+    }
+    link_.drop_next(0);
+    ASSERT_TRUE(dropped_poll);
+    // The channel reads SM1's activate register, then writes the repeat request; the loop
+    // stops as soon as the slave has taken it, before its acknowledgement is read.
+    const auto repeats = master_.mailbox_repeats();
+    for (int i = 0; i < 10 && master_.mailbox_repeats() == repeats; ++i) {
+        (void)cycle();
+    }
+    ASSERT_GT(master_.mailbox_repeats(), repeats);
+    ASSERT_TRUE(master_.sdo_write<std::int8_t>(0, 0x6060, 0, 8)) << master_.last_error();
+    EXPECT_EQ(master_.sdo_read<std::int8_t>(0, 0x6060, 0).value_or(0), 8);
+}
+
+// The same when the repeat request's frame comes back after its cycle: the slave took the
+// request, the master saw no working counter for it. `codrive drive --ethercat … status` on a
+// host that returned most frames late left the AKD2G's PDO assignment at 0 this way (the
+// restore's download aborted on the copy).
+TEST_F(MailboxChannels, ARepeatRequestWhoseFrameCameBackLateStillMarksTheCopy) {
+    bring_up(AlState::Op);
+    ASSERT_TRUE(master_.sdo_read<std::uint32_t>(0, 0x1018, 1)) << master_.last_error();
+    const auto late_cycle = [this] {
+        link_.delay_returns(1000, 7); // the slaves take the frame; it is back after its cycle
+        (void)cycle();
+        link_.delay_returns(0, 0);
+    };
+    bool late_poll = false; // the emergency poll's read of SM1 (empty) counts as lost
+    for (int i = 0; i < 100 && !late_poll; ++i) {
+        const auto carried = master_.stats().mailbox_datagrams;
+        late_cycle();
+        late_poll = master_.stats().mailbox_datagrams > carried;
+    }
+    ASSERT_TRUE(late_poll);
+    (void)cycle(); // reads SM1's activate register
+    const auto repeats = master_.mailbox_repeats();
+    late_cycle(); // writes the repeat request: taken, its frame late
+    ASSERT_EQ(master_.mailbox_repeats(), repeats) << "the master did not see it taken";
+    ASSERT_TRUE(master_.sdo_write<std::int8_t>(0, 0x6060, 0, 8)) << master_.last_error();
+    EXPECT_EQ(master_.sdo_read<std::int8_t>(0, 0x6060, 0).value_or(0), 8);
+}
 } // namespace
 } // namespace codrive::ethercat
