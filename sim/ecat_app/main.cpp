@@ -1,5 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 // codrive-ecat-sim: a chain of simulated EtherCAT slaves answering on a raw Ethernet interface.
+#include "delay_line.hpp"
+
 #include <codrive/sim/ecat/drive_profiles.hpp>
 #include <codrive/sim/ecat/segment.hpp>
 #include <codrive/sim/sim_device.hpp>
@@ -60,6 +62,7 @@ int main(int argc, char** argv) {
     std::vector<int> mailbox_silent;
     int mute_mailbox_on_signal = -1;
     unsigned drop_permille = 0;
+    unsigned delay_us = 0;
     std::vector<std::string> refuse;
     std::string lose_answers;
     std::string pcap;
@@ -81,6 +84,10 @@ int main(int argc, char** argv) {
                    "lose this many of every 1000 frames after the slaves processed them "
                    "(pseudo-random, fixed seed)")
         ->check(CLI::Range(0U, 1000U));
+    app.add_option("--delay-us", delay_us,
+                   "hold every frame this many µs after the slaves processed it before it goes "
+                   "back (a slow host or line; the frames keep their order and rate)")
+        ->check(CLI::Range(0U, 100000U));
     app.add_option("--refuse", refuse,
                    "POS:STATE:CODE — refuse the transition into STATE with AL status CODE");
     app.add_option("--lose-mailbox-answers", lose_answers,
@@ -285,6 +292,8 @@ int main(int argc, char** argv) {
     std::signal(SIGRTMIN, on_fault_signal);
     std::signal(SIGRTMIN + 1, on_leave_op_signal);
     std::minstd_rand drop_rng(20);
+    sim::ecat::DelayLine delayed{microseconds(delay_us)};
+    const auto send = [&link](std::span<const std::uint8_t> f) { (void)(*link)->send(f); };
     std::uint64_t dropped = 0;
     std::printf("codrive-ecat-sim: %zu slave(s) on %s ready\n", segment.size(), iface.c_str());
     std::fflush(stdout);
@@ -355,7 +364,12 @@ int main(int argc, char** argv) {
                 std::fflush(stdout);
             }
         }
-        auto n = (*link)->receive(buf, SteadyClock::now() + milliseconds(10));
+        delayed.release(SteadyClock::now(), send);
+        const TimePoint quiet = SteadyClock::now() + milliseconds(10);
+        auto n = (*link)->receive(buf, delayed.next_due(quiet));
+        if (!n && SteadyClock::now() < quiet) {
+            continue; // a held frame is due
+        }
         if (!n) {
             // No frame for 10 ms: the drives run on, as real ones do. Stepping them only before
             // a frame made the first frame after a pause (between two `codrive` commands) pay
@@ -380,7 +394,11 @@ int main(int argc, char** argv) {
             ++dropped;
             continue; // lost on the way back, after the slaves processed it
         }
-        (void)(*link)->send(frame);
+        if (delayed.active()) {
+            delayed.hold(frame, SteadyClock::now());
+        } else {
+            send(frame);
+        }
     }
     std::printf("codrive-ecat-sim: stopped after %llu frames (%llu dropped)\n",
                 static_cast<unsigned long long>(segment.frames()),

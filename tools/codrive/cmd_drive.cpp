@@ -58,6 +58,8 @@ struct DriveWire {
     std::function<bool(const std::function<bool()>&, Duration)> run_until;
     /// Hands the axis to the loop (on_tick), or takes it back with nullptr.
     std::function<void(drives::Axis*)> attach;
+    /// EtherCAT: what became of the cyclic frames when no statusword came (no_inputs_cause()).
+    std::function<std::string()> why_no_inputs;
 };
 
 /// Reads 1008h, 1000h and 1018h:1/:2 and picks the profile; nullptr (printed) without 1000h.
@@ -153,7 +155,8 @@ int operate(const DriveArgs& a, DriveWire& w, drives::Axis& axis, const drives::
             out->err = "the operation did not finish";
         }
         if (!out->err.empty()) {
-            fmt::print(stderr, "codrive: {}\n", out->err);
+            fmt::print(stderr, "codrive: {}{}\n", out->err,
+                       w.why_no_inputs ? w.why_no_inputs() : std::string());
         }
         return out->err.empty();
     };
@@ -163,9 +166,10 @@ int operate(const DriveArgs& a, DriveWire& w, drives::Axis& axis, const drives::
         if (stop_requested()) {
             return stop_on_signal(a, w, axis);
         }
-        fmt::print(stderr, "codrive: {} axis {}: no statusword (0x{:04X}) {}\n", w.who, a.axis,
+        fmt::print(stderr, "codrive: {} axis {}: no statusword (0x{:04X}) {}{}\n", w.who, a.axis,
                    axis.index(0x6041),
-                   a.ethercat.empty() ? "over SDO" : "in the process data or over CoE");
+                   a.ethercat.empty() ? "over SDO" : "in the process data or over CoE",
+                   w.why_no_inputs ? w.why_no_inputs() : std::string());
         return kExitFailure;
     }
     bool ok = true;
@@ -451,6 +455,9 @@ int run_drive_ecat(const DriveArgs& a) {
     ethercat::CoeTransport transport(m, *slave, ethercat::CoeTransport::Drive::Cyclic);
     w.transport = &transport;
     TimePoint next = RealClock::instance().now();
+    w.why_no_inputs = [&m, &a, at_op = m.stats()] {
+        return no_inputs_cause(at_op, m.stats(), a.cycle_us);
+    };
     w.run_until = [&](const std::function<bool()>& pred, Duration timeout) {
         const TimePoint deadline = RealClock::instance().now() + timeout;
         while (!pred()) {
