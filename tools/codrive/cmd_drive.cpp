@@ -12,6 +12,7 @@
 #include <codrive/drives/profile.hpp>
 #include <codrive/drives/safe_stop.hpp>
 #include <codrive/ethercat/coe_transport.hpp>
+#include <codrive/ethercat/cyclic_shortfall.hpp>
 #include <codrive/ethercat/drive_layout.hpp>
 #include <codrive/ethercat/esi.hpp>
 #include <codrive/master/master.hpp>
@@ -58,7 +59,8 @@ struct DriveWire {
     std::function<bool(const std::function<bool()>&, Duration)> run_until;
     /// Hands the axis to the loop (on_tick), or takes it back with nullptr.
     std::function<void(drives::Axis*)> attach;
-    /// EtherCAT: what became of the cyclic frames when no statusword came (no_inputs_cause()).
+    /// EtherCAT: what became of the cyclic frames when no statusword came
+    /// (ethercat::cyclic_shortfall()).
     std::function<std::string()> why_no_inputs;
 };
 
@@ -456,7 +458,7 @@ int run_drive_ecat(const DriveArgs& a) {
     w.transport = &transport;
     TimePoint next = RealClock::instance().now();
     w.why_no_inputs = [&m, &a, at_op = m.stats()] {
-        return no_inputs_cause(at_op, m.stats(), a.cycle_us);
+        return ethercat::cyclic_shortfall(at_op, m.stats(), microseconds(a.cycle_us));
     };
     w.run_until = [&](const std::function<bool()>& pred, Duration timeout) {
         const TimePoint deadline = RealClock::instance().now() + timeout;

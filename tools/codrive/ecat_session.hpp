@@ -42,14 +42,6 @@ struct SlaveEsi {
 std::optional<SlaveEsi> slave_esi(const std::string& path, const ethercat::Master& master,
                                   std::size_t slave);
 
-/// Why the process data did not work between `at_op` and `now` (the master's counts then and
-/// now), as a clause to append to the sentence that says what failed: ": none of the 2993
-/// cyclic frames since OP brought the inputs in (2991 came back after their 1000 µs cycle, 2
-/// did not come back); the frames take longer than ...". Empty when at least half of the
-/// frames brought the inputs in, or none was sent.
-std::string no_inputs_cause(const ethercat::ProcessDataStats& at_op,
-                            const ethercat::ProcessDataStats& now, unsigned cycle_us);
-
 /// The segment as a table: position (from `base`), station address, vendor, product,
 /// revision, name, AL state.
 std::string format_slave_table(const ethercat::Master& master, unsigned base);
