@@ -59,9 +59,9 @@ struct DriveWire {
     std::function<bool(const std::function<bool()>&, Duration)> run_until;
     /// Hands the axis to the loop (on_tick), or takes it back with nullptr.
     std::function<void(drives::Axis*)> attach;
-    /// EtherCAT: what became of the cyclic frames when no statusword came
-    /// (ethercat::cyclic_shortfall()).
-    std::function<std::string()> why_no_inputs;
+    /// What became of the cyclic frames when no statusword came (EtherCAT:
+    /// ethercat::cyclic_shortfall()); nothing to add on CAN.
+    std::function<std::string()> why_no_inputs = [] { return std::string(); };
 };
 
 /// Reads 1008h, 1000h and 1018h:1/:2 and picks the profile; nullptr (printed) without 1000h.
@@ -157,8 +157,7 @@ int operate(const DriveArgs& a, DriveWire& w, drives::Axis& axis, const drives::
             out->err = "the operation did not finish";
         }
         if (!out->err.empty()) {
-            fmt::print(stderr, "codrive: {}{}\n", out->err,
-                       w.why_no_inputs ? w.why_no_inputs() : std::string());
+            fmt::print(stderr, "codrive: {}{}\n", out->err, w.why_no_inputs());
         }
         return out->err.empty();
     };
@@ -171,7 +170,7 @@ int operate(const DriveArgs& a, DriveWire& w, drives::Axis& axis, const drives::
         fmt::print(stderr, "codrive: {} axis {}: no statusword (0x{:04X}) {}{}\n", w.who, a.axis,
                    axis.index(0x6041),
                    a.ethercat.empty() ? "over SDO" : "in the process data or over CoE",
-                   w.why_no_inputs ? w.why_no_inputs() : std::string());
+                   w.why_no_inputs());
         return kExitFailure;
     }
     bool ok = true;

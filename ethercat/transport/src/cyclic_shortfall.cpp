@@ -21,6 +21,7 @@ std::string cyclic_shortfall(const ProcessDataStats& at_op, const ProcessDataSta
     const std::uint64_t inputs = now.input_frames - at_op.input_frames;
     const std::uint64_t wkc = now.wkc_errors - at_op.wkc_errors;
     const std::uint64_t lost = now.lost_frames - at_op.lost_frames;
+    // A frame lost before `at_op` may be read late after it: not one of these frames.
     const std::uint64_t late = std::min(lost, now.late_frames - at_op.late_frames);
     const std::uint64_t failed = now.receive_errors - at_op.receive_errors;
     const std::uint64_t unsent = now.send_errors - at_op.send_errors;
