@@ -71,15 +71,19 @@ public:
             }
             return Step::Done;
         case Step_::Failed:
-            if (fail_with(machine_.failure())) {
-                put_request(request); // the abort the master sends (ETG.1000.6 §5.6.2.7)
-                return Step::SendLast;
-            }
-            return Step::Failed;
+            return failed_step(request);
         case Step_::Ignore:
             break;
         }
-        return Step::Wait;
+        return Step::Stray;
+    }
+    Step on_timeout(std::vector<std::uint8_t>& request) override {
+        const auto phase = machine_.phase();
+        if ((phase != Phase::InitiateUpload && phase != Phase::InitiateDownload) ||
+            machine_.unanswered() != Step_::Failed) {
+            return Step::Wait;
+        }
+        return failed_step(request);
     }
 
     // sdo::ISdoData: the transfer's own buffer.
@@ -104,6 +108,16 @@ public:
 
 private:
     using Step_ = sdo::SdoClientMachine::Step;
+    using Phase = sdo::SdoClientMachine::Phase;
+
+    /// The machine failed: the outcome, and the abort the master sends (ETG.1000.6 §5.6.2.7).
+    Step failed_step(std::vector<std::uint8_t>& request) {
+        if (fail_with(machine_.failure())) {
+            put_request(request);
+            return Step::SendLast;
+        }
+        return Step::Failed;
+    }
 
     static sdo::SdoFraming download_framing(std::size_t mailbox_out, bool ca) {
         // Room for data in one request: the mailbox after its header and, for the initiate

@@ -15,8 +15,10 @@ namespace codrive::ethercat::detail {
 
 /// What a transfer wants after a reply. SendLast: `request` is the last message (FoE's final
 /// ACK, or an ERR telling the slave why the master gives up); the transfer ends, with its
-/// outcome, once the slave took it.
-enum class TransferStep : int { Send, Wait, Done, Failed, SendLast };
+/// outcome, once the slave took it. Stray: the reply answers an earlier transfer (one that timed
+/// out, whose answer waited in SM1 ahead of this one's): dropped and counted, the step's
+/// deadline stays, so a slave that only sends such answers still times out.
+enum class TransferStep : int { Send, Wait, Done, Failed, SendLast, Stray };
 
 /// One CoE exchange (ETG.1000.6 §5.6.2), or an FoE one (mailbox_type() Foe, §5.7: every FoE
 /// reply goes to on_reply()). The channel sends request(), feeds every reply of service() (and
@@ -32,6 +34,13 @@ public:
     /// fragments follow; Failed: outcome holds the error and its sentence.
     virtual Step on_reply(std::span<const std::uint8_t> coe,
                           std::vector<std::uint8_t>& request) = 0;
+    /// The step's deadline passed. A transfer whose dropped (Stray) replies explain the silence
+    /// sets outcome and says Failed, or SendLast with the abort in `request`; Wait lets the
+    /// channel report the timeout.
+    virtual Step on_timeout(std::vector<std::uint8_t>& request) {
+        (void)request;
+        return Step::Wait;
+    }
     /// The CoE service the replies come with.
     [[nodiscard]] virtual CoeService service() const = 0;
     /// The mailbox protocol of its messages: CoE here, FoE for file transfers (foe_transfer.cpp).
@@ -84,6 +93,7 @@ struct MailboxChannel {
     std::uint8_t repeat_want = 0; ///< SM1 activate value with RepeatReq toggled
     unsigned frames_lost = 0;     ///< of the current step, not back in time
     unsigned frames_unsent = 0;   ///< of the current step, could not be sent
+    unsigned strays = 0;          ///< of the current step, answers of earlier transfers dropped
     int datagram = -1;            ///< position of its datagram in the frame in flight
 };
 

@@ -120,6 +120,7 @@ void Master::mailbox_send(std::size_t slave, TimePoint now) {
     ch.deadline = now + config_.mailbox_timeout;
     ch.frames_lost = 0;
     ch.frames_unsent = 0;
+    ch.strays = 0;
     ch.sm0_full = false;
     ch.last_write = false;
     if (ch.out.size() > sii.rx_mailbox_size) {
@@ -153,6 +154,37 @@ void Master::mailbox_fail(std::size_t slave, std::error_code ec, std::string sen
     mailbox_finish(slave, now);
 }
 
+void Master::mailbox_timeout(std::size_t slave, TimePoint now) {
+    MailboxChannel& ch = channel(slave);
+    auto& t = *ch.queue.front();
+    // Only answers of earlier transfers came (they waited in SM1 ahead of this one's): the
+    // transfer's own failure, and the abort that tells the slave.
+    if (const auto step = t.on_timeout(ch.request); step != detail::CoeTransfer::Step::Wait) {
+        mailbox_step(slave, step, now);
+        return;
+    }
+    const bool write_never_left = ch.frames_lost == 0 && ch.frames_unsent > 0;
+    std::string why = ch.sm0_full ? "receive mailbox SM0 stayed full"
+                      : ch.phase == MailboxPhase::Write
+                          ? (write_never_left ? "request not sent" : "request frames lost")
+                      : ch.strays > 0 ? fmt::format("no answer to it; {} answer{} of earlier "
+                                                    "transfers dropped",
+                                                    ch.strays, ch.strays == 1 ? "" : "s")
+                                      : "mailbox silent";
+    if (ch.frames_lost > 0 && !ch.sm0_full && ch.phase != MailboxPhase::Write) {
+        // Silent as far as the master could see: say how much it could not see, so a
+        // mute slave is told from frames that came back late or not at all.
+        why += fmt::format("; {} of its frames did not come back in time", ch.frames_lost);
+    }
+    if (ch.frames_unsent > 0) { // the host's side: the interface down or its queue full
+        why += fmt::format("; {} of its frames could not be sent", ch.frames_unsent);
+    }
+    mailbox_fail(slave, make_error_code(EcatErrc::MailboxTimeout),
+                 fmt::format("{} timed out after {:.0f} ms ({})", transfer_name(t),
+                             to_ms(config_.mailbox_timeout), why),
+                 now);
+}
+
 void Master::mailbox_add(TimePoint now) {
     const std::size_t n = slaves_.size();
     for (std::size_t k = 0; k < n; ++k) {
@@ -165,24 +197,7 @@ void Master::mailbox_add(TimePoint now) {
         }
         if (ch.active && now >= ch.deadline) {
             // The transfer's own timeout: only this transfer fails; the frame goes on.
-            const auto& t = *ch.queue.front();
-            const bool write_never_left = ch.frames_lost == 0 && ch.frames_unsent > 0;
-            std::string why = ch.sm0_full ? "receive mailbox SM0 stayed full"
-                              : ch.phase == MailboxPhase::Write
-                                  ? (write_never_left ? "request not sent" : "request frames lost")
-                                  : "mailbox silent";
-            if (ch.frames_lost > 0 && !ch.sm0_full && ch.phase != MailboxPhase::Write) {
-                // Silent as far as the master could see: say how much it could not see, so a
-                // mute slave is told from frames that came back late or not at all.
-                why += fmt::format("; {} of its frames did not come back in time", ch.frames_lost);
-            }
-            if (ch.frames_unsent > 0) { // the host's side: the interface down or its queue full
-                why += fmt::format("; {} of its frames could not be sent", ch.frames_unsent);
-            }
-            mailbox_fail(i, make_error_code(EcatErrc::MailboxTimeout),
-                         fmt::format("{} timed out after {:.0f} ms ({})", transfer_name(t),
-                                     to_ms(config_.mailbox_timeout), why),
-                         now);
+            mailbox_timeout(i, now);
         } else if (!ch.active && ch.phase != MailboxPhase::Idle && now >= ch.deadline) {
             ch.phase = MailboxPhase::Idle; // an emergency poll that could not finish its repeat
         }
@@ -424,10 +439,15 @@ void Master::mailbox_step(std::size_t slave, detail::TransferStep step, TimePoin
         ch.deadline = now + config_.mailbox_timeout;
         ch.frames_lost = 0;
         ch.frames_unsent = 0;
+        ch.strays = 0;
         break;
     case detail::CoeTransfer::Step::Done:
     case detail::CoeTransfer::Step::Failed:
         mailbox_finish(slave, now);
+        break;
+    case detail::CoeTransfer::Step::Stray:
+        ++stats_.stray_mailbox_messages; // the deadline stays: strays cannot keep it alive
+        ++ch.strays;
         break;
     }
 }

@@ -57,28 +57,6 @@ FrameKind expected_kind(ClientState s) {
     return FrameKind::Invalid;
 }
 
-/// The protocol a server response belongs to (0: none of the client's).
-int family(FrameKind k) {
-    switch (k) {
-    case FrameKind::InitiateUploadResponse:
-    case FrameKind::UploadSegmentResponse:
-        return 1;
-    case FrameKind::InitiateDownloadResponse:
-    case FrameKind::DownloadSegmentResponse:
-        return 2;
-    case FrameKind::BlockDownloadInitiateResponse:
-    case FrameKind::BlockDownloadAck:
-    case FrameKind::BlockDownloadEndResponse:
-        return 3;
-    case FrameKind::BlockUploadInitiateResponse:
-    case FrameKind::BlockUploadEndRequest:
-    case FrameKind::BlockSegment:
-        return 4;
-    default:
-        return 0;
-    }
-}
-
 /// The states the shared expedited/segmented machine runs (SdoClientMachine).
 bool machine_state(ClientState s) {
     return s == ClientState::InitiateUpload || s == ClientState::UploadSegment ||
@@ -406,46 +384,37 @@ bool SdoClient::is_repeat(const Frame& frame) const {
 
 bool SdoClient::is_leftover(const FrameInfo& info) {
     Transfer& t = *active_;
-    const bool initiate_response = info.kind == FrameKind::InitiateUploadResponse ||
-                                   info.kind == FrameKind::InitiateDownloadResponse ||
-                                   info.kind == FrameKind::BlockDownloadInitiateResponse ||
-                                   info.kind == FrameKind::BlockUploadInitiateResponse;
+    const FrameKind want = expected_kind(t.state);
     if (initiate_state(t.state)) {
-        // The server's first answer to an initiate request is an initiate response or an abort,
-        // both naming the object (CiA 301 §7.2.4.3). Anything else, or one naming another
-        // object, answers a request of an earlier transfer that crossed our new one on the bus.
+        // A block upload the server answers with a normal initiate upload response (protocol
+        // switch threshold) is answered all the same.
         const bool upload_switch = t.state == ClientState::BlockUploadInitiate &&
                                    info.kind == FrameKind::InitiateUploadResponse;
-        const bool ours = (info.kind == expected_kind(t.state) || upload_switch) &&
-                          info.index == t.index && info.subindex == t.subindex;
-        if (!ours && initiate_response && !t.stray_other_object &&
-            (info.index != t.index || info.subindex != t.subindex)) {
-            t.stray_other_object = true;
-            t.stray_index = info.index;
-            t.stray_subindex = info.subindex;
+        const bool ours = (info.kind == want || upload_switch) && info.index == t.index &&
+                          info.subindex == t.subindex;
+        if (answers_another_transfer(info.kind, want, true, ours)) {
+            // Segments of an earlier block upload the server was still streaming can carry any
+            // byte 0, including a reserved command specifier: noted, for on_timeout().
+            t.machine.note_stray(info);
+            return true;
         }
-        // Segments of an earlier block upload the server was still streaming can carry any
-        // byte 0, including a reserved command specifier.
-        t.stray_invalid = t.stray_invalid || info.kind == FrameKind::Invalid;
-        return !ours;
+        return false;
     }
     switch (t.state) {
     case ClientState::BlockDownloadEnd:
         // A sub-block response after the last one was taken: a repeat or a late answer.
-        return initiate_response || info.kind == FrameKind::BlockDownloadAck;
+        return info.kind == FrameKind::InitiateUploadResponse ||
+               info.kind == FrameKind::InitiateDownloadResponse ||
+               info.kind == FrameKind::BlockDownloadInitiateResponse ||
+               info.kind == FrameKind::BlockUploadInitiateResponse ||
+               info.kind == FrameKind::BlockDownloadAck;
     case ClientState::BlockUploadEnd:
         // Block segments carry no command specifier: a late or repeated one (they come in
         // bursts) can look like any frame. Only the end request and an abort are answers.
         return info.kind != FrameKind::BlockUploadEndRequest && info.kind != FrameKind::Abort;
     default:
-        if (info.kind == FrameKind::Invalid) {
-            return false;
-        }
-        // An initiate response names its object and only ever answers an initiate request: one
-        // arriving later in a transfer is a repeat or a late answer. A response of another
-        // protocol (e.g. a block download end response during a segmented upload) answers an
-        // earlier transfer. Only a response of this protocol in the wrong phase is an error.
-        return initiate_response || family(info.kind) != family(expected_kind(t.state));
+        // Only a response of this protocol in the wrong phase is an error.
+        return answers_another_transfer(info.kind, want, false, false);
     }
 }
 
@@ -843,16 +812,9 @@ void SdoClient::on_timeout(TimePoint now) {
             return;
         }
     }
-    if (initiate_state(t.state) && t.stray_other_object) {
-        // Only answers for another object came.
-        (void)t.machine.wrong_object(t.stray_index, t.stray_subindex);
+    if (initiate_state(t.state) && t.machine.unanswered() == SdoClientMachine::Step::Failed) {
+        // Only answers of other transfers came: the machine says which.
         fail_with(t.machine.failure());
-        return;
-    }
-    if (initiate_state(t.state) && t.stray_invalid) {
-        abort_and_fail(static_cast<std::uint32_t>(SdoAbort::UnknownCommand),
-                       "no valid response to the initiate request; frames with a reserved "
-                       "command specifier came instead");
         return;
     }
     std::string phase;

@@ -37,7 +37,45 @@ FrameKind expected_reply(SdoClientMachine::Phase phase) {
     return FrameKind::Invalid;
 }
 
+bool is_initiate_response(FrameKind kind) {
+    return kind == FrameKind::InitiateUploadResponse ||
+           kind == FrameKind::InitiateDownloadResponse ||
+           kind == FrameKind::BlockDownloadInitiateResponse ||
+           kind == FrameKind::BlockUploadInitiateResponse;
+}
+
 } // namespace
+
+int response_family(FrameKind kind) {
+    switch (kind) {
+    case FrameKind::InitiateUploadResponse:
+    case FrameKind::UploadSegmentResponse:
+        return 1;
+    case FrameKind::InitiateDownloadResponse:
+    case FrameKind::DownloadSegmentResponse:
+        return 2;
+    case FrameKind::BlockDownloadInitiateResponse:
+    case FrameKind::BlockDownloadAck:
+    case FrameKind::BlockDownloadEndResponse:
+        return 3;
+    case FrameKind::BlockUploadInitiateResponse:
+    case FrameKind::BlockUploadEndRequest:
+    case FrameKind::BlockSegment:
+        return 4;
+    default:
+        return 0;
+    }
+}
+
+bool answers_another_transfer(FrameKind got, FrameKind want, bool initiate_phase, bool ours) {
+    if (initiate_phase) {
+        return !ours;
+    }
+    if (got == FrameKind::Invalid) {
+        return false;
+    }
+    return is_initiate_response(got) || response_family(got) != response_family(want);
+}
 
 std::optional<std::string> download_too_large(std::size_t size) {
     if (size <= kMaxSdoSize) {
@@ -83,6 +121,26 @@ SdoClientMachine::Step SdoClientMachine::wrong_object(std::uint16_t index, std::
                 fmt::format("server answered for {} instead of {}", mux(index, subindex),
                             mux(index_, subindex_)),
                 AbortOrigin::Client, static_cast<std::uint32_t>(SdoAbort::General));
+}
+
+void SdoClientMachine::note_stray(const FrameInfo& reply) {
+    stray_invalid_ = stray_invalid_ || reply.kind == FrameKind::Invalid;
+    if (!stray_object_ && is_initiate_response(reply.kind) &&
+        (reply.index != index_ || reply.subindex != subindex_)) {
+        stray_object_.emplace(reply.index, reply.subindex);
+    }
+}
+
+SdoClientMachine::Step SdoClientMachine::unanswered() {
+    if (stray_object_) {
+        return wrong_object(stray_object_->first, stray_object_->second);
+    }
+    if (stray_invalid_) {
+        return client_abort(SdoAbort::UnknownCommand,
+                            "no valid response to the initiate request; frames with a reserved "
+                            "command specifier came instead");
+    }
+    return Step::Ignore;
 }
 
 SdoClientMachine::Step SdoClientMachine::begin_upload() {
@@ -167,17 +225,22 @@ SdoClientMachine::Step SdoClientMachine::on_reply(const FrameInfo& reply,
         return Step::Ignore;
     }
     if (reply.kind == FrameKind::Abort) {
-        return server_abort(reply);
+        // CiA 301 §7.2.4.3.17: an abort carries the multiplexer of the transfer it ends; one for
+        // another object ends an earlier transfer (on CoE: one that timed out, its abort still
+        // waiting in the slave's mailbox).
+        return names_our_object(reply) ? server_abort(reply) : Step::Ignore;
     }
     const FrameKind want = expected_reply(phase_);
+    const bool initiate = phase_ == Phase::InitiateUpload || phase_ == Phase::InitiateDownload;
+    if (answers_another_transfer(reply.kind, want, initiate,
+                                 reply.kind == want && names_our_object(reply))) {
+        note_stray(reply);
+        return Step::Ignore;
+    }
     if (reply.kind != want) {
         return client_abort(
             SdoAbort::UnknownCommand,
             fmt::format("expected {}, received {}", to_string(want), to_string(reply.kind)));
-    }
-    const bool initiate = phase_ == Phase::InitiateUpload || phase_ == Phase::InitiateDownload;
-    if (initiate && !names_our_object(reply)) {
-        return wrong_object(reply.index, reply.subindex);
     }
     switch (phase_) {
     case Phase::InitiateUpload:

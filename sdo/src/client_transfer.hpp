@@ -68,12 +68,6 @@ struct ClientTransfer final : ISdoData {
     /// controller repeats a frame after an ACK error; a fault injector duplicates it).
     Payload last_response{};
     bool have_last_response = false;
-    /// Initiate phase: an initiate response for another object was ignored as left over from an
-    /// earlier transfer; if no answer for our object follows, the timeout reports it.
-    bool stray_other_object = false;
-    std::uint16_t stray_index = 0;
-    std::uint8_t stray_subindex = 0;
-    bool stray_invalid = false; ///< initiate phase: a frame with a reserved command specifier
     BlockSender sender;
     BlockReceiver receiver;
 };

@@ -23,8 +23,12 @@ inline constexpr std::uint16_t kMailbox = 128;
 class ScriptedSlave final : public IEcatLink {
 public:
     ScriptedSlave(FakeClock& clock, MailboxType type) : clock_(clock), type_(type) {}
-    /// The payload (protocol header first) of the next answer.
-    void answer_raw(std::vector<std::uint8_t> payload) { script_.push_back(std::move(payload)); }
+    /// The payload (protocol header first) of the next answer. `another_follows`: once this one
+    /// is read, the next scripted answer is in SM1 too (a late answer to a request that timed
+    /// out, waiting ahead of the answer to the current one).
+    void answer_raw(std::vector<std::uint8_t> payload, bool another_follows = false) {
+        script_.push_back({std::move(payload), another_follows});
+    }
     VoidResult send(std::span<const std::uint8_t> frame) override {
         clock_.advance(milliseconds(1));
         auto datagrams = decode_frame(frame);
@@ -45,10 +49,10 @@ public:
                     d.wkc = 0;
                     continue;
                 }
-                ready_ = false;
                 MailboxMessage m;
                 m.header.type = type_;
-                m.payload = std::move(script_.front());
+                m.payload = std::move(script_.front().payload);
+                ready_ = script_.front().another_follows && script_.size() > 1;
                 script_.pop_front();
                 auto bytes = m.encode(kMailbox);
                 std::copy(bytes.begin(), bytes.end(), d.data.begin());
@@ -79,7 +83,11 @@ public:
 private:
     FakeClock& clock_;
     MailboxType type_;
-    std::deque<std::vector<std::uint8_t>> script_;
+    struct Answer {
+        std::vector<std::uint8_t> payload;
+        bool another_follows = false;
+    };
+    std::deque<Answer> script_;
     std::deque<std::vector<std::uint8_t>> pending_;
     std::vector<std::vector<std::uint8_t>> requests_;
     bool ready_ = false;

@@ -35,6 +35,8 @@ struct Ending {
     std::vector<std::uint8_t> data;    ///< uploaded data on success
     std::optional<Payload> abort_sent; ///< the client's abort frame, if it sent one
     std::string sentence;
+    std::uint64_t strays = 0; ///< CoE: SM1 messages the master dropped as no transfer's answer
+    Duration took{};          ///< CoE: fake time the transfer took
 };
 
 std::optional<Payload> abort_in(std::span<const std::uint8_t> frame) {
@@ -87,21 +89,24 @@ Ending run_can(bool upload, const std::vector<std::uint8_t>& data,
 }
 
 /// The CoE SDO of the master: the same frames, each behind a CoE header (an abort travels as an
-/// SDO request, ETG.1000.6 §5.6.2.7).
+/// SDO request, ETG.1000.6 §5.6.2.7). The first `late` frames are answers of an earlier transfer
+/// that timed out: they wait in SM1, with the one after them, for the first request.
 Ending run_coe(bool upload, const std::vector<std::uint8_t>& data,
-               const std::vector<Payload>& script) {
+               const std::vector<Payload>& script, std::size_t late = 0) {
     FakeClock clock;
     ScriptedSlave link(clock, MailboxType::Coe);
     Master master(link, clock);
     master.slaves().push_back(testing::scripted_slave_info(mbx_proto::kCoe));
-    for (const Payload& p : script) {
+    for (std::size_t i = 0; i < script.size(); ++i) {
+        const Payload& p = script[i];
         const bool abort = sdo::parse_frame(p, sdo::Sender::Server).kind == sdo::FrameKind::Abort;
         std::vector<std::uint8_t> coe(kCoeHeaderSize);
         put_le<std::uint16_t>(coe.data(),
                               coe_header(abort ? CoeService::SdoRequest : CoeService::SdoResponse));
         coe.insert(coe.end(), p.begin(), p.end());
-        link.answer_raw(std::move(coe));
+        link.answer_raw(std::move(coe), i < late);
     }
+    const TimePoint start = clock.now();
     Ending end;
     if (upload) {
         auto r = master.sdo_upload(0, kIndex, kSub);
@@ -114,6 +119,8 @@ Ending run_coe(bool upload, const std::vector<std::uint8_t>& data,
         end.cause = r.error();
     }
     end.sentence = master.last_error();
+    end.strays = master.stats().stray_mailbox_messages;
+    end.took = clock.now() - start;
     const auto& sent = link.requests();
     if (!sent.empty() && sent.back().size() >= kCoeHeaderSize + sdo::kFrameLen) {
         end.abort_sent =
@@ -130,9 +137,9 @@ std::error_code abort_error(SdoAbort code) {
 /// ending for further checks.
 Ending expect_same(bool upload, const std::vector<std::uint8_t>& data,
                    const std::vector<Payload>& script, std::error_code cause,
-                   std::optional<SdoAbort> client_abort) {
+                   std::optional<SdoAbort> client_abort, std::size_t late = 0) {
     const Ending can = run_can(upload, data, script);
-    const Ending coe = run_coe(upload, data, script);
+    const Ending coe = run_coe(upload, data, script, late);
     EXPECT_EQ(can.cause, cause) << can.sentence;
     EXPECT_EQ(coe.cause, cause) << coe.sentence;
     if (client_abort) {
@@ -174,6 +181,86 @@ TEST(SdoOneMachine, AnAnswerForAnotherSubIndexFailsAsWrongObjectOnBoth) {
     EXPECT_EQ(coe.sentence,
               "slave 0 (DRIVE): SDO upload 0x2100:01 failed: response for a different "
               "object: server answered for 0x2100:02 instead of 0x2100:01");
+}
+
+// A transfer that timed out leaves its late answer in the slave's SM1, ahead of the next
+// transfer's answer (on CAN it crosses the next request on the bus). It names another object, so
+// it is dropped and the transfer takes the answer behind it.
+TEST(SdoOneMachine, ALateAnswerForAnotherObjectIsDroppedAndTheAnswerBehindItTakenOnBoth) {
+    const std::array<std::uint8_t, 2> stale = {9, 9};
+    const std::array<std::uint8_t, 2> value = {1, 2};
+    const Ending coe = expect_same(true, {},
+                                   {sdo::make_initiate_upload_expedited(0x1010, 1, stale),
+                                    sdo::make_initiate_upload_expedited(kIndex, kSub, value)},
+                                   {}, std::nullopt, 1);
+    EXPECT_EQ(coe.data, (std::vector<std::uint8_t>{1, 2}));
+    EXPECT_EQ(coe.strays, 1U);
+    EXPECT_EQ(run_can(true, {},
+                      {sdo::make_initiate_upload_expedited(0x1010, 1, stale),
+                       sdo::make_initiate_upload_expedited(kIndex, kSub, value)})
+                  .data,
+              (std::vector<std::uint8_t>{1, 2}));
+}
+
+// The restore of a PDO assignment: an upload of 1C12h timed out and its answer came late; the
+// download of 1C12h that follows must not take it for its own (an upload response, same object).
+TEST(SdoOneMachine, ALateUploadAnswerOfTheSameObjectDoesNotEndTheDownloadAfterItOnBoth) {
+    const std::array<std::uint8_t, 1> count = {2};
+    const Ending coe = expect_same(false, {0},
+                                   {sdo::make_initiate_upload_expedited(kIndex, kSub, count),
+                                    sdo::make_initiate_download_response(kIndex, kSub)},
+                                   {}, std::nullopt, 1);
+    EXPECT_EQ(coe.sentence, "");
+    EXPECT_EQ(coe.strays, 1U);
+}
+
+// When nothing but such an answer comes, the timeout says so instead of "mailbox silent".
+TEST(SdoOneMachine, ACoeTimeoutAfterADroppedAnswerSaysTheSlaveWasNotSilent) {
+    const std::array<std::uint8_t, 1> count = {2};
+    const Ending coe =
+        run_coe(false, {0}, {sdo::make_initiate_upload_expedited(kIndex, kSub, count)});
+    EXPECT_EQ(coe.cause, make_error_code(EcatErrc::MailboxTimeout));
+    EXPECT_EQ(coe.sentence,
+              "slave 0 (DRIVE): CoE SDO download 0x2100:01 timed out after 1000 ms (no "
+              "answer to it; 1 answer of earlier transfers dropped)");
+}
+
+// The late abort of a transfer that timed out names that transfer's object (CiA 301
+// §7.2.4.3.17): it ends nothing else, and its code is not put on this transfer.
+TEST(SdoOneMachine, ALateAbortOfAnEarlierTransferDoesNotEndThisOneOnBoth) {
+    const std::array<std::uint8_t, 2> value = {1, 2};
+    const Ending coe =
+        expect_same(true, {},
+                    {sdo::make_abort(0x1010, 1, static_cast<std::uint32_t>(SdoAbort::DataTransfer)),
+                     sdo::make_initiate_upload_expedited(kIndex, kSub, value)},
+                    {}, std::nullopt, 1);
+    EXPECT_EQ(coe.data, (std::vector<std::uint8_t>{1, 2}));
+    EXPECT_EQ(coe.strays, 1U);
+}
+
+// Dropped answers do not restart the step's timeout: a slave whose SM1 only ever holds answers
+// of other transfers fails the transfer after mailbox_timeout, naming what it answered for.
+TEST(SdoOneMachine, AStreamOfAnswersForAnotherObjectCannotKeepACoeTransferAlive) {
+    const std::array<std::uint8_t, 2> stale = {9, 9};
+    const std::vector<Payload> script(3000, sdo::make_initiate_upload_expedited(0x1010, 1, stale));
+    const Ending coe = run_coe(true, {}, script, script.size());
+    EXPECT_EQ(coe.cause, make_error_code(sdo::SdoErrc::WrongObject)) << coe.sentence;
+    EXPECT_EQ(coe.sentence,
+              "slave 0 (DRIVE): SDO upload 0x2100:01 failed: response for a different "
+              "object: server answered for 0x1010:01 instead of 0x2100:01");
+    EXPECT_LT(coe.took, MasterConfig{}.mailbox_timeout + milliseconds(100));
+    EXPECT_GT(coe.strays, 100U);
+}
+
+TEST(SdoOneMachine, AReservedCommandSpecifierInsteadOfTheInitiateResponseAbortsOnBoth) {
+    Payload reserved{};
+    reserved[0] = 0xE0; // scs 7: reserved (CiA 301 §7.2.4.3); dropped, then the timeout
+    const Ending coe = expect_same(true, {}, {reserved}, abort_error(SdoAbort::UnknownCommand),
+                                   SdoAbort::UnknownCommand);
+    EXPECT_EQ(coe.sentence, "slave 0 (DRIVE): SDO upload 0x2100:01 aborted by the master "
+                            "0x05040001 (client/server command specifier not valid or unknown): "
+                            "no valid response to the initiate request; frames with a reserved "
+                            "command specifier came instead");
 }
 
 TEST(SdoOneMachine, AToggleErrorAbortsWithTheToggleCodeOnBoth) {

@@ -152,10 +152,11 @@ using CoeDone = std::function<void(CoeOutcome)>;
 struct ProcessDataStats {
     std::uint64_t cycles = 0;
     std::uint64_t lost_frames = 0;
-    std::uint64_t consecutive_lost = 0;       ///< lost frames since the last one that came back
-    std::uint64_t max_consecutive_lost = 0;   ///< the longest run of lost frames
-    std::uint64_t mailbox_datagrams = 0;      ///< mailbox datagrams carried in cyclic frames
-    std::uint64_t stray_mailbox_messages = 0; ///< SM1 messages nobody waited for (dropped)
+    std::uint64_t consecutive_lost = 0;     ///< lost frames since the last one that came back
+    std::uint64_t max_consecutive_lost = 0; ///< the longest run of lost frames
+    std::uint64_t mailbox_datagrams = 0;    ///< mailbox datagrams carried in cyclic frames
+    /// SM1 messages nobody waited for (dropped): late answers of transfers that timed out too
+    std::uint64_t stray_mailbox_messages = 0;
     std::uint64_t wkc_errors = 0;
     /// Frames that brought the inputs in (the expected working counter): the input image holds
     /// the newest one's. Not `cycles − wkc_errors`: the frames before OP (whose short working
@@ -530,6 +531,8 @@ private:
     void mailbox_finish(std::size_t slave, TimePoint now);
     void mailbox_step(std::size_t slave, detail::TransferStep step, TimePoint now);
     void mailbox_fail(std::size_t slave, std::error_code ec, std::string sentence, TimePoint now);
+    /// The running transfer's step deadline passed: its own verdict, or the timeout sentence.
+    void mailbox_timeout(std::size_t slave, TimePoint now);
     void dispatch_emergency(std::size_t slave, std::span<const std::uint8_t> coe);
     void deliver_finished();
     void probes_add();

@@ -12,6 +12,7 @@
 #include <span>
 #include <string>
 #include <system_error>
+#include <utility>
 #include <vector>
 
 namespace codrive::sdo {
@@ -39,6 +40,21 @@ struct SdoFraming {
 /// of its time touching pages no data ever filled.)
 inline constexpr std::size_t kMaxUploadReserve = 64U * 1024U;
 
+/// The protocol a server response belongs to: 1 expedited/segmented upload, 2 download, 3 block
+/// download, 4 block upload, 0 none of the client's (aborts and client frames).
+[[nodiscard]] int response_family(FrameKind kind);
+
+/// Whether a server response that is not an abort answers another transfer than the one
+/// expecting `want` (a late answer to a request that timed out, or a repeat). In the initiate
+/// phase only the expected response naming the transfer's object (`ours`) is an answer: the
+/// server's first answer to an initiate request names the object (CiA 301 §7.2.4.3). Later an
+/// initiate response (it only ever answers an initiate request) or a response of another
+/// protocol belongs to an earlier transfer; a frame with a reserved command specifier does not,
+/// the transfer rejects it. One rule for CAN, where answers cross on the bus, and CoE, where a
+/// late answer waits in the slave's mailbox ahead of the next transfer's (ETG.1000.6 §5.6.2).
+[[nodiscard]] bool answers_another_transfer(FrameKind got, FrameKind want, bool initiate_phase,
+                                            bool ours);
+
 /// The caller's side of the data: an upload writes into it, a download reads from it.
 class ISdoData {
 public:
@@ -64,7 +80,8 @@ public:
         Send,   ///< send request() and wait for the reply
         Done,   ///< the transfer succeeded
         Failed, ///< failure() says why; send request() first when failure().abort is set
-        Ignore, ///< the reply belongs to no step of this transfer (an abort for another object)
+        Ignore, ///< the reply answers no step of this transfer (answers_another_transfer(), or
+                ///< an abort naming another object): dropped, the transport's timeout runs on
     };
     enum class Phase : std::uint8_t {
         Idle,
@@ -95,9 +112,18 @@ public:
     /// (no abort: nothing was sent) when the size does not fit 32 bits or the data cannot be read.
     Step begin_download(std::size_t size, bool expedited);
     /// A reply: the parsed 8-byte frame and, on CoE, the bytes after it in the same message.
-    /// Aborts end the transfer whatever object they name (a transport on which answers of
-    /// earlier transfers can cross, like CAN, filters those first).
+    /// An answer of another transfer, and an abort naming another object, is Ignore (noted for
+    /// unanswered()); an abort naming this object ends the transfer.
     Step on_reply(const FrameInfo& reply, std::span<const std::uint8_t> extra = {});
+    /// Remembers a dropped answer of another transfer for unanswered(): the first object an
+    /// initiate response named that is not this transfer's, and frames with a reserved command
+    /// specifier. (CAN's client calls it for the block transfers it runs itself.)
+    void note_stray(const FrameInfo& reply);
+    /// The transport's timeout expired with the initiate request unanswered: Failed when the
+    /// dropped answers explain it (one named another object: wrong_object(); frames with a
+    /// reserved command specifier: abort 0x05040001), Ignore when nothing came (the transport
+    /// reports its own timeout).
+    Step unanswered();
     /// The server's abort frame `reply` ends the transfer (in any phase, block transfers too).
     Step server_abort(const FrameInfo& reply);
     /// The server's answers named another object in the initiate phase and none named ours: the
@@ -151,6 +177,8 @@ private:
     Payload request_{};
     std::vector<std::uint8_t> extra_;
     Failure failure_;
+    std::optional<std::pair<std::uint16_t, std::uint8_t>> stray_object_; ///< see note_stray()
+    bool stray_invalid_ = false;
 };
 
 } // namespace codrive::sdo
