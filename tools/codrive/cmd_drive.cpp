@@ -247,6 +247,13 @@ int operate(const DriveArgs& a, DriveWire& w, drives::Axis& axis, const drives::
                    ? std::string()
                    : std::string(" — ") + axis.diagnose(),
                next_step(a, axis));
+    if (const std::string why = w.why_no_inputs(); !why.empty()) {
+        // The line above shows the last inputs that came in (on EtherCAT perhaps the frame of
+        // the transition to OP): a status made of them is not the drive's status now.
+        fmt::print(stderr, "codrive: {} axis {}: the values above are not current{}\n", w.who,
+                   a.axis, why);
+        ok = ok && a.action != "status";
+    }
     return ok ? kExitOk : kExitFailure;
 }
 
