@@ -52,15 +52,19 @@ public:
         put_request(request);
     }
     Step on_reply(std::span<const std::uint8_t> coe, std::vector<std::uint8_t>& request) override {
-        // The CiA 301 frame after the CoE header; a shorter answer parses as no valid frame
-        // and fails the transfer like any unexpected frame.
-        sdo::FrameInfo reply;
-        std::span<const std::uint8_t> extra;
-        if (coe.size() >= kSdoFrame) {
-            reply =
-                sdo::parse_frame(coe.subspan(kCoeHeaderSize, sdo::kFrameLen), sdo::Sender::Server);
-            extra = coe.subspan(kSdoFrame);
+        // The CiA 301 frame after the CoE header. A shorter message is malformed, not the late
+        // answer of another transfer: it ends this one (abort 0x05040001, as an unexpected frame).
+        if (coe.size() < kSdoFrame) {
+            const auto code = static_cast<std::uint32_t>(SdoAbort::UnknownCommand);
+            (void)machine_.abort(code, abort_error(code),
+                                 fmt::format("the answer is {} bytes, shorter than a CoE SDO "
+                                             "message ({} bytes)",
+                                             coe.size(), kSdoFrame));
+            return failed_step(request);
         }
+        const sdo::FrameInfo reply =
+            sdo::parse_frame(coe.subspan(kCoeHeaderSize, sdo::kFrameLen), sdo::Sender::Server);
+        const std::span<const std::uint8_t> extra = coe.subspan(kSdoFrame);
         switch (machine_.on_reply(reply, extra)) {
         case Step_::Send:
             put_request(request);

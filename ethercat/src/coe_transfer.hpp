@@ -93,7 +93,7 @@ struct MailboxChannel {
     std::uint8_t repeat_want = 0; ///< SM1 activate value with RepeatReq toggled
     unsigned frames_lost = 0;     ///< of the current step, not back in time
     unsigned frames_unsent = 0;   ///< of the current step, could not be sent
-    unsigned strays = 0;          ///< of the current step, answers of earlier transfers dropped
+    unsigned strays = 0;          ///< of the current step, messages read that it did not take
     int datagram = -1;            ///< position of its datagram in the frame in flight
 };
 

@@ -167,8 +167,8 @@ void Master::mailbox_timeout(std::size_t slave, TimePoint now) {
     std::string why = ch.sm0_full ? "receive mailbox SM0 stayed full"
                       : ch.phase == MailboxPhase::Write
                           ? (write_never_left ? "request not sent" : "request frames lost")
-                      : ch.strays > 0 ? fmt::format("no answer to it; {} answer{} of earlier "
-                                                    "transfers dropped",
+                      : ch.strays > 0 ? fmt::format("no answer to it; {} other message{} read and "
+                                                    "dropped",
                                                     ch.strays, ch.strays == 1 ? "" : "s")
                                       : "mailbox silent";
     if (ch.frames_lost > 0 && !ch.sm0_full && ch.phase != MailboxPhase::Write) {
@@ -393,14 +393,14 @@ void Master::mailbox_message(std::size_t slave, std::span<const std::uint8_t> sm
     }
     if (h.type == MailboxType::Foe) {
         if (!ch.active || ch.queue.front()->mailbox_type() != MailboxType::Foe) {
-            ++stats_.stray_mailbox_messages;
+            drop_stray(ch);
             return;
         }
         mailbox_step(slave, ch.queue.front()->on_reply(payload, ch.request), now);
         return;
     }
     if (h.type != MailboxType::Coe || payload.size() < kCoeHeaderSize) {
-        ++stats_.stray_mailbox_messages;
+        drop_stray(ch);
         return;
     }
     const CoeService got = coe_service(get_le<std::uint16_t>(payload.data()));
@@ -409,7 +409,7 @@ void Master::mailbox_message(std::size_t slave, std::span<const std::uint8_t> sm
         return;
     }
     if (!ch.active) {
-        ++stats_.stray_mailbox_messages; // e.g. a late answer to a transfer that timed out
+        drop_stray(ch); // e.g. a late answer to a transfer that timed out
         return;
     }
     auto& t = *ch.queue.front();
@@ -419,10 +419,15 @@ void Master::mailbox_message(std::size_t slave, std::span<const std::uint8_t> sm
         payload.size() > 2 &&
         sdo::command_bits(payload[2]) == static_cast<std::uint8_t>(sdo::ServerCommand::Abort);
     if ((got != t.service() && !abort) || t.mailbox_type() != MailboxType::Coe) {
-        ++stats_.stray_mailbox_messages;
+        drop_stray(ch);
         return;
     }
     mailbox_step(slave, t.on_reply(payload, ch.request), now);
+}
+
+void Master::drop_stray(MailboxChannel& ch) {
+    ++stats_.stray_mailbox_messages;
+    ++ch.strays; // for the running step's timeout sentence
 }
 
 void Master::mailbox_step(std::size_t slave, detail::TransferStep step, TimePoint now) {
@@ -446,8 +451,7 @@ void Master::mailbox_step(std::size_t slave, detail::TransferStep step, TimePoin
         mailbox_finish(slave, now);
         break;
     case detail::CoeTransfer::Step::Stray:
-        ++stats_.stray_mailbox_messages; // the deadline stays: strays cannot keep it alive
-        ++ch.strays;
+        drop_stray(ch); // the deadline stays: strays cannot keep it alive
         break;
     }
 }

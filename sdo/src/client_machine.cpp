@@ -125,8 +125,7 @@ SdoClientMachine::Step SdoClientMachine::wrong_object(std::uint16_t index, std::
 
 void SdoClientMachine::note_stray(const FrameInfo& reply) {
     stray_invalid_ = stray_invalid_ || reply.kind == FrameKind::Invalid;
-    if (!stray_object_ && is_initiate_response(reply.kind) &&
-        (reply.index != index_ || reply.subindex != subindex_)) {
+    if (!stray_object_ && is_initiate_response(reply.kind) && !names_our_object(reply)) {
         stray_object_.emplace(reply.index, reply.subindex);
     }
 }

@@ -19,10 +19,14 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <atomic>
 #include <csignal>
+#include <cstdint>
 #include <functional>
 #include <memory>
+#include <optional>
+#include <string>
 #include <thread>
 
 namespace codrive::cli {
@@ -62,6 +66,11 @@ struct DriveWire {
     /// What became of the cyclic frames when no statusword came (EtherCAT:
     /// ethercat::cyclic_shortfall()); nothing to add on CAN.
     std::function<std::string()> why_no_inputs = [] { return std::string(); };
+    /// Cyclic frames that brought the inputs in so far (EtherCAT); nullopt on CAN, where the
+    /// status comes from SDO reads.
+    std::function<std::optional<std::uint64_t>()> inputs_in = [] {
+        return std::optional<std::uint64_t>();
+    };
 };
 
 /// Reads 1008h, 1000h and 1018h:1/:2 and picks the profile; nullptr (printed) without 1000h.
@@ -225,7 +234,12 @@ int operate(const DriveArgs& a, DriveWire& w, drives::Axis& axis, const drives::
     if (stop_requested()) {
         return stop_on_signal(a, w, axis);
     }
-    w.run_until([] { return false; }, milliseconds(50));
+    // The status line shows inputs that came in during this wait, or says they are old. Two
+    // cycles at least, so that a long EtherCAT cycle gets its frames in.
+    const auto inputs_before = w.inputs_in();
+    w.run_until([] { return false; },
+                std::max<Duration>(milliseconds(50), 2 * microseconds(a.cycle_us)));
+    const bool stale = inputs_before && w.inputs_in() == inputs_before;
     // Without process data the position comes from one SDO read.
     std::optional<std::int32_t> position = axis.position_actual();
     if (!position) {
@@ -247,11 +261,14 @@ int operate(const DriveArgs& a, DriveWire& w, drives::Axis& axis, const drives::
                    ? std::string()
                    : std::string(" — ") + axis.diagnose(),
                next_step(a, axis));
-    if (const std::string why = w.why_no_inputs(); !why.empty()) {
-        // The line above shows the last inputs that came in (on EtherCAT perhaps the frame of
-        // the transition to OP): a status made of them is not the drive's status now.
-        fmt::print(stderr, "codrive: {} axis {}: the values above are not current{}\n", w.who,
-                   a.axis, why);
+    if (stale) {
+        // The line above shows the last inputs that came in (perhaps those of the transition to
+        // OP): a status made of them is not the drive's status now. A failed operation has
+        // already said what became of the frames.
+        fmt::print(stderr,
+                   "codrive: {} axis {}: the values above are not current: no cyclic frame "
+                   "brought the inputs in while the status was taken{}\n",
+                   w.who, a.axis, ok ? w.why_no_inputs() : std::string());
         ok = ok && a.action != "status";
     }
     return ok ? kExitOk : kExitFailure;
@@ -466,6 +483,7 @@ int run_drive_ecat(const DriveArgs& a) {
     w.why_no_inputs = [&m, &a, at_op = m.stats()] {
         return ethercat::cyclic_shortfall(at_op, m.stats(), microseconds(a.cycle_us));
     };
+    w.inputs_in = [&m] { return std::optional<std::uint64_t>(m.stats().input_frames); };
     w.run_until = [&](const std::function<bool()>& pred, Duration timeout) {
         const TimePoint deadline = RealClock::instance().now() + timeout;
         while (!pred()) {

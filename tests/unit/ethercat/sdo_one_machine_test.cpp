@@ -222,7 +222,76 @@ TEST(SdoOneMachine, ACoeTimeoutAfterADroppedAnswerSaysTheSlaveWasNotSilent) {
     EXPECT_EQ(coe.cause, make_error_code(EcatErrc::MailboxTimeout));
     EXPECT_EQ(coe.sentence,
               "slave 0 (DRIVE): CoE SDO download 0x2100:01 timed out after 1000 ms (no "
-              "answer to it; 1 answer of earlier transfers dropped)");
+              "answer to it; 1 other message read and dropped)");
+}
+
+/// A master on a scripted slave whose SM1 holds `answers` (CoE payloads, header first), all
+/// there after the first request; the sentence of `run`, and what the master counted.
+template <class Run>
+std::pair<std::string, std::uint64_t> coe_with(std::vector<std::vector<std::uint8_t>> answers,
+                                               Run run) {
+    FakeClock clock;
+    ScriptedSlave link(clock, MailboxType::Coe);
+    Master master(link, clock);
+    master.slaves().push_back(testing::scripted_slave_info(mbx_proto::kCoe));
+    for (std::size_t i = 0; i < answers.size(); ++i) {
+        link.answer_raw(std::move(answers[i]), i + 1 < answers.size());
+    }
+    run(master);
+    return {master.last_error(), master.stats().stray_mailbox_messages};
+}
+
+std::vector<std::uint8_t> coe_message(CoeService service, const Payload& frame) {
+    std::vector<std::uint8_t> coe(kCoeHeaderSize);
+    put_le<std::uint16_t>(coe.data(), coe_header(service));
+    coe.insert(coe.end(), frame.begin(), frame.end());
+    return coe;
+}
+
+// A CoE SDO message too short to hold the SDO frame is malformed, not a late answer: it ends
+// the transfer at once, with the abort a frame of no known kind gets.
+TEST(SdoOneMachine, ACoeSdoMessageShorterThanTheFrameEndsTheTransferAtOnce) {
+    std::vector<std::uint8_t> short_answer(kCoeHeaderSize);
+    put_le<std::uint16_t>(short_answer.data(), coe_header(CoeService::SdoResponse));
+    short_answer.insert(short_answer.end(), {0x43, 0x00, 0x21});
+    std::error_code cause;
+    const auto [sentence, strays] = coe_with({short_answer}, [&](Master& m) {
+        auto r = m.sdo_upload(0, kIndex, kSub);
+        cause = r ? std::error_code() : r.error();
+    });
+    EXPECT_EQ(cause, abort_error(SdoAbort::UnknownCommand)) << sentence;
+    EXPECT_EQ(sentence, "slave 0 (DRIVE): SDO upload 0x2100:01 aborted by the master "
+                        "0x05040001 (client/server command specifier not valid or unknown): the "
+                        "answer is 5 bytes, shorter than a CoE SDO message (10 bytes)");
+    EXPECT_EQ(strays, 0U);
+}
+
+// Complete access answers may name the sub-index the access starts from (ETG.1000.6
+// §5.6.2.1.1): a late upload answer for 2100h:00 before a complete-access download of 2100h
+// from sub 1 is dropped as another transfer's, but it names the same object, not another one.
+TEST(SdoOneMachine, ALateAnswerForTheSameIndexIsNotCalledAnotherObjectUnderCompleteAccess) {
+    const std::array<std::uint8_t, 1> count = {2};
+    const auto [sentence, strays] =
+        coe_with({coe_message(CoeService::SdoResponse,
+                              sdo::make_initiate_upload_expedited(kIndex, 0, count))},
+                 [](Master& m) {
+                     const std::vector<std::uint8_t> data = {1, 0, 0, 0};
+                     (void)m.sdo_download(0, kIndex, 1, data, true);
+                 });
+    EXPECT_EQ(sentence, "slave 0 (DRIVE): CoE SDO download 0x2100:01 timed out after 1000 ms (no "
+                        "answer to it; 1 other message read and dropped)");
+    EXPECT_EQ(strays, 1U);
+}
+
+// A message of another CoE service (an SDO information answer left from an earlier request) is
+// dropped too, and the timeout counts it with the rest.
+TEST(SdoOneMachine, AMessageOfAnotherCoeServiceIsCountedInTheTimeoutSentence) {
+    const auto [sentence, strays] = coe_with(
+        {coe_message(CoeService::SdoInformation, Payload{0x02, 0x00, 0x00, 0x00, 0x10, 0x10})},
+        [](Master& m) { (void)m.sdo_upload(0, kIndex, kSub); });
+    EXPECT_EQ(sentence, "slave 0 (DRIVE): CoE SDO upload 0x2100:01 timed out after 1000 ms (no "
+                        "answer to it; 1 other message read and dropped)");
+    EXPECT_EQ(strays, 1U);
 }
 
 // The late abort of a transfer that timed out names that transfer's object (CiA 301

@@ -533,6 +533,8 @@ private:
     void mailbox_fail(std::size_t slave, std::error_code ec, std::string sentence, TimePoint now);
     /// The running transfer's step deadline passed: its own verdict, or the timeout sentence.
     void mailbox_timeout(std::size_t slave, TimePoint now);
+    /// A message read from SM1 that no transfer takes: counted in the stats and the step's.
+    void drop_stray(detail::MailboxChannel& ch);
     void dispatch_emergency(std::size_t slave, std::span<const std::uint8_t> coe);
     void deliver_finished();
     void probes_add();

@@ -69,9 +69,10 @@ public:
 
 /// One expedited or segmented SDO transfer seen from the client. Sans-I/O: begin_*() and
 /// on_reply() fill request() (the 8-byte CiA 301 frame plus, on CoE, the data past it) and
-/// return what to do; the transport sends, times out, retries and filters frames that belong to
-/// no transfer. Every check the client makes on a reply lives here: the answer names the object,
-/// it is the response the phase expects, segment toggles alternate, segments add up to the
+/// return what to do; the transport sends, times out, retries and drops back-to-back repeats.
+/// Every check the client makes on a reply lives here: the answer names the object, it is not
+/// the late answer of another transfer, it is the response the phase expects, segment toggles
+/// alternate, segments add up to the
 /// indicated size, and a zero-length segment that is not the last ends the transfer (it would
 /// otherwise loop forever).
 class SdoClientMachine {
@@ -112,12 +113,13 @@ public:
     /// (no abort: nothing was sent) when the size does not fit 32 bits or the data cannot be read.
     Step begin_download(std::size_t size, bool expedited);
     /// A reply: the parsed 8-byte frame and, on CoE, the bytes after it in the same message.
-    /// An answer of another transfer, and an abort naming another object, is Ignore (noted for
-    /// unanswered()); an abort naming this object ends the transfer.
+    /// An answer of another transfer (noted for unanswered()), and an abort naming another
+    /// object, is Ignore; an abort naming this object ends the transfer.
     Step on_reply(const FrameInfo& reply, std::span<const std::uint8_t> extra = {});
     /// Remembers a dropped answer of another transfer for unanswered(): the first object an
-    /// initiate response named that is not this transfer's, and frames with a reserved command
-    /// specifier. (CAN's client calls it for the block transfers it runs itself.)
+    /// initiate response named that is not this transfer's (with complete access, another
+    /// index), and frames with a reserved command specifier. (CAN's client calls it for the block
+    /// transfers it runs itself.)
     void note_stray(const FrameInfo& reply);
     /// The transport's timeout expired with the initiate request unanswered: Failed when the
     /// dropped answers explain it (one named another object: wrong_object(); frames with a
