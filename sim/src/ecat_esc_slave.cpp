@@ -327,6 +327,13 @@ void EscSlave::on_sii_control() {
     }
 }
 
+std::size_t EscSlave::sm_end(const ethercat::SyncManager& s) const {
+    // An SM's start and length are 16 bits each: a master may configure one that runs past the
+    // 64 KiB the ESC addresses (fuzz_slave_replies did, from a corrupted SII). Only the part in
+    // the ESC's memory holds process data.
+    return std::min<std::size_t>(static_cast<std::size_t>(s.start) + s.length, mem_.size());
+}
+
 void EscSlave::pack_inputs() {
     const SyncManager s3 = sm(3);
     if (!s3.enabled() || s3.length == 0) {
@@ -343,8 +350,7 @@ void EscSlave::pack_inputs() {
             const std::size_t bits = entry & 0xFFU;
             const std::size_t at = s3.start + bit / 8;
             const std::size_t bytes = bits / 8;
-            if ((entry >> 16) != 0 &&
-                at + bytes <= static_cast<std::size_t>(s3.start) + s3.length) {
+            if ((entry >> 16) != 0 && at + bytes <= sm_end(s3)) {
                 auto v = od.read(static_cast<std::uint16_t>(entry >> 16),
                                  static_cast<std::uint8_t>(entry >> 8));
                 for (std::size_t k = 0; k < bytes; ++k) {
@@ -369,8 +375,7 @@ void EscSlave::unpack_outputs(TimePoint now) {
             const std::size_t bits = entry & 0xFFU;
             const std::size_t at = s2.start + bit / 8;
             const std::size_t bytes = bits / 8;
-            if ((entry >> 16) != 0 &&
-                at + bytes <= static_cast<std::size_t>(s2.start) + s2.length) {
+            if ((entry >> 16) != 0 && at + bytes <= sm_end(s2)) {
                 (void)od.write(static_cast<std::uint16_t>(entry >> 16),
                                static_cast<std::uint8_t>(entry >> 8),
                                std::span<const std::uint8_t>(mem_.data() + at, bytes), true);

@@ -129,6 +129,8 @@ private:
     void set_sm_status(unsigned n, std::uint8_t status);
     [[nodiscard]] std::size_t pdo_bytes(std::uint16_t assign_index);
     void pack_inputs();
+    /// Where SM `s`'s area ends in the ESC's memory (a 16-bit start and length may run past it).
+    [[nodiscard]] std::size_t sm_end(const ethercat::SyncManager& s) const;
     void unpack_outputs(TimePoint now);
     std::uint64_t local_time(TimePoint now) const;
 
