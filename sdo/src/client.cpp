@@ -403,11 +403,7 @@ bool SdoClient::is_leftover(const FrameInfo& info) {
     switch (t.state) {
     case ClientState::BlockDownloadEnd:
         // A sub-block response after the last one was taken: a repeat or a late answer.
-        return info.kind == FrameKind::InitiateUploadResponse ||
-               info.kind == FrameKind::InitiateDownloadResponse ||
-               info.kind == FrameKind::BlockDownloadInitiateResponse ||
-               info.kind == FrameKind::BlockUploadInitiateResponse ||
-               info.kind == FrameKind::BlockDownloadAck;
+        return is_initiate_response(info.kind) || info.kind == FrameKind::BlockDownloadAck;
     case ClientState::BlockUploadEnd:
         // Block segments carry no command specifier: a late or repeated one (they come in
         // bursts) can look like any frame. Only the end request and an abort are answers.

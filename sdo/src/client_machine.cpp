@@ -37,13 +37,6 @@ FrameKind expected_reply(SdoClientMachine::Phase phase) {
     return FrameKind::Invalid;
 }
 
-bool is_initiate_response(FrameKind kind) {
-    return kind == FrameKind::InitiateUploadResponse ||
-           kind == FrameKind::InitiateDownloadResponse ||
-           kind == FrameKind::BlockDownloadInitiateResponse ||
-           kind == FrameKind::BlockUploadInitiateResponse;
-}
-
 } // namespace
 
 int response_family(FrameKind kind) {

@@ -205,6 +205,13 @@ FrameInfo parse_frame(std::span<const std::uint8_t> payload, Sender sender, bool
     return info;
 }
 
+bool is_initiate_response(FrameKind kind) {
+    return kind == FrameKind::InitiateUploadResponse ||
+           kind == FrameKind::InitiateDownloadResponse ||
+           kind == FrameKind::BlockDownloadInitiateResponse ||
+           kind == FrameKind::BlockUploadInitiateResponse;
+}
+
 std::string_view to_string(FrameKind kind) {
     switch (kind) {
     case FrameKind::Invalid:

@@ -141,10 +141,7 @@ SdoOutcome SdoTracker::on_frame(NodeId node, sdo::Sender sender,
     const auto unexpected = [&] {
         text::put(out, "SDO ");
         text::put(out, sdo::to_string(fi.kind));
-        if (fi.kind == FrameKind::InitiateDownloadResponse ||
-            fi.kind == FrameKind::InitiateUploadResponse ||
-            fi.kind == FrameKind::BlockDownloadInitiateResponse ||
-            fi.kind == FrameKind::BlockUploadInitiateResponse) {
+        if (sdo::is_initiate_response(fi.kind)) {
             out.push_back(' ');
             object_name(out, node, fi.index, fi.subindex);
         }

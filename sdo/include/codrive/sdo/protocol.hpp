@@ -115,6 +115,9 @@ struct FrameInfo {
 /// in the object dictionary".
 [[nodiscard]] std::string describe(const FrameInfo& info);
 [[nodiscard]] std::string_view to_string(FrameKind kind);
+/// An initiate response of any protocol: it names its object and only ever answers an initiate
+/// request (CiA 301 §7.2.4.3).
+[[nodiscard]] bool is_initiate_response(FrameKind kind);
 
 /// Frame builders: each fills an 8-byte SDO payload.
 using Payload = std::array<std::uint8_t, kFrameLen>;
