@@ -5,7 +5,7 @@
 
 #include <codrive/ethercat/mailbox.hpp>
 
-#include <cstring>
+#include <algorithm>
 
 namespace codrive::sim::ecat {
 
@@ -36,7 +36,8 @@ void EscSlave::load_mailbox_out() {
     std::vector<std::uint8_t> msg = std::move(outbox_.front());
     outbox_.pop_front();
     msg.resize(s1.length, 0);
-    std::memcpy(mem_.data() + s1.start, msg.data(), msg.size());
+    const auto area = sm_area(s1); // a master may place SM1 so that it runs past the memory
+    std::copy_n(msg.begin(), area.size(), area.begin());
     sm1_message_ = std::move(msg);
     mailbox_out_full_ = true;
     set_sm_status(1, SyncManager::kStatusMailboxFull);
@@ -60,7 +61,8 @@ void EscSlave::serve_mailbox_repeat() {
         }
         sm1_message_ = last_read_;
         sm1_message_.resize(s1.length, 0);
-        std::memcpy(mem_.data() + s1.start, sm1_message_.data(), sm1_message_.size());
+        const auto area = sm_area(s1);
+        std::copy_n(sm1_message_.begin(), area.size(), area.begin());
         mailbox_out_full_ = true;
         set_sm_status(1, SyncManager::kStatusMailboxFull);
         ++mailbox_repeats_;

@@ -168,7 +168,11 @@ bool EscSlave::read_memory(std::uint16_t addr, std::span<std::uint8_t> out, bool
     return true;
 }
 
-void EscSlave::write_memory(std::uint16_t addr, std::span<const std::uint8_t> data, TimePoint now) {
+void EscSlave::write_memory(std::uint16_t addr, std::span<const std::uint8_t> in, TimePoint now) {
+    // Physical addresses are 16 bits: a write that runs past the end of the ESC's memory (an
+    // FMMU whose physical start a master put near 0xFFFF, or an ARMW/FRMW datagram) lands only
+    // in the part inside it, as sm_end() bounds process data.
+    const auto data = in.first(std::min<std::size_t>(in.size(), mem_.size() - addr));
     for (std::size_t i = 0; i < data.size(); ++i) {
         const std::uint32_t a = addr + static_cast<std::uint32_t>(i);
         if (!read_only_register(a)) {
@@ -334,6 +338,12 @@ std::size_t EscSlave::sm_end(const ethercat::SyncManager& s) const {
     return std::min<std::size_t>(static_cast<std::size_t>(s.start) + s.length, mem_.size());
 }
 
+std::span<std::uint8_t> EscSlave::sm_area(const SyncManager& s) {
+    const std::size_t end = sm_end(s);
+    return std::span<std::uint8_t>(mem_).subspan(std::min<std::size_t>(s.start, end),
+                                                 end - std::min<std::size_t>(s.start, end));
+}
+
 void EscSlave::pack_inputs() {
     const SyncManager s3 = sm(3);
     if (!s3.enabled() || s3.length == 0) {
@@ -469,8 +479,7 @@ void EscSlave::after_frame(TimePoint now) {
     }
     if (mailbox_in_full_) {
         const SyncManager s0 = sm(0);
-        auto msg = MailboxMessage::decode(
-            std::span<const std::uint8_t>(mem_).subspan(s0.start, s0.length));
+        auto msg = MailboxMessage::decode(sm_area(s0));
         mailbox_in_full_ = false;
         set_sm_status(0, 0);
         // A write the master repeated because its frame was lost carries the same counter:

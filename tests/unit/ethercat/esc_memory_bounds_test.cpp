@@ -1,14 +1,17 @@
 // SPDX-License-Identifier: Apache-2.0
-// The simulated ESC against sync managers whose area runs past its 64 KiB of memory: their
-// start and length are 16 bits each, so a master may configure such an SM (fuzz_slave_replies
-// did, from a corrupted SII: regressions/slave_replies/sm3_area_past_esc_memory). The simulator
-// moves process data only inside its memory, and goes on answering.
+// The simulated ESC against sync managers and FMMUs whose area runs past its 64 KiB of memory:
+// their start and length are 16 bits each, so a master may configure such an SM (fuzz_slave_replies
+// did, from a corrupted SII: regressions/slave_replies/sm3_area_past_esc_memory) or an FMMU whose
+// physical window crosses 0xFFFF. The simulator moves data only inside its memory, and goes on
+// answering.
 #include <codrive/ethercat/registers.hpp>
 #include <codrive/testing/sim_segment.hpp>
 
 #include <gtest/gtest.h>
 
 #include <array>
+#include <optional>
+#include <vector>
 
 namespace codrive::ethercat {
 namespace {
@@ -18,7 +21,6 @@ using sim::ecat::make_drive_slave;
 class EscMemoryBounds : public codrive::testing::SimSegmentTest {
 protected:
     EscMemoryBounds() { segment_.add(make_drive_slave("akd2g", 1)); }
-    void SetUp() override { bring_up(AlState::SafeOp); }
 
     /// SM `n` enabled at `start` for `length` bytes, its control byte kept.
     void place_sm(unsigned n, std::uint16_t start, std::uint16_t length) {
@@ -37,6 +39,7 @@ protected:
 };
 
 TEST_F(EscMemoryBounds, InputsOfAnSmPastTheEndOfMemoryStopAtTheEnd) {
+    bring_up(AlState::SafeOp);
     place_sm(3, 0xFFF8, 0x0100);
     // Every frame the slave processes packs its inputs: under ASan a write past the memory
     // ended the process here.
@@ -45,12 +48,52 @@ TEST_F(EscMemoryBounds, InputsOfAnSmPastTheEndOfMemoryStopAtTheEnd) {
     }
 }
 
-TEST_F(EscMemoryBounds, OutputsOfAnSmPastTheEndOfMemoryAreReadOnlyInside) {
-    place_sm(2, 0xFFF8, 0x0100);
-    for (int i = 0; i < 3; ++i) {
-        EXPECT_TRUE(master_.read_registers(0, reg::kAlStatus, 2)) << master_.last_error();
+// The master's output FMMU moved so that its physical window starts 8 bytes before the end of
+// the memory: an LRW writes the first 8 output bytes there and the rest nowhere. Before the
+// bound, the simulator wrote the whole window, past the end of its memory (a heap overflow
+// under ASan).
+TEST_F(EscMemoryBounds, OutputsWrittenThroughAnFmmuPastTheEndOfMemoryLandOnlyInside) {
+    bring_up(AlState::Op);
+    auto out = master_.outputs(0);
+    ASSERT_GT(out.size(), 8U) << "the test needs more than 8 output bytes";
+    std::optional<unsigned> writer;
+    for (unsigned f = 0; f < 8 && !writer; ++f) {
+        auto raw = master_.read_registers(0, reg::fmmu(f), 16);
+        ASSERT_TRUE(raw) << master_.last_error();
+        const Fmmu fm = Fmmu::decode(*raw);
+        if ((fm.activate & 1) != 0 && (fm.type & Fmmu::kWrite) != 0) {
+            writer = f;
+        }
     }
-    EXPECT_TRUE(master_.set_state_all(AlState::Op) || !master_.last_error().empty());
+    ASSERT_TRUE(writer) << "the master programmed no output FMMU";
+    const std::array<std::uint8_t, 2> end = {0xF8, 0xFF};
+    ASSERT_TRUE(master_.write_registers(0, reg::fmmu(*writer) + 8, end)) << master_.last_error();
+
+    for (std::size_t i = 0; i < out.size(); ++i) {
+        out[i] = static_cast<std::uint8_t>(0xA0 + i);
+    }
+    // The write lands (2 for the outputs, 1 for the inputs), and the slave answers after it.
+    EXPECT_EQ(master_.exchange_process_data().value_or(0), master_.expected_wkc())
+        << master_.last_error();
+    auto tail = master_.read_registers(0, 0xFFF8, 8);
+    ASSERT_TRUE(tail) << master_.last_error();
+    const std::vector<std::uint8_t> want(out.begin(), out.begin() + 8);
+    EXPECT_EQ(*tail, want);
+    EXPECT_EQ(segment_.slave(0).state(), AlState::Op);
+}
+
+// SM1 moved in PRE-OP so that it ends past the memory: the answer to the next request is put
+// only in the part inside it. The master, which reads SM1 where it configured it, reads what was
+// left there and fails the transfer with a sentence naming it; the slave goes on answering.
+TEST_F(EscMemoryBounds, AMailboxAnswerForAnSmPastTheEndOfMemoryIsPutOnlyInside) {
+    bring_up(AlState::PreOp);
+    place_sm(1, 0xFFF0, master_.slaves()[0].sii.tx_mailbox_size);
+    auto r = master_.sdo_upload(0, 0x1000, 0);
+    ASSERT_FALSE(r);
+    EXPECT_EQ(master_.last_error().rfind("slave 0 (AKD2G): SDO upload 0x1000:00", 0), 0U)
+        << master_.last_error();
+    EXPECT_TRUE(master_.read_registers(0, reg::kAlStatus, 2)) << master_.last_error();
+    EXPECT_EQ(segment_.slave(0).state(), AlState::PreOp);
 }
 
 } // namespace

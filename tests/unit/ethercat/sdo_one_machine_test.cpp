@@ -133,15 +133,24 @@ std::error_code abort_error(SdoAbort code) {
     return {static_cast<int>(code), sdo_abort_category()};
 }
 
-/// Runs the script on both transports and checks they end alike with `cause`; returns the CoE
-/// ending for further checks.
-Ending expect_same(bool upload, const std::vector<std::uint8_t>& data,
-                   const std::vector<Payload>& script, std::error_code cause,
-                   std::optional<SdoAbort> client_abort, std::size_t late = 0) {
+/// How one script ended on each transport.
+struct Endings {
+    Ending can;
+    Ending coe;
+};
+
+/// Runs the script on both transports and checks they end alike with `cause` (and, on success,
+/// with the same data); returns both endings for further checks.
+Endings expect_same(bool upload, const std::vector<std::uint8_t>& data,
+                    const std::vector<Payload>& script, std::error_code cause,
+                    std::optional<SdoAbort> client_abort, std::size_t late = 0) {
     const Ending can = run_can(upload, data, script);
     const Ending coe = run_coe(upload, data, script, late);
     EXPECT_EQ(can.cause, cause) << can.sentence;
     EXPECT_EQ(coe.cause, cause) << coe.sentence;
+    if (!cause) {
+        EXPECT_EQ(can.data, coe.data);
+    }
     if (client_abort) {
         const Payload want =
             sdo::make_abort(kIndex, kSub, static_cast<std::uint32_t>(*client_abort));
@@ -151,7 +160,7 @@ Ending expect_same(bool upload, const std::vector<std::uint8_t>& data,
         EXPECT_FALSE(can.abort_sent) << can.sentence;
         EXPECT_FALSE(coe.abort_sent) << coe.sentence;
     }
-    return coe;
+    return {can, coe};
 }
 
 Payload segment(bool toggle, bool last, std::vector<std::uint8_t> data) {
@@ -177,7 +186,8 @@ TEST(SdoOneMachine, AnAnswerForAnotherSubIndexFailsAsWrongObjectOnBoth) {
     const std::array<std::uint8_t, 2> value = {1, 2};
     const Ending coe =
         expect_same(true, {}, {sdo::make_initiate_upload_expedited(kIndex, kSub + 1, value)},
-                    make_error_code(sdo::SdoErrc::WrongObject), SdoAbort::General);
+                    make_error_code(sdo::SdoErrc::WrongObject), SdoAbort::General)
+            .coe;
     EXPECT_EQ(coe.sentence,
               "slave 0 (DRIVE): SDO upload 0x2100:01 failed: response for a different "
               "object: server answered for 0x2100:02 instead of 0x2100:01");
@@ -189,17 +199,13 @@ TEST(SdoOneMachine, AnAnswerForAnotherSubIndexFailsAsWrongObjectOnBoth) {
 TEST(SdoOneMachine, ALateAnswerForAnotherObjectIsDroppedAndTheAnswerBehindItTakenOnBoth) {
     const std::array<std::uint8_t, 2> stale = {9, 9};
     const std::array<std::uint8_t, 2> value = {1, 2};
-    const Ending coe = expect_same(true, {},
-                                   {sdo::make_initiate_upload_expedited(0x1010, 1, stale),
-                                    sdo::make_initiate_upload_expedited(kIndex, kSub, value)},
-                                   {}, std::nullopt, 1);
-    EXPECT_EQ(coe.data, (std::vector<std::uint8_t>{1, 2}));
-    EXPECT_EQ(coe.strays, 1U);
-    EXPECT_EQ(run_can(true, {},
-                      {sdo::make_initiate_upload_expedited(0x1010, 1, stale),
-                       sdo::make_initiate_upload_expedited(kIndex, kSub, value)})
-                  .data,
-              (std::vector<std::uint8_t>{1, 2}));
+    const Endings both = expect_same(true, {},
+                                     {sdo::make_initiate_upload_expedited(0x1010, 1, stale),
+                                      sdo::make_initiate_upload_expedited(kIndex, kSub, value)},
+                                     {}, std::nullopt, 1);
+    EXPECT_EQ(both.can.data, (std::vector<std::uint8_t>{1, 2}));
+    EXPECT_EQ(both.coe.data, (std::vector<std::uint8_t>{1, 2}));
+    EXPECT_EQ(both.coe.strays, 1U);
 }
 
 // The restore of a PDO assignment: an upload of 1C12h timed out and its answer came late; the
@@ -209,7 +215,8 @@ TEST(SdoOneMachine, ALateUploadAnswerOfTheSameObjectDoesNotEndTheDownloadAfterIt
     const Ending coe = expect_same(false, {0},
                                    {sdo::make_initiate_upload_expedited(kIndex, kSub, count),
                                     sdo::make_initiate_download_response(kIndex, kSub)},
-                                   {}, std::nullopt, 1);
+                                   {}, std::nullopt, 1)
+                           .coe;
     EXPECT_EQ(coe.sentence, "");
     EXPECT_EQ(coe.strays, 1U);
 }
@@ -302,7 +309,8 @@ TEST(SdoOneMachine, ALateAbortOfAnEarlierTransferDoesNotEndThisOneOnBoth) {
         expect_same(true, {},
                     {sdo::make_abort(0x1010, 1, static_cast<std::uint32_t>(SdoAbort::DataTransfer)),
                      sdo::make_initiate_upload_expedited(kIndex, kSub, value)},
-                    {}, std::nullopt, 1);
+                    {}, std::nullopt, 1)
+            .coe;
     EXPECT_EQ(coe.data, (std::vector<std::uint8_t>{1, 2}));
     EXPECT_EQ(coe.strays, 1U);
 }
@@ -325,7 +333,8 @@ TEST(SdoOneMachine, AReservedCommandSpecifierInsteadOfTheInitiateResponseAbortsO
     Payload reserved{};
     reserved[0] = 0xE0; // scs 7: reserved (CiA 301 §7.2.4.3); dropped, then the timeout
     const Ending coe = expect_same(true, {}, {reserved}, abort_error(SdoAbort::UnknownCommand),
-                                   SdoAbort::UnknownCommand);
+                                   SdoAbort::UnknownCommand)
+                           .coe;
     EXPECT_EQ(coe.sentence, "slave 0 (DRIVE): SDO upload 0x2100:01 aborted by the master "
                             "0x05040001 (client/server command specifier not valid or unknown): "
                             "no valid response to the initiate request; frames with a reserved "
@@ -336,7 +345,8 @@ TEST(SdoOneMachine, AToggleErrorAbortsWithTheToggleCodeOnBoth) {
     const Ending coe = expect_same(true, {},
                                    {sdo::make_initiate_upload_segmented(kIndex, kSub, 14),
                                     segment(true, false, {1, 2, 3, 4, 5, 6, 7})},
-                                   abort_error(SdoAbort::ToggleBit), SdoAbort::ToggleBit);
+                                   abort_error(SdoAbort::ToggleBit), SdoAbort::ToggleBit)
+                           .coe;
     EXPECT_EQ(coe.sentence,
               "slave 0 (DRIVE): SDO upload 0x2100:01 aborted by the master 0x05030000 (toggle bit "
               "not alternated): segment after 0 of 14 bytes had toggle 1, expected 0");
@@ -366,9 +376,11 @@ TEST(SdoOneMachine, LessDataThanIndicatedAbortsWithLengthTooLowOnBoth) {
 }
 
 TEST(SdoOneMachine, AServerAbortEndsTheTransferWithItsCodeAndIsNotAnswered) {
-    const Ending coe = expect_same(
-        true, {}, {sdo::make_abort(kIndex, kSub, static_cast<std::uint32_t>(SdoAbort::NoObject))},
-        abort_error(SdoAbort::NoObject), std::nullopt);
+    const Ending coe =
+        expect_same(true, {},
+                    {sdo::make_abort(kIndex, kSub, static_cast<std::uint32_t>(SdoAbort::NoObject))},
+                    abort_error(SdoAbort::NoObject), std::nullopt)
+            .coe;
     EXPECT_EQ(coe.sentence, "slave 0 (DRIVE): SDO upload 0x2100:01 aborted 0x06020000 (object "
                             "does not exist in the object dictionary)");
 }

@@ -18,6 +18,7 @@
 #include <deque>
 #include <map>
 #include <memory>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -131,6 +132,8 @@ private:
     void pack_inputs();
     /// Where SM `s`'s area ends in the ESC's memory (a 16-bit start and length may run past it).
     [[nodiscard]] std::size_t sm_end(const ethercat::SyncManager& s) const;
+    /// The part of SM `s`'s area inside the ESC's memory.
+    [[nodiscard]] std::span<std::uint8_t> sm_area(const ethercat::SyncManager& s);
     void unpack_outputs(TimePoint now);
     std::uint64_t local_time(TimePoint now) const;
 
