@@ -94,8 +94,8 @@ Master::read_pdo_assignment(std::size_t slave) {
             return fail(n.error());
         }
         std::vector<PdoMapping> out;
-        for (std::uint8_t i = 1; i <= *n; ++i) {
-            auto idx = sdo_read<std::uint16_t>(slave, assign_index, i);
+        for (unsigned i = 1; i <= *n; ++i) {
+            auto idx = sdo_read<std::uint16_t>(slave, assign_index, static_cast<std::uint8_t>(i));
             if (!idx) {
                 return fail(idx.error());
             }
@@ -105,8 +105,8 @@ Master::read_pdo_assignment(std::size_t slave) {
             if (!count) {
                 return fail(count.error());
             }
-            for (std::uint8_t e = 1; e <= *count; ++e) {
-                auto v = sdo_read<std::uint32_t>(slave, p.index, e);
+            for (unsigned e = 1; e <= *count; ++e) {
+                auto v = sdo_read<std::uint32_t>(slave, p.index, static_cast<std::uint8_t>(e));
                 if (!v) {
                     return fail(v.error());
                 }

@@ -33,8 +33,8 @@ read_complete(ObjectDictionary& od, std::uint16_t index, std::uint8_t sub) {
         out.push_back(n);
         out.push_back(0); // padding to 16 bits
     }
-    for (std::uint8_t s = 1; s <= n; ++s) {
-        auto v = od.read(index, s);
+    for (unsigned s = 1; s <= n; ++s) {
+        auto v = od.read(index, static_cast<std::uint8_t>(s));
         if (!v) {
             return tl::unexpected(v.error());
         }
@@ -61,8 +61,8 @@ tl::expected<void, SdoAbort> write_complete(ObjectDictionary& od, std::uint16_t 
             return r;
         }
     }
-    for (std::uint8_t s = 1; s <= count; ++s) {
-        const SubObject* so = od.find(index, s);
+    for (unsigned s = 1; s <= count; ++s) {
+        const SubObject* so = od.find(index, static_cast<std::uint8_t>(s));
         if (so == nullptr) {
             return tl::unexpected(SdoAbort::NoSubindex);
         }
@@ -70,7 +70,7 @@ tl::expected<void, SdoAbort> write_complete(ObjectDictionary& od, std::uint16_t 
         if (n == 0 || pos + n > data.size()) {
             return tl::unexpected(SdoAbort::LengthMismatch);
         }
-        if (auto r = od.write(index, s, data.subspan(pos, n)); !r) {
+        if (auto r = od.write(index, static_cast<std::uint8_t>(s), data.subspan(pos, n)); !r) {
             return r;
         }
         pos += n;

@@ -211,13 +211,15 @@ bool EscSlave::logical(const DatagramRef& dg, bool& read_done, bool& write_done,
             !overlaps(start, len, fm.logical_start, fm.length)) {
             continue;
         }
-        const std::uint32_t ov_start = std::max(start, fm.logical_start);
-        const std::uint32_t ov_end = std::min<std::uint32_t>(
-            start + static_cast<std::uint32_t>(len), fm.logical_start + fm.length);
-        const std::size_t n = ov_end - ov_start;
+        // In 64 bits: a window that a master placed at the top of the 4 GiB logical space
+        // would wrap in 32 and seem longer than the datagram.
+        const std::uint64_t ov_start = std::max(start, fm.logical_start);
+        const std::uint64_t ov_end = std::min<std::uint64_t>(
+            std::uint64_t{start} + len, std::uint64_t{fm.logical_start} + fm.length);
+        const auto n = static_cast<std::size_t>(ov_end - ov_start);
         const auto phys =
             static_cast<std::uint16_t>(fm.physical_start + (ov_start - fm.logical_start));
-        auto window = dg.data.subspan(ov_start - start, n);
+        auto window = dg.data.subspan(static_cast<std::size_t>(ov_start - start), n);
         if ((fm.type & Fmmu::kRead) != 0 && command_reads(dg.command)) {
             read_done = read_memory(phys, window, false, now) || read_done;
         }
@@ -352,11 +354,11 @@ void EscSlave::pack_inputs() {
     ObjectDictionary& od = app_->od();
     std::size_t bit = 0;
     const auto count = od.get<std::uint8_t>(0x1C13, 0).value_or(0);
-    for (std::uint8_t i = 1; i <= count; ++i) {
-        const auto pdo = od.get<std::uint16_t>(0x1C13, i).value_or(0);
+    for (unsigned i = 1; i <= count; ++i) {
+        const auto pdo = od.get<std::uint16_t>(0x1C13, static_cast<std::uint8_t>(i)).value_or(0);
         const auto n = od.get<std::uint8_t>(pdo, 0).value_or(0);
-        for (std::uint8_t e = 1; e <= n; ++e) {
-            const auto entry = od.get<std::uint32_t>(pdo, e).value_or(0);
+        for (unsigned e = 1; e <= n; ++e) {
+            const auto entry = od.get<std::uint32_t>(pdo, static_cast<std::uint8_t>(e)).value_or(0);
             const std::size_t bits = entry & 0xFFU;
             const std::size_t at = s3.start + bit / 8;
             const std::size_t bytes = bits / 8;
@@ -377,11 +379,11 @@ void EscSlave::unpack_outputs(TimePoint now) {
     ObjectDictionary& od = app_->od();
     std::size_t bit = 0;
     const auto count = od.get<std::uint8_t>(0x1C12, 0).value_or(0);
-    for (std::uint8_t i = 1; i <= count; ++i) {
-        const auto pdo = od.get<std::uint16_t>(0x1C12, i).value_or(0);
+    for (unsigned i = 1; i <= count; ++i) {
+        const auto pdo = od.get<std::uint16_t>(0x1C12, static_cast<std::uint8_t>(i)).value_or(0);
         const auto n = od.get<std::uint8_t>(pdo, 0).value_or(0);
-        for (std::uint8_t e = 1; e <= n; ++e) {
-            const auto entry = od.get<std::uint32_t>(pdo, e).value_or(0);
+        for (unsigned e = 1; e <= n; ++e) {
+            const auto entry = od.get<std::uint32_t>(pdo, static_cast<std::uint8_t>(e)).value_or(0);
             const std::size_t bits = entry & 0xFFU;
             const std::size_t at = s2.start + bit / 8;
             const std::size_t bytes = bits / 8;

@@ -4,6 +4,7 @@
 // did, from a corrupted SII: regressions/slave_replies/sm3_area_past_esc_memory) or an FMMU whose
 // physical window crosses 0xFFFF. The simulator moves data only inside its memory, and goes on
 // answering.
+#include <codrive/ethercat/datagram.hpp>
 #include <codrive/ethercat/registers.hpp>
 #include <codrive/testing/sim_segment.hpp>
 
@@ -94,6 +95,31 @@ TEST_F(EscMemoryBounds, AMailboxAnswerForAnSmPastTheEndOfMemoryIsPutOnlyInside) 
         << master_.last_error();
     EXPECT_TRUE(master_.read_registers(0, reg::kAlStatus, 2)) << master_.last_error();
     EXPECT_EQ(segment_.slave(0).state(), AlState::PreOp);
+}
+
+// An FMMU whose logical window ends past 4 GiB (0xFFFFF900 + 2 KiB): a 4-byte read at its start
+// moves 4 bytes. Before the overlap was computed in 64 bits it wrapped, and the ESC read 2 KiB
+// into the 4-byte datagram, past the end of the frame.
+TEST_F(EscMemoryBounds, AnFmmuWindowPastTheTopOfTheLogicalSpaceMovesOnlyTheDatagramsBytes) {
+    bring_up(AlState::SafeOp);
+    Fmmu fm;
+    fm.logical_start = 0xFFFFF900;
+    fm.length = 0x0800;
+    fm.physical_start = 0x0000; // type, revision, build: always readable
+    fm.type = Fmmu::kRead;
+    fm.activate = 1;
+    ASSERT_TRUE(master_.write_registers(0, reg::fmmu(7), fm.encode())) << master_.last_error();
+    const std::array<Datagram, 1> lrd = {Datagram::logical(Command::Lrd, 0xFFFFF900, 4)};
+    auto frame = encode_frame(lrd);
+    ASSERT_TRUE(frame);
+    ASSERT_TRUE(segment_.process(*frame, clock_.now()));
+    auto back = decode_frame(*frame);
+    ASSERT_TRUE(back);
+    ASSERT_EQ(back->size(), 1U);
+    EXPECT_EQ((*back)[0].wkc, 1);
+    auto direct = master_.read_registers(0, 0x0000, 4);
+    ASSERT_TRUE(direct) << master_.last_error();
+    EXPECT_EQ((*back)[0].data, *direct);
 }
 
 } // namespace
