@@ -12,7 +12,8 @@ std::size_t EscSlave::pdo_bytes(std::uint16_t assign_index) {
     std::size_t bits = 0;
     const auto count = od.get<std::uint8_t>(assign_index, 0).value_or(0);
     for (unsigned i = 1; i <= count; ++i) {
-        const auto pdo = od.get<std::uint16_t>(assign_index, static_cast<std::uint8_t>(i)).value_or(0);
+        const auto pdo =
+            od.get<std::uint16_t>(assign_index, static_cast<std::uint8_t>(i)).value_or(0);
         const auto n = od.get<std::uint8_t>(pdo, 0).value_or(0);
         for (unsigned e = 1; e <= n; ++e) {
             bits += od.get<std::uint32_t>(pdo, static_cast<std::uint8_t>(e)).value_or(0) & 0xFFU;
