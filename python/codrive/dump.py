@@ -1,5 +1,5 @@
 # SPDX-License-Identifier: Apache-2.0
-"""Trace decoding: candump logs and pcap/pcapng captures, decoded by codrive-dump's library.
+"""Trace decoding: every trace format codrive-dump reads, decoded by its library.
 
 ``for rec in codrive.dump.read("trace.log"):`` yields one dict per frame (and per note, such as
 an SDO request left unanswered) with exactly the fields ``codrive-dump -r trace.log --json``
@@ -55,7 +55,8 @@ class Trace:
 
 def read(path: PathLike, eds: Optional[Mapping[int, PathLike]] = None,
          profiles: Optional[Mapping[int, str]] = None, sdo_timeout: float = 1.0) -> Trace:
-    """Decodes a candump log (``candump -l``), candump screen text or a pcap/pcapng file.
+    """Decodes a trace in any format ``codrive-dump -r`` reads (candump log or screen text, PEAK
+    .trc, Vector .asc and .blf, CSV, pcap/pcapng), each also gzip-compressed.
 
     eds: {node: "drive.eds"} for object names, types and default PDO mappings (``--eds``);
     profiles: {node: "akd2g"} to pin a drive profile (``--profile``); sdo_timeout: seconds after

@@ -72,9 +72,11 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     auto in = BufferedInput::from_memory(file);
     BlfReader reader(*in);
     TraceRecord r;
-    // Every step consumes at least one object header, so steps are bounded by the size.
+    // Every step consumes at least one object header, so steps are bounded by the size
+    // (inflated, for a gzip file).
+    const std::size_t max_steps = in->max_plain_bytes(file.size()) + 2;
     for (std::size_t steps = 0;; ++steps) {
-        if (steps > file.size() + 2) {
+        if (steps > max_steps) {
             __builtin_trap();
         }
         const auto status = reader.next(r);

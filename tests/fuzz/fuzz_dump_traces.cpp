@@ -22,9 +22,11 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     auto reader =
         pick < 6 ? make_trace_reader(static_cast<TraceFormat>(pick), *in) : open_trace_reader(*in);
     TraceRecord r;
-    // Every step consumes input, so the number of steps is bounded by the input size.
+    // Every step consumes input, so the number of steps is bounded by the input size (inflated,
+    // for a gzip input).
+    const std::size_t max_steps = in->max_plain_bytes(size) + 2;
     for (std::size_t steps = 0;; ++steps) {
-        if (steps > size + 2) {
+        if (steps > max_steps) {
             __builtin_trap(); // a reader that does not advance would hang the tool
         }
         const auto status = reader->next(r);

@@ -38,7 +38,7 @@ std::size_t lines_of(const std::string& s) {
 
 TEST(DumpFormatsHost, DocumentedTraceCommandsRunAsWritten) {
     const auto commands = documented_trace_commands();
-    ASSERT_EQ(commands.size(), 6U) << "docs/codrive-dump.md lost its trace-file commands";
+    ASSERT_EQ(commands.size(), 7U) << "docs/codrive-dump.md lost its trace-file commands";
     Scratch scratch("docs");
     std::vector<ct::RunResult> results;
     for (const auto& c : commands) {
@@ -70,6 +70,10 @@ TEST(DumpFormatsHost, DocumentedTraceCommandsRunAsWritten) {
               std::string::npos)
         << results[5].output;
     EXPECT_EQ(lines_of(results[5].output), 2U) << results[5].output;
+    // The ASC sample gzip-compressed: read as it is, the same SDO exchange.
+    EXPECT_NE(results[6].output.find("(1795478400.021000)  can1   584"), std::string::npos)
+        << results[6].output;
+    EXPECT_EQ(lines_of(results[6].output), 2U) << results[6].output;
 }
 
 TEST(DumpFormatsHost, EveryFormatConvertsToCapturesTsharkReads) {

@@ -1,5 +1,6 @@
 # SPDX-License-Identifier: Apache-2.0
 """codrive.dump.read against the repository's traces and codrive-dump --json itself (host)."""
+import gzip
 import json
 import subprocess
 
@@ -47,6 +48,20 @@ def test_bad_lines_are_problems_not_exceptions(tmp_path):
     assert [r["id"] for r in records] == [0x704, 0x704]
     # codrive-dump names a bad line as FILE:LINE: cause.
     assert len(trace.problems) == 1 and "bad.log:2: bad CAN identifier" in trace.problems[0]
+
+
+def test_a_gzip_compressed_trace_reads_like_the_plain_one(root, tmp_path):
+    plain = root / "tests/data/traces/sdo.log"
+    packed = tmp_path / "sdo.log.gz"
+    packed.write_bytes(gzip.compress(plain.read_bytes()))
+    assert list(codrive.dump.read(packed)) == list(codrive.dump.read(plain))
+    cut = tmp_path / "cut.log.gz"
+    cut.write_bytes(packed.read_bytes()[:-20])
+    records = []
+    with pytest.raises(codrive.Error, match="gzip: the compressed stream is cut short"):
+        for rec in codrive.dump.read(cut):
+            records.append(rec)
+    assert 0 < len(records) <= len(list(codrive.dump.read(plain)))
 
 
 def test_a_missing_file_raises_os_error(tmp_path):

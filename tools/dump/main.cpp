@@ -117,7 +117,8 @@ int main(int argc, char** argv) {
                    "(vcan0,0x580:0x780), or 'any'");
     app.add_option("-r,--read", read_file,
                    "Read a trace file: candump log/screen, PEAK .trc, Vector .asc and .blf, "
-                   "CSV, pcap/pcapng, recognised by content ('-' for stdin)");
+                   "CSV, pcap/pcapng, each also gzip-compressed, recognised by content ('-' for "
+                   "stdin)");
     app.add_option("-w,--write", write_file,
                    "Write the frames to a pcap file, pcapng if the name ends in .pcapng "
                    "(SocketCAN link type) for Wireshark; printing stops unless --print");

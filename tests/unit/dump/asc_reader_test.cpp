@@ -5,7 +5,10 @@
 
 #include <codrive/core/socket_can_bus.hpp>
 
+#include <fmt/format.h>
 #include <gtest/gtest.h>
+
+#include <string>
 
 using namespace codrive;
 using namespace codrive::dump;
@@ -128,4 +131,39 @@ TEST(DumpAsc, UnreadableDateIsReportedAndTimesCountFromZero) {
     ASSERT_EQ(items.size(), 2U);
     EXPECT_EQ(items[0].error.rfind("1: unreadable date", 0), 0U) << items[0].error;
     EXPECT_EQ(items[1].ts_ns, 10'000'000);
+}
+
+// A CANFD event with more than 8 data bytes is CAN FD even when its flags lack EDL (python-can's
+// test_CanFdMessage64.asc and logfile.asc have such lines): the frame is kept, not dropped. A
+// classic event with a DLC above F (python-can writes "d 40" for a 64-byte frame not marked CAN
+// FD) names the DLC.
+TEST(DumpAsc, CanFdEventWithoutEdlButSixtyFourBytesIsCanFd) {
+    std::string data;
+    for (int i = 0; i < 64; ++i) {
+        data += fmt::format(" {:02X}", i);
+    }
+    const auto items = read_trace(
+        "date Tue Nov 24 00:00:00 2026\n"
+        "base hex  timestamps absolute\n"
+        "   1.000000 CANFD   4 Rx        4EE                                   0 1 f 64" +
+        data + " 1331984 11 0 46500250 460a0250 20011736 20010205\n" +
+        "   2.000000 CANFD   4 Rx        1C4D80A7x    Name_2     1 0 f 64" + data +
+        " 1331984 11 0 46500250 460a0250 20011736 20010205\n" +
+        "   3.000000 1  123x            Rx   d 40" + data + "\n");
+    ASSERT_EQ(items.size(), 3U);
+    ASSERT_EQ(items[0].status, ReadStatus::Frame) << items[0].error;
+    EXPECT_TRUE(items[0].frame.fd());
+    EXPECT_EQ(items[0].frame.flags & Frame::kBrs, 0);
+    EXPECT_EQ(items[0].frame.len, 64);
+    EXPECT_EQ(items[0].frame.data[63], 63);
+    ASSERT_EQ(items[1].status, ReadStatus::Frame) << items[1].error;
+    EXPECT_TRUE(items[1].frame.fd() && items[1].frame.extended());
+    EXPECT_NE(items[1].frame.flags & Frame::kBrs, 0);
+    EXPECT_EQ(items[1].ts_ns, kMidnight + 2'000'000'000LL);
+    EXPECT_EQ(items[2].status, ReadStatus::Malformed);
+    EXPECT_EQ(items[2].error.rfind("5: DLC 0x40 is not a CAN DLC (0 to F); a classic CAN frame "
+                                   "carries at most 8 bytes, and CAN FD frames are CANFD events",
+                                   0),
+              0U)
+        << items[2].error;
 }

@@ -273,3 +273,90 @@ TEST(DumpBlf, ConversationSampleHoldsTheCandumpLog) {
     }
     expect_same_frames(read_trace(slurp(path)), want, path);
 }
+
+namespace {
+
+// A CAN_MESSAGE payload: channel 1, no flags, `id` with DLC 1 and the byte 0x05.
+std::string can_message_payload(std::uint32_t id) {
+    std::string p("\x01\x00\x00\x01", 4);
+    for (int shift = 0; shift < 32; shift += 8) {
+        p += static_cast<char>((id >> shift) & 0xFF);
+    }
+    return p + std::string("\x05\0\0\0\0\0\0\0", 8);
+}
+
+} // namespace
+
+// Some writers leave the measurement start empty (1970) and put the time since 1970 in each
+// object; python-can's test files hold times 78 years after the start. Every time the trace clock
+// holds (signed 64-bit ns, to the year 2262) is read; a later one is named.
+TEST(DumpBlf, TimesFarFromTheMeasurementStartAreKeptUpToTheYear2262) {
+    using codrive::dump::testing::kStart;
+    BlfWriteOptions o;
+    const auto ts = static_cast<std::uint64_t>(kStart); // 2023, counted from 1970
+    std::string stream = blf_object(BlfObjectType::CanMessage, can_message_payload(0x705), ts);
+    stream += blf_object(BlfObjectType::CanMessage, can_message_payload(0x705), ts / 10'000, 1);
+    stream += blf_object(BlfObjectType::CanMessage, can_message_payload(0x705),
+                         0x2222222222222222ULL); // python-can's test_CanMessage.blf
+    stream +=
+        blf_object(BlfObjectType::CanMessage, can_message_payload(0x705), 0x8000000000000000ULL);
+    stream += blf_object(BlfObjectType::CanMessage, can_message_payload(0x705),
+                         0x0100000000000000ULL, 1); // 10 µs units: far past 2262
+    const auto got = read_trace(blf_file(0, stream, o));
+    ASSERT_EQ(got.size(), 5U);
+    for (std::size_t i = 0; i < 3; ++i) {
+        ASSERT_EQ(got[i].status, ReadStatus::Frame) << i << ": " << got[i].error;
+        EXPECT_EQ(got[i].frame, Frame::make(0x705, {0x05}));
+    }
+    EXPECT_EQ(got[0].ts_ns, kStart);
+    EXPECT_EQ(got[1].ts_ns, kStart);
+    EXPECT_EQ(got[2].ts_ns, 0x2222222222222222LL);
+    EXPECT_EQ(got[3].status, ReadStatus::Malformed);
+    EXPECT_NE(got[3].error.find("(CAN_MESSAGE): timestamp 9223372036854775808 (ns) is past the "
+                                "year 2262"),
+              std::string::npos)
+        << got[3].error;
+    EXPECT_NE(got[4].error.find("timestamp 72057594037927936 (10 µs units) is past the year 2262"),
+              std::string::npos)
+        << got[4].error;
+}
+
+// TSMaster writes CAN_FD_MESSAGE_64 objects of 64-byte frames with a valid length of 64 and only
+// 48 bytes stored (python-can issue 1905, a real file). CANoe shows the missing bytes as 00, and
+// so does this reader; a valid length and a stored payload both short of the DLC stay an error.
+TEST(DumpBlf, ACanFd64ObjectStoringFewerBytesThanItsDlcKeepsTheFrame) {
+    const auto payload = [](std::uint8_t valid, std::size_t stored, std::uint8_t ext_offset) {
+        std::string p;
+        p += '\x07';                             // channel
+        p += '\x0F';                             // DLC 15: 64 bytes
+        p += static_cast<char>(valid);           // valid payload length
+        p += '\0';                               // tx count
+        p += std::string("\xA9\x06\x00\x00", 4); // id 6A9h
+        p += std::string(4, '\0');               // frame length
+        p += std::string("\x00\x30\x00\x00", 4); // flags: EDL, BRS
+        p += std::string(16, '\0');              // bit timings, BRS and CRC offsets
+        p += std::string("\x00\x00\x00", 3);     // bit count, direction
+        p += static_cast<char>(ext_offset);      // extended data offset
+        p += std::string(4, '\0');               // CRC
+        return p + std::string(stored, '\xFF');
+    };
+    std::string stream = blf_object(BlfObjectType::CanFdMessage64, payload(64, 48, 0), 1000);
+    // The extended data (8 bytes here) starts 32 + 40 + 56 bytes into the object.
+    stream += blf_object(BlfObjectType::CanFdMessage64, payload(64, 64, 128), 2000);
+    stream += blf_object(BlfObjectType::CanFdMessage64, payload(40, 48, 0), 3000);
+    const auto got = read_trace(blf_file(0, stream, BlfWriteOptions{}));
+    ASSERT_EQ(got.size(), 3U);
+    for (std::size_t i = 0; i < 2; ++i) {
+        ASSERT_EQ(got[i].status, ReadStatus::Frame) << i << ": " << got[i].error;
+        EXPECT_TRUE(got[i].frame.fd() && (got[i].frame.flags & Frame::kBrs) != 0);
+        EXPECT_EQ(got[i].frame.id, 0x6A9U);
+        EXPECT_EQ(got[i].frame.len, 64);
+        const std::size_t stored = i == 0 ? 48 : 56;
+        for (std::size_t b = 0; b < 64; ++b) {
+            EXPECT_EQ(got[i].frame.data[b], b < stored ? 0xFF : 0x00) << i << " byte " << b;
+        }
+    }
+    EXPECT_EQ(got[2].status, ReadStatus::Malformed);
+    EXPECT_NE(got[2].error.find("DLC 15 needs 64 data bytes, the object has 40"), std::string::npos)
+        << got[2].error;
+}

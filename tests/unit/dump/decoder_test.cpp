@@ -224,3 +224,44 @@ TEST(DumpStats, NodeGuardingIsCountedApartFromHeartbeat) {
         << table;
     EXPECT_EQ(table.find("1202.0 ms"), std::string::npos) << table;
 }
+
+// A remote frame carries no data: on the NMT, SYNC, TIME, EMCY and LSS COB-IDs it is one warning
+// (not "TIME malformed (0 bytes)", and no SYNC counted); on a PDO it is that PDO's request.
+// python-can's logfile.asc has such a frame on 100h.
+TEST(DumpDecoder, RemoteFramesAreNamedNotDecodedAsData) {
+    Stats stats;
+    Decoder dec({}, &stats);
+    std::vector<Note> notes;
+    std::int64_t ts = 1'000'000'000;
+    auto feed = [&](std::uint32_t id, std::uint8_t len) {
+        TraceRecord r;
+        r.has_ts = true;
+        r.frame = Frame::make_rtr(id, len);
+        r.ts_ns = ts;
+        ts += 10'000'000;
+        Decoded out;
+        dec.decode(r, out, notes);
+        return out;
+    };
+    const struct {
+        std::uint32_t id;
+        Service service;
+        const char* name;
+    } stray[] = {{0x000, Service::Nmt, "NMT"},        {0x080, Service::Sync, "SYNC"},
+                 {0x100, Service::Time, "TIME"},      {0x085, Service::Emcy, "EMCY"},
+                 {0x7E5, Service::Lss, "LSS-master"}, {0x7E4, Service::Lss, "LSS-slave"}};
+    for (const auto& s : stray) {
+        const auto out = feed(s.id, 0);
+        EXPECT_EQ(out.service, s.service) << s.name;
+        EXPECT_EQ(out.severity, Severity::Warning) << s.name;
+        EXPECT_EQ(text(out), fmt::format("remote frame on the {} COB-ID (only node guarding and "
+                                         "PDOs are requested by remote frames)",
+                                         s.name));
+    }
+    EXPECT_EQ(stats.syncs(), 0U) << "a remote frame on 080h is no SYNC";
+    const auto tpdo = feed(0x285, 8);
+    EXPECT_EQ(tpdo.service, Service::Pdo);
+    EXPECT_EQ(tpdo.node, 5);
+    EXPECT_EQ(text(tpdo), "node 5 TPDO2 remote request");
+    EXPECT_EQ(text(feed(0x705, 1)), "node 5 guarding request");
+}

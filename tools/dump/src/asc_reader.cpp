@@ -181,11 +181,10 @@ LineStatus AscReader::parse_fd(std::string_view rest, TraceRecord& out, std::str
             return LineStatus::Error;
         }
     }
-    if ((flags & 0x1000U) != 0) {
+    // More than 8 data bytes can only be CAN FD, whatever the flags say (python-can's test
+    // files have such lines with flags 0): the frame is kept, not dropped.
+    if ((flags & 0x1000U) != 0 || len > 8) {
         f.flags = static_cast<std::uint8_t>(f.flags | Frame::kFd | (brs == "1" ? Frame::kBrs : 0));
-    } else if (len > 8) {
-        why = "a classic CAN frame carries at most 8 bytes";
-        return LineStatus::Error;
     } else if ((flags & 0x10U) != 0) {
         f.flags = static_cast<std::uint8_t>(f.flags | Frame::kRtr);
         f.len = static_cast<std::uint8_t>(dlc > 8 ? 8 : dlc);
@@ -268,8 +267,15 @@ LineStatus AscReader::parse_line(std::string_view line, TraceRecord& out, std::s
         stamp(t_ns, out);
         return LineStatus::Frame;
     }
-    if (kind != "d" || !scan::parse_hex_u32(dlc_tok, dlc) || dlc > 15) {
+    if (kind != "d" || !scan::parse_hex_u32(dlc_tok, dlc)) {
         why = "expected 'd <dlc>' or 'r' after the direction";
+        return LineStatus::Error;
+    }
+    if (dlc > 15) {
+        // python-can writes a 64-byte frame not marked CAN FD as "d 40": not a CAN frame.
+        why = fmt::format("DLC 0x{:X} is not a CAN DLC (0 to F); a classic CAN frame carries at "
+                          "most 8 bytes, and CAN FD frames are CANFD events",
+                          dlc);
         return LineStatus::Error;
     }
     const std::size_t n = dlc > 8 ? 8 : dlc; // a DLC of 9..15 still carries 8 bytes

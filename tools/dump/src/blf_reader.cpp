@@ -449,9 +449,13 @@ ReadStatus BlfReader::decode(const std::uint8_t* obj, std::uint32_t size, std::u
     const std::uint32_t flags = le32(obj + 16);
     const std::uint64_t ts = le64(obj + 24);
     const std::uint64_t unit = flags == kObjFlagTenMicros ? 10'000 : 1;
-    constexpr auto kMaxTs = static_cast<std::uint64_t>(1) << 60; // 36 years
-    if (ts > kMaxTs / unit) {
-        return malformed(fmt::format("timestamp {} is absurd", ts));
+    // Any time that fits the trace clock (signed 64-bit ns since 1970, up to the year 2262) is
+    // taken: some writers leave the measurement start empty and put times since 1970 here.
+    std::int64_t ts_ns = 0;
+    if (ts > static_cast<std::uint64_t>(std::numeric_limits<std::int64_t>::max()) / unit ||
+        __builtin_add_overflow(start_ns_, static_cast<std::int64_t>(ts * unit), &ts_ns)) {
+        return malformed(fmt::format("timestamp {} ({}) is past the year 2262", ts,
+                                     unit == 1 ? "ns" : "10 µs units"));
     }
     const auto* p = obj + header_size;
     const std::size_t n = size - header_size;
@@ -527,11 +531,17 @@ ReadStatus BlfReader::decode(const std::uint8_t* obj, std::uint32_t size, std::u
             add_flags(f, (fd_flags & kFd64Remote) != 0 ? Frame::kRtr : 0);
         }
         if (!f.rtr()) {
-            if (n < 40U + f.len || p[2] < f.len) {
+            // The payload ends at the extended data (its offset counts from the object start)
+            // or at the object's end. TSMaster writes 64-byte frames with 48 bytes stored and a
+            // valid length of 64; CANoe shows the missing bytes as 00, and so does this reader.
+            const std::size_t ext = p[35];
+            const std::size_t end = ext >= header_size + 40U ? ext - header_size : n;
+            const std::size_t stored = std::min<std::size_t>({end, n}) - 40;
+            if (p[2] < f.len && stored < f.len) {
                 return malformed(fmt::format("DLC {} needs {} data bytes, the object has {}", dlc,
-                                             f.len, std::min<std::size_t>(p[2], n - 40)));
+                                             f.len, std::min<std::size_t>(p[2], stored)));
             }
-            std::memcpy(f.data.data(), p + 40, f.len);
+            std::memcpy(f.data.data(), p + 40, std::min<std::size_t>(f.len, stored));
         }
         break;
     }
@@ -546,7 +556,7 @@ ReadStatus BlfReader::decode(const std::uint8_t* obj, std::uint32_t size, std::u
     case BlfObjectType::LogContainer:
         return malformed("a container inside a container");
     }
-    record.ts_ns = start_ns_ + static_cast<std::int64_t>(ts * unit);
+    record.ts_ns = ts_ns;
     record.has_ts = true;
     iface_ = fmt::format("can{}", channel);
     record.iface = iface_;

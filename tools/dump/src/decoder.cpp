@@ -140,6 +140,9 @@ void Decoder::decode(const TraceRecord& r, Decoded& out, std::vector<Note>& note
         return; // CANopen (CiA 301) uses classic 11-bit frames; nothing to decode
     }
     const auto info = classify_cob_id(f.id);
+    if (f.rtr() && decode_stray_remote(info, out)) {
+        return;
+    }
     switch (info.type) {
     case CobType::Nmt:
         decode_nmt(f, out);
@@ -171,6 +174,12 @@ void Decoder::decode(const TraceRecord& r, Decoded& out, std::vector<Note>& note
         break;
     }
     if (f.rtr()) {
+        if (info.pdo_number() != 0) {
+            out.service = Service::Pdo;
+            out.node = info.node;
+            fmt::format_to(std::back_inserter(out.text), "node {} {} remote request", info.node,
+                           to_string(info.type));
+        }
         return;
     }
     const NodeId node = pdo_.decode(f.id, f.payload(), out.text);
@@ -181,6 +190,38 @@ void Decoder::decode(const TraceRecord& r, Decoded& out, std::vector<Note>& note
             stats_->on_pdo(node, info.is_tpdo(), r.ts_ns);
         }
     }
+}
+
+bool Decoder::decode_stray_remote(const CobInfo& info, Decoded& out) {
+    // CiA 301 requests only node guarding and PDOs by remote frame; NMT, SYNC, TIME, EMCY and
+    // LSS frames carry data, so a remote frame there is not one of them (and is no SYNC).
+    switch (info.type) {
+    case CobType::Nmt:
+        out.service = Service::Nmt;
+        break;
+    case CobType::Sync:
+        out.service = Service::Sync;
+        break;
+    case CobType::Time:
+        out.service = Service::Time;
+        break;
+    case CobType::Emcy:
+        out.service = Service::Emcy;
+        out.node = info.node;
+        break;
+    case CobType::LssMaster:
+    case CobType::LssSlave:
+        out.service = Service::Lss;
+        break;
+    default:
+        return false;
+    }
+    out.severity = Severity::Warning;
+    fmt::format_to(std::back_inserter(out.text),
+                   "remote frame on the {} COB-ID (only node guarding and PDOs are requested by "
+                   "remote frames)",
+                   to_string(info.type));
+    return true;
 }
 
 void Decoder::decode_nmt(const Frame& f, Decoded& out) {

@@ -105,6 +105,22 @@ void Dumper::flush() {
     buf_.clear();
 }
 
+namespace {
+
+// A read error the reader did not name itself (a binary reader sees only a short file; a cut
+// gzip stream reads as one): one more line with the cause. True if there was one.
+bool report_read_error(const BufferedInput& input, std::string_view name, std::string_view said,
+                       Dumper& dumper) {
+    const auto& err = input.read_error();
+    if (err.empty() || said.find(err) != std::string_view::npos) {
+        return !err.empty();
+    }
+    dumper.report(fmt::format("{}: read error: {}", name, err));
+    return true;
+}
+
+} // namespace
+
 InputSummary dump_input(BufferedInput& input, std::string_view name, Dumper& dumper) {
     InputSummary sum;
     auto source = open_trace_reader(input);
@@ -124,8 +140,10 @@ InputSummary dump_input(BufferedInput& input, std::string_view name, Dumper& dum
         case ReadStatus::Fatal:
             sum.fatal = true;
             dumper.report(fmt::format("{}{}{}", name, sep, source->error()));
+            report_read_error(input, name, source->error(), dumper);
             return sum;
         case ReadStatus::End:
+            sum.fatal = report_read_error(input, name, {}, dumper);
             return sum;
         }
     }

@@ -3,6 +3,7 @@
 // reassembly, PDO mappings learned from configuration traffic, guarding, identities).
 #pragma once
 
+#include <codrive/core/cob_id.hpp>
 #include <codrive/dump/object_catalog.hpp>
 #include <codrive/dump/pdo_tracker.hpp>
 #include <codrive/dump/profile.hpp>
@@ -82,6 +83,9 @@ private:
         const IDumpProfile* profile = nullptr;
         bool profile_pinned = false;
     };
+    /// A remote frame on a COB-ID that is never requested (NMT, SYNC, TIME, EMCY, LSS): one
+    /// warning instead of decoding it as data. False for the other COB-IDs.
+    bool decode_stray_remote(const CobInfo& info, Decoded& out);
     void decode_nmt(const Frame& f, Decoded& out);
     void decode_sync(const Frame& f, Decoded& out);
     void decode_time(const Frame& f, Decoded& out);
