@@ -9,7 +9,7 @@ packages=(
     libcli11-dev libexpected-dev libyaml-cpp-dev nlohmann-json3-dev libpugixml-dev zlib1g-dev
     can-utils iproute2 kmod user-mode-linux tshark
     clang-14 clang-format-14 libclang-rt-14-dev lld-14 valgrind python3
-    python3-dev pybind11-dev python3-pytest
+    python3-dev pybind11-dev python3-pytest python3-can
     nodejs npm chromium
 )
 # Sanitizer builds (ASan+UBSan, TSan) and fuzz stage: clang-14, linked with lld (lld-14);
@@ -18,7 +18,8 @@ packages=(
 # libclang-rt-14-dev (dpkg -S libclang_rt.fuzzer-x86_64.a on Debian 12). Leak check: valgrind.
 # ESI XML files (devices/*.xml, `codrive esi export`): libpugixml-dev.
 # Vector BLF traces (codrive-dump): zlib1g-dev, the containers are zlib streams.
-# The Python module (python/, docs/python.md): python3-dev, pybind11-dev; its tests: python3-pytest.
+# The Python module (python/, docs/python.md): python3-dev, pybind11-dev; its tests: python3-pytest,
+# and python3-can, whose trace writers check codrive-dump's readers (tests/python/test_python_can_traces.py).
 # codrive-dump --report: npm (with nodejs) fetches uPlot at build time (tools/dump/report,
 # `npm ci` on the committed package-lock.json); the report test loads the page in chromium.
 
