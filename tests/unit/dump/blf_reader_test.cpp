@@ -5,8 +5,10 @@
 #include "dump_test_util.hpp"
 
 #include <codrive/dump/blf_reader.hpp>
+#include <codrive/dump/error_frame_build.hpp>
 
 #include <gtest/gtest.h>
+#include <linux/can/error.h>
 
 #include <algorithm>
 #include <cstdlib>
@@ -359,4 +361,48 @@ TEST(DumpBlf, ACanFd64ObjectStoringFewerBytesThanItsDlcKeepsTheFrame) {
     EXPECT_EQ(got[2].status, ReadStatus::Malformed);
     EXPECT_NE(got[2].error.find("DLC 15 needs 64 data bytes, the object has 40"), std::string::npos)
         << got[2].error;
+}
+
+// Vector's converter fills the rest of a container with zeros after the last object
+// (vector_blf's events_from_converter/test_GlobalMarker.blf: 27 after a 571-byte marker): every
+// zero byte between objects, in a container or after the last one in the file, is padding.
+TEST(DumpBlf, RunsOfZerosBetweenObjectsAndAtTheEndAreSkipped) {
+    const auto want = conversation();
+    const std::int64_t start = want.front().ts_ns / 1'000'000 * 1'000'000;
+    BlfWriteOptions o;
+    o.container_bytes = 200; // the zeros fall inside, across and at the end of containers
+    std::string stream;
+    for (const auto& e : events_of(want, BlfObjectType::CanMessage)) {
+        stream += blf_event_object(e, start, o) + std::string(27, '\0');
+    }
+    const auto file = blf_file(start, stream + std::string(300, '\0'), o) + std::string(50, '\0');
+    const auto got = read_trace(file);
+    expect_same_frames(got, want, "with zeros after every object");
+    EXPECT_EQ(last_step(file).status, ReadStatus::End) << last_step(file).error;
+}
+
+// The CAN error objects beyond CAN_ERROR(_EXT) that Vector's loggers write (vector_blf's test
+// files have each): an overload frame, the controller's error counters, an error frame on a CAN
+// FD channel. Each becomes the SocketCAN error frame a live capture would show.
+TEST(DumpBlf, OverloadDriverErrorAndCanFdErrorObjectsAreErrorFrames) {
+    const std::int64_t t0 = 1'795'478'400'000'000'000LL;
+    const Frame passive = state_error_frame(TraceBusState::Passive, 130, 5);
+    const Frame warning = state_error_frame(TraceBusState::Warning, 0, 100);
+    const std::vector<BlfEvent> events = {
+        {Frame{}, t0 + 1000, 4, BlfObjectType::CanOverload},
+        {passive, t0 + 2000, 4, BlfObjectType::CanDriverError},
+        {warning, t0 + 3000, 4, BlfObjectType::CanDriverErrorExt},
+        {Frame{}, t0 + 4000, 4, BlfObjectType::CanFdError64},
+    };
+    const auto got = read_trace(blf_file(events));
+    ASSERT_EQ(got.size(), events.size());
+    for (const auto& g : got) {
+        ASSERT_EQ(g.status, ReadStatus::Frame) << g.error;
+        EXPECT_EQ(g.iface, "can4");
+    }
+    EXPECT_EQ(got[0].frame, protocol_error_frame(CAN_ERR_PROT_OVERLOAD, false, 0));
+    EXPECT_EQ(got[1].frame, passive);
+    EXPECT_EQ(got[2].frame, warning);
+    EXPECT_EQ(got[3].frame, protocol_error_frame(0, false, 0));
+    EXPECT_EQ(got[3].ts_ns, t0 + 4000);
 }

@@ -144,6 +144,25 @@ std::string blf_event_object(const BlfEvent& e, std::int64_t start_ns, const Blf
         put32(p, 0);
         p += std::string(24, '\0');
         break;
+    case BlfObjectType::CanOverload:
+        put16(p, e.channel);
+        p += std::string(6, '\0');
+        break;
+    case BlfObjectType::CanDriverError:
+    case BlfObjectType::CanDriverErrorExt:
+        // Transmit and receive error counters from the SocketCAN error frame (data[6], data[7]).
+        put16(p, e.channel);
+        p += static_cast<char>(f.data[6]);
+        p += static_cast<char>(f.data[7]);
+        put32(p, 0); // error code
+        if (e.type == BlfObjectType::CanDriverErrorExt) {
+            p += std::string(24, '\0'); // flags, state, reserved
+        }
+        break;
+    case BlfObjectType::CanFdError64:
+        p += static_cast<char>(e.channel);
+        p += std::string(79, '\0');
+        break;
     case BlfObjectType::LogContainer:
         throw std::invalid_argument("not an event");
     }

@@ -12,7 +12,8 @@
 namespace codrive::dump::testing {
 
 /// One frame to write, as the object type `type` (CAN_MESSAGE, CAN_MESSAGE2, CAN_FD_MESSAGE,
-/// CAN_FD_MESSAGE_64, or CAN_ERROR_EXT for an error frame).
+/// CAN_FD_MESSAGE_64; for an error frame CAN_ERROR_EXT, CAN_FD_ERROR_64, CAN_OVERLOAD, or
+/// CAN_DRIVER_ERROR(_EXT) with the frame's error counters).
 struct BlfEvent {
     Frame frame;
     std::int64_t ts_ns = 0;

@@ -9,6 +9,7 @@
 #include <codrive/dump/text_scan.hpp>
 
 #include <fmt/format.h>
+#include <linux/can/error.h>
 
 #include <algorithm>
 #include <cstring>
@@ -52,6 +53,14 @@ std::string_view type_name(std::uint32_t type) {
         return "CAN_MESSAGE";
     case BlfObjectType::CanError:
         return "CAN_ERROR";
+    case BlfObjectType::CanOverload:
+        return "CAN_OVERLOAD";
+    case BlfObjectType::CanDriverError:
+        return "CAN_DRIVER_ERROR";
+    case BlfObjectType::CanDriverErrorExt:
+        return "CAN_DRIVER_ERROR_EXT";
+    case BlfObjectType::CanFdError64:
+        return "CAN_FD_ERROR_64";
     case BlfObjectType::LogContainer:
         return "LOG_CONTAINER";
     case BlfObjectType::CanErrorExt:
@@ -179,16 +188,22 @@ ReadStatus BlfReader::read_file_header() {
 
 // Starts the next top-level object as the source of object bytes.
 BlfReader::Fill BlfReader::next_source() {
-    // Objects are followed by up to 3 (python-can: object size % 4) zero padding bytes.
-    for (int pad = 0; pad < 8; ++pad) {
-        if (input_.ensure(1) == 0) {
+    // Objects are followed by up to 3 (object size % 4) zero padding bytes; a file may also end
+    // in zeros. A zero byte never starts an object, so every one is skipped.
+    for (;;) {
+        const auto n = input_.ensure(1);
+        if (n == 0) {
             return Fill::End;
         }
-        if (input_.data()[0] != 0) {
+        const auto* p = input_.data();
+        const auto* end = p + n;
+        const auto* first = std::find_if(p, end, [](std::uint8_t b) { return b != 0; });
+        const auto zeros = static_cast<std::size_t>(first - p);
+        input_.consume(zeros);
+        offset_ += zeros;
+        if (first != end) {
             break;
         }
-        input_.consume(1);
-        ++offset_;
     }
     const auto got = input_.ensure(kBaseHeader);
     const auto* h = input_.data();
@@ -369,8 +384,10 @@ ReadStatus BlfReader::next(TraceRecord& record) {
             inner_offset_ += n;
             skip_left_ -= n;
         }
-        // Padding after the previous object: zero bytes up to the next "LOBJ".
-        for (int pad = 0; pad < 8; ++pad) {
+        // Padding after the previous object: zero bytes up to the next "LOBJ". Vector's
+        // converter fills the rest of a container with zeros (vector_blf's test_GlobalMarker.blf
+        // from the converter: 27 after its last object), so there is no limit.
+        for (;;) {
             const auto s = ensure_inner(1);
             if (s == Fill::Fatal) {
                 return ReadStatus::Fatal;
@@ -378,11 +395,15 @@ ReadStatus BlfReader::next(TraceRecord& record) {
             if (s == Fill::End) {
                 return ReadStatus::End;
             }
-            if (inner_[inner_pos_] != 0) {
+            const auto* p = inner_.data() + inner_pos_;
+            const auto* end = p + inner_available();
+            const auto* first = std::find_if(p, end, [](std::uint8_t b) { return b != 0; });
+            const auto zeros = static_cast<std::size_t>(first - p);
+            inner_pos_ += zeros;
+            inner_offset_ += zeros;
+            if (first != end) {
                 break;
             }
-            ++inner_pos_;
-            ++inner_offset_;
         }
         ++objects_;
         const auto s = ensure_inner(kBaseHeader);
@@ -553,6 +574,31 @@ ReadStatus BlfReader::decode(const std::uint8_t* obj, std::uint32_t size, std::u
         channel = le16(p);
         f = protocol_error_frame(0, false, 0);
         break;
+    case BlfObjectType::CanFdError64: // u8 channel, then the frame as CAN_FD_MESSAGE_64
+        if (n < 1) {
+            return malformed("no channel");
+        }
+        channel = p[0];
+        f = protocol_error_frame(0, false, 0);
+        break;
+    case BlfObjectType::CanOverload: // u16 channel
+        if (n < 2) {
+            return malformed("no channel");
+        }
+        channel = le16(p);
+        f = protocol_error_frame(CAN_ERR_PROT_OVERLOAD, false, 0);
+        break;
+    case BlfObjectType::CanDriverError:
+    case BlfObjectType::CanDriverErrorExt: {
+        // u16 channel, u8 transmit errors, u8 receive errors, u32 error code (EXT: more after):
+        // the controller state the counters give, as for PEAK's error counter lines.
+        if (n < 4) {
+            return malformed(fmt::format("{} data bytes, at least 4 expected", n));
+        }
+        channel = le16(p);
+        f = state_error_frame(state_from_counters(p[2], p[3]), p[2], p[3]);
+        break;
+    }
     case BlfObjectType::LogContainer:
         return malformed("a container inside a container");
     }

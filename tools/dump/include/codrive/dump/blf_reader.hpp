@@ -18,13 +18,17 @@ namespace codrive::dump {
 
 /// BLF object types codrive-dump reads (the values of Vector's binlog object type list).
 enum class BlfObjectType : std::uint32_t {
-    CanMessage = 1,       ///< CAN_MESSAGE: classic frame
-    CanError = 2,         ///< CAN_ERROR: error frame without details
-    LogContainer = 10,    ///< LOG_CONTAINER: further objects, zlib-compressed or stored
-    CanErrorExt = 73,     ///< CAN_ERROR_EXT: error frame with controller details
-    CanMessage2 = 86,     ///< CAN_MESSAGE2: classic frame with its bit length
-    CanFdMessage = 100,   ///< CAN_FD_MESSAGE: CAN FD or classic frame (channel 16-bit)
-    CanFdMessage64 = 101, ///< CAN_FD_MESSAGE_64: CAN FD or classic frame (channel 8-bit)
+    CanMessage = 1,         ///< CAN_MESSAGE: classic frame
+    CanError = 2,           ///< CAN_ERROR: error frame without details
+    CanOverload = 3,        ///< CAN_OVERLOAD: overload frame
+    CanDriverError = 31,    ///< CAN_DRIVER_ERROR: the controller's error counters
+    LogContainer = 10,      ///< LOG_CONTAINER: further objects, zlib-compressed or stored
+    CanErrorExt = 73,       ///< CAN_ERROR_EXT: error frame with controller details
+    CanDriverErrorExt = 74, ///< CAN_DRIVER_ERROR_EXT: error counters with controller state
+    CanMessage2 = 86,       ///< CAN_MESSAGE2: classic frame with its bit length
+    CanFdMessage = 100,     ///< CAN_FD_MESSAGE: CAN FD or classic frame (channel 16-bit)
+    CanFdMessage64 = 101,   ///< CAN_FD_MESSAGE_64: CAN FD or classic frame (channel 8-bit)
+    CanFdError64 = 104,     ///< CAN_FD_ERROR_64: error frame on a CAN FD channel (8-bit)
 };
 
 /// Reads a Vector BLF file as a stream: the file header ("LOGG": the measurement start, a
