@@ -92,3 +92,25 @@ TEST(DumpCsv, IxxatLayoutDottedTimeBusAndAsciiColumn) {
     EXPECT_EQ(items[3].error.rfind("5: bad timestamp", 0), 0U) << "at most ms, µs and ns";
     EXPECT_EQ(items[4].status, ReadStatus::Frame) << "reading goes on";
 }
+
+// SavvyCAN's "Generic ID/Data CSV" (its examples/GenericID_Log.csv): two columns, every id written
+// with 8 digits, a trailing space after the data. SavvyCAN reads an id above 7FF as 29-bit, so
+// 8 digits alone do not make one here (they do in other CSV files, see the 29-bit column rule).
+TEST(DumpCsv, SavvyCanGenericIdDataColumnsWithEightDigitIds) {
+    TraceFormat format{};
+    const auto items = read_trace("ID,Data Bytes\n"
+                                  "0000021A,FE 36 12 FE 69 05 07 AD \n"
+                                  "0000048C,00 \n"
+                                  "18FEF100,01 02 \n",
+                                  &format);
+    EXPECT_EQ(format, TraceFormat::Csv);
+    ASSERT_EQ(items.size(), 3U);
+    for (const auto& i : items) {
+        ASSERT_EQ(i.status, ReadStatus::Frame) << i.error;
+        EXPECT_FALSE(i.has_ts);
+    }
+    EXPECT_EQ(items[0].frame, Frame::make(0x21A, {0xFE, 0x36, 0x12, 0xFE, 0x69, 0x05, 0x07, 0xAD}));
+    EXPECT_EQ(items[1].frame, Frame::make(0x48C, {0x00}));
+    EXPECT_TRUE(items[2].frame.extended());
+    EXPECT_EQ(items[2].frame.id, 0x18FEF100U);
+}

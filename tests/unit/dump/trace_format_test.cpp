@@ -201,3 +201,38 @@ TEST(DumpTraceFormat, PcapngKeepsCanFdBrsErrorAndRemoteFrames) {
         EXPECT_EQ(back[i].ts_ns, 1'795'478'400'123'456'789LL + static_cast<std::int64_t>(i));
     }
 }
+
+// Another tool's log (BUSMASTER's here, as SavvyCAN's examples have it) is no format codrive-dump
+// reads: after 20 unreadable lines and no frame, one sentence and the end, not one error for each
+// of its thousands of lines. Unreadable lines after a frame, or fewer than 20, are each skipped.
+TEST(DumpTraceFormat, AFileOfAnotherFormatStopsAfterTwentyUnreadableLines) {
+    std::string busmaster = "***BUSMASTER Ver 2.4.0***\n***PROTOCOL CAN***\n";
+    for (int i = 0; i < 500; ++i) {
+        busmaster += "22:20:14:992 Rx 0 0000029A s 8 01 36 FE 00 00 00 00 00\n";
+    }
+    const auto items = read_trace(busmaster);
+    ASSERT_EQ(items.size(), 20U);
+    for (std::size_t i = 0; i < 19; ++i) {
+        EXPECT_EQ(items[i].status, ReadStatus::Malformed) << i;
+    }
+    EXPECT_EQ(items[19].status, ReadStatus::Fatal);
+    EXPECT_EQ(items[19].error.rfind("20: no trace format codrive-dump reads: none of the first 20 "
+                                    "lines that are not comments could be read, so reading stops "
+                                    "(this one: bad CAN identifier: '22:20:14:992",
+                                    0),
+              0U)
+        << items[19].error;
+
+    std::string mixed;
+    for (int i = 0; i < 19; ++i) {
+        mixed += "garbage line\n";
+    }
+    mixed += "(1700000000.000000) can0 704#05\n";
+    for (int i = 0; i < 30; ++i) {
+        mixed += "garbage line\n";
+    }
+    mixed += "(1700000000.100000) can0 704#05\n";
+    const auto kept = read_trace(mixed);
+    EXPECT_EQ(frames_of(kept).size(), 2U) << "a file with frames is read to its end";
+    EXPECT_EQ(kept.size(), 51U);
+}

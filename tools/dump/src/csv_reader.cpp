@@ -184,7 +184,7 @@ bool looks_like_csv_header(std::string_view line) {
         data = data || any_of(name, {"data", "data (hex)", "payload", "data bytes"}) ||
                is_byte_column(name);
     });
-    return fields >= 3 && id && data;
+    return fields >= 2 && id && data;
 }
 
 LineStatus CsvReader::parse_header(std::string_view line, std::string& why) {
@@ -193,6 +193,7 @@ LineStatus CsvReader::parse_header(std::string_view line, std::string& why) {
         return LineStatus::Error;
     }
     sep_ = line.find(',') != std::string_view::npos ? ',' : ';';
+    ids_padded_to_8_ = scan::iequals(trim(line), "ID,Data Bytes"); // SavvyCAN "Generic ID/Data CSV"
     for_each_field(line, sep_, [&](std::string_view name) {
         Role r = Role::Ignore;
         if (contains_ci(name, "time")) {
@@ -334,7 +335,8 @@ LineStatus CsvReader::parse_line(std::string_view line, TraceRecord& out, std::s
         return LineStatus::Frame;
     }
     if (!have_ext_column) {
-        ext = id > Frame::kStdMask || id_digits == 8;
+        // SavvyCAN's generic CSV writes every id with 8 digits and reads back > 7FF as 29-bit.
+        ext = id > Frame::kStdMask || (id_digits == 8 && !ids_padded_to_8_);
     }
     if (id > (ext ? Frame::kExtMask : Frame::kStdMask)) {
         why = ext ? "29-bit identifier out of range" : "11-bit identifier out of range";

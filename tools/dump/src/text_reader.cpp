@@ -21,6 +21,7 @@ ReadStatus TextTraceReader::next(TraceRecord& record) {
         }
         switch (parse_line(line, record, why)) {
         case LineStatus::Frame:
+            ++frames_;
             return ReadStatus::Frame;
         case LineStatus::Skip:
             continue;
@@ -29,6 +30,14 @@ ReadStatus TextTraceReader::next(TraceRecord& record) {
             std::string shown;
             for (char c : line.substr(0, 80)) {
                 shown += (c >= 0x20 && c < 0x7F) ? c : '?';
+            }
+            if (frames_ == 0 && ++failed_before_frames_ == kUnreadableLinesToStop) {
+                error_ = fmt::format(
+                    "{}: no trace format codrive-dump reads: none of the first {} lines that "
+                    "are not comments could be read, so reading stops (this one: {}: '{}'); "
+                    "docs/codrive-dump.md lists the formats",
+                    line_no_, kUnreadableLinesToStop, why, shown);
+                return ReadStatus::Fatal;
             }
             error_ = fmt::format("{}: {}: '{}'", line_no_, why, shown);
             return ReadStatus::Malformed;

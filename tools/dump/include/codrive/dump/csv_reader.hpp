@@ -53,6 +53,7 @@ private:
     bool header_done_ = false;
     char sep_ = ',';
     bool base64_ = false;
+    bool ids_padded_to_8_ = false; ///< 8 id digits do not mean 29-bit (SavvyCAN's generic CSV)
     std::int64_t time_unit_ns_ = 1'000'000'000;
     std::vector<Role> roles_;
     std::string iface_;
