@@ -2,24 +2,20 @@
 // Buffered byte input from a file or stdin.
 #include <codrive/dump/input.hpp>
 
-#include <fmt/format.h>
-
 #include <algorithm>
 #include <cerrno>
 #include <cstring>
 #include <fcntl.h>
 #include <unistd.h>
-#include <zlib.h>
 
 namespace codrive::dump {
 namespace {
 
-constexpr std::size_t kCompressedChunk = 64U * 1024U;
-constexpr std::uint8_t kGzipMagic0 = 0x1F; // RFC 1952 §2.3.1: ID1, ID2
-constexpr std::uint8_t kGzipMagic1 = 0x8B;
+constexpr std::size_t kFirstRead = 64U * 1024U; // what open() reads to look for gzip
 
-// One read(2) of up to `n` bytes, retried on EINTR: bytes read, 0 at the end, -1 on an error.
-long read_fd(int fd, std::uint8_t* dst, std::size_t n) {
+} // namespace
+
+long read_retrying(int fd, std::uint8_t* dst, std::size_t n) {
     for (;;) {
         const ssize_t got = ::read(fd, dst, n);
         if (got >= 0 || errno != EINTR) {
@@ -27,31 +23,6 @@ long read_fd(int fd, std::uint8_t* dst, std::size_t n) {
         }
     }
 }
-
-bool is_gzip(const std::uint8_t* p, std::size_t n) {
-    return n >= 2 && p[0] == kGzipMagic0 && p[1] == kGzipMagic1;
-}
-
-} // namespace
-
-struct BufferedInput::Gunzip {
-    z_stream s{};
-    bool ready = false;
-    bool in_member = true; ///< inside a member: the file must not end here
-    bool file_end = false;
-    std::uint64_t inflated = 0;
-    std::vector<std::uint8_t> in;
-    Gunzip() {
-        ready = inflateInit2(&s, 16 + MAX_WBITS) == Z_OK; // 16: a gzip wrapper, not zlib
-    }
-    ~Gunzip() {
-        if (ready) {
-            inflateEnd(&s);
-        }
-    }
-    Gunzip(const Gunzip&) = delete;
-    Gunzip& operator=(const Gunzip&) = delete;
-};
 
 BufferedInput::BufferedInput() = default;
 
@@ -73,8 +44,8 @@ Result<std::unique_ptr<BufferedInput>> BufferedInput::open(const std::string& pa
     in->buf_.resize(capacity);
     // The first two bytes say whether the file is gzip; a pipe may deliver them one by one.
     while (in->end_ < 2 && !in->eof_) {
-        const std::size_t room = std::min(in->buf_.size(), kCompressedChunk) - in->end_;
-        const long got = read_fd(in->fd_, in->buf_.data() + in->end_, room);
+        const std::size_t room = std::min(in->buf_.size(), kFirstRead) - in->end_;
+        const long got = read_retrying(in->fd_, in->buf_.data() + in->end_, room);
         if (got < 0) {
             in->read_error_ = std::strerror(errno);
             in->eof_ = true;
@@ -84,7 +55,7 @@ Result<std::unique_ptr<BufferedInput>> BufferedInput::open(const std::string& pa
             in->end_ += static_cast<std::size_t>(got);
         }
     }
-    if (is_gzip(in->buf_.data(), in->end_)) {
+    if (Gunzip::is_gzip(in->buf_.data(), in->end_)) {
         // All of the first read (at most 64 KiB) becomes the first compressed input.
         const std::string_view first(reinterpret_cast<const char*>(in->buf_.data()), in->end_);
         if (!in->start_gunzip(first, in->eof_)) {
@@ -96,7 +67,7 @@ Result<std::unique_ptr<BufferedInput>> BufferedInput::open(const std::string& pa
 
 std::unique_ptr<BufferedInput> BufferedInput::from_memory(std::string_view bytes) {
     std::unique_ptr<BufferedInput> in(new BufferedInput());
-    if (is_gzip(reinterpret_cast<const std::uint8_t*>(bytes.data()), bytes.size())) {
+    if (Gunzip::is_gzip(reinterpret_cast<const std::uint8_t*>(bytes.data()), bytes.size())) {
         in->buf_.resize(1U << 20);
         if (in->start_gunzip(bytes, true)) {
             return in;
@@ -112,18 +83,10 @@ std::unique_ptr<BufferedInput> BufferedInput::from_memory(std::string_view bytes
 }
 
 bool BufferedInput::start_gunzip(std::string_view first, bool file_end) {
-    gz_ = std::make_unique<Gunzip>();
-    if (!gz_->ready) {
-        gz_.reset();
+    gz_ = Gunzip::start(first, file_end);
+    if (gz_ == nullptr) {
         return false;
     }
-    gz_->in.assign(first.begin(), first.end());
-    if (!file_end) {
-        gz_->in.resize(std::max(gz_->in.size(), kCompressedChunk));
-    }
-    gz_->s.next_in = gz_->in.data();
-    gz_->s.avail_in = static_cast<uInt>(first.size());
-    gz_->file_end = file_end;
     end_ = 0;
     eof_ = false;
     return true;
@@ -159,61 +122,13 @@ std::size_t BufferedInput::ensure(std::size_t n) {
 
 long BufferedInput::read_some(std::uint8_t* dst, std::size_t n) {
     if (gz_ != nullptr) {
-        return inflate_some(dst, n);
+        return gz_->read(fd_, dst, n, read_error_);
     }
-    const long got = read_fd(fd_, dst, n);
+    const long got = read_retrying(fd_, dst, n);
     if (got < 0) {
         read_error_ = std::strerror(errno);
     }
     return got;
-}
-
-long BufferedInput::inflate_some(std::uint8_t* dst, std::size_t n) {
-    Gunzip& g = *gz_;
-    const auto fail_with = [&](std::string why) {
-        read_error_ = fmt::format("gzip: {} after {} uncompressed bytes", why, g.inflated);
-        return -1L;
-    };
-    for (;;) {
-        if (g.s.avail_in == 0 && !g.file_end) {
-            const long got = read_fd(fd_, g.in.data(), g.in.size());
-            if (got < 0) {
-                read_error_ = std::strerror(errno);
-                return -1;
-            }
-            g.file_end = got == 0;
-            g.s.next_in = g.in.data();
-            g.s.avail_in = static_cast<uInt>(got);
-        }
-        if (g.s.avail_in == 0) { // the file has ended
-            return g.in_member ? fail_with("the compressed stream is cut short") : 0;
-        }
-        if (!g.in_member) {
-            // RFC 1952 §2.2: a file is a series of members. Anything else after a member (zero
-            // padding, say) is ignored, as gzip -d does.
-            if (g.s.next_in[0] != kGzipMagic0) {
-                return 0;
-            }
-            if (inflateReset(&g.s) != Z_OK) {
-                return fail_with("zlib could not start the next member");
-            }
-            g.in_member = true;
-        }
-        g.s.next_out = dst;
-        g.s.avail_out = static_cast<uInt>(std::min<std::size_t>(n, 1U << 30));
-        const int r = inflate(&g.s, Z_NO_FLUSH);
-        const auto produced = static_cast<std::size_t>(g.s.next_out - dst);
-        g.inflated += produced;
-        if (r == Z_STREAM_END) {
-            g.in_member = false;
-        } else if (r != Z_OK && r != Z_BUF_ERROR) {
-            return fail_with(
-                fmt::format("bad compressed data ({})", g.s.msg != nullptr ? g.s.msg : zError(r)));
-        }
-        if (produced > 0) {
-            return static_cast<long>(produced);
-        }
-    }
 }
 
 bool BufferedInput::next_line(std::string_view& line, bool& too_long) {

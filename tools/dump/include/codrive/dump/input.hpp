@@ -3,6 +3,7 @@
 #pragma once
 
 #include <codrive/core/error.hpp>
+#include <codrive/dump/gunzip.hpp>
 
 #include <cstddef>
 #include <cstdint>
@@ -13,9 +14,9 @@
 
 namespace codrive::dump {
 
-/// Deflate's largest compression ratio (zlib's technical details: 1032:1): a gzip input of n
-/// bytes inflates to at most n times this.
-inline constexpr std::size_t kMaxInflateRatio = 1032;
+/// One read(2) of up to `n` bytes, retried on EINTR: bytes read, 0 at the end, -1 on an error
+/// (errno set).
+long read_retrying(int fd, std::uint8_t* dst, std::size_t n);
 
 /// Reads a file (or stdin for "-") in large chunks into one buffer; readers look at the unread
 /// bytes and consume them. Memory is the buffer only (1 MiB by default), whatever the file size.
@@ -55,16 +56,14 @@ public:
     bool next_line(std::string_view& line, bool& too_long);
 
 private:
-    struct Gunzip;
     BufferedInput();
     /// Up to `n` bytes of the file (inflated when gzipped): > 0 bytes, 0 at the end, < 0 on an
     /// error (read_error_ set).
     long read_some(std::uint8_t* dst, std::size_t n);
-    long inflate_some(std::uint8_t* dst, std::size_t n);
     /// Switches to inflating, `first` being the file's first compressed bytes. False if zlib
     /// cannot start.
     bool start_gunzip(std::string_view first, bool file_end);
-    std::unique_ptr<Gunzip> gz_;
+    std::unique_ptr<Gunzip> gz_; ///< set when the file is gzip
     std::vector<std::uint8_t> buf_;
     std::size_t pos_ = 0;
     std::size_t end_ = 0;
