@@ -44,7 +44,8 @@ class Trace:
 
     @property
     def problems(self) -> List[str]:
-        """Entries that could not be parsed and were skipped ("trace.log:12: ...") and
+        """Entries that could not be parsed and were skipped ("trace.log:12: ..."), why reading
+        stopped early if it did (then iterating raises codrive.Error with them), and
         error findings of the EDS files given, so far."""
         return self._stream.problems
 

@@ -119,7 +119,8 @@ public:
         std::lock_guard lock(mutex_);
         return problems_;
     }
-    /// True if the input ended early (a truncated or unreadable container).
+    /// True if reading stopped early: a truncated or unreadable container, a cut or corrupt gzip
+    /// stream, or a text file of a format codrive-dump does not read.
     bool fatal() {
         std::lock_guard lock(mutex_);
         return fatal_;

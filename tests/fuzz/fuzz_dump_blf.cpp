@@ -74,7 +74,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     TraceRecord r;
     // Every step consumes at least one object header, so steps are bounded by the size
     // (inflated, for a gzip file).
-    const std::size_t max_steps = in->max_plain_bytes(file.size()) + 2;
+    // BLF containers are zlib streams too, so inflated bytes may inflate again.
+    const std::size_t max_steps = in->max_plain_bytes(file.size()) * kMaxInflateRatio + 2;
     for (std::size_t steps = 0;; ++steps) {
         if (steps > max_steps) {
             __builtin_trap();

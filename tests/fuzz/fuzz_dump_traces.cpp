@@ -24,7 +24,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     TraceRecord r;
     // Every step consumes input, so the number of steps is bounded by the input size (inflated,
     // for a gzip input).
-    const std::size_t max_steps = in->max_plain_bytes(size) + 2;
+    // A BLF file's containers are zlib streams too, so inflated bytes may inflate again.
+    const std::size_t max_steps = in->max_plain_bytes(size) * kMaxInflateRatio + 2;
     for (std::size_t steps = 0;; ++steps) {
         if (steps > max_steps) {
             __builtin_trap(); // a reader that does not advance would hang the tool

@@ -167,3 +167,25 @@ TEST(DumpAsc, CanFdEventWithoutEdlButSixtyFourBytesIsCanFd) {
               0U)
         << items[2].error;
 }
+
+// Times are kept to the year 2255 (kMaxTraceTimeNs): a date plus an event time, or relative
+// times summed, beyond it are named, not wrapped around.
+TEST(DumpAsc, TimesPastTheYear2255AreNamed) {
+    const auto absolute = read_trace("date Tue Nov 24 00:00:00 2200\n"
+                                     "base hex  timestamps absolute\n"
+                                     "   1.000000 1  181             Rx   d 1 05\n"
+                                     "   8999999999.000000 1  181    Rx   d 1 05\n");
+    ASSERT_EQ(absolute.size(), 2U);
+    EXPECT_EQ(absolute[0].status, ReadStatus::Frame);
+    EXPECT_EQ(absolute[1].error.rfind("4: the date plus this time is past the year 2255", 0), 0U)
+        << absolute[1].error;
+    std::string relative = "base hex  timestamps relative\n";
+    for (int i = 0; i < 3; ++i) {
+        relative += "   4000000000.000000 1  181    Rx   d 1 05\n";
+    }
+    const auto summed = read_trace(relative);
+    ASSERT_EQ(summed.size(), 3U);
+    EXPECT_EQ(summed[1].status, ReadStatus::Frame);
+    EXPECT_EQ(summed[2].error.rfind("4: the relative times add up past the year 2255", 0), 0U)
+        << summed[2].error;
+}

@@ -290,9 +290,9 @@ std::string can_message_payload(std::uint32_t id) {
 } // namespace
 
 // Some writers leave the measurement start empty (1970) and put the time since 1970 in each
-// object; python-can's test files hold times 78 years after the start. Every time the trace clock
-// holds (signed 64-bit ns, to the year 2262) is read; a later one is named.
-TEST(DumpBlf, TimesFarFromTheMeasurementStartAreKeptUpToTheYear2262) {
+// object; python-can's test files hold times 78 years after the start. Every time a trace may
+// carry (to the year 2255, kMaxTraceTimeNs) is read; a later one is named.
+TEST(DumpBlf, TimesFarFromTheMeasurementStartAreKeptUpToTheYear2255) {
     using codrive::dump::testing::kStart;
     BlfWriteOptions o;
     const auto ts = static_cast<std::uint64_t>(kStart); // 2023, counted from 1970
@@ -303,7 +303,7 @@ TEST(DumpBlf, TimesFarFromTheMeasurementStartAreKeptUpToTheYear2262) {
     stream +=
         blf_object(BlfObjectType::CanMessage, can_message_payload(0x705), 0x8000000000000000ULL);
     stream += blf_object(BlfObjectType::CanMessage, can_message_payload(0x705),
-                         0x0100000000000000ULL, 1); // 10 µs units: far past 2262
+                         0x0100000000000000ULL, 1); // 10 µs units: far past 2255
     const auto got = read_trace(blf_file(0, stream, o));
     ASSERT_EQ(got.size(), 5U);
     for (std::size_t i = 0; i < 3; ++i) {
@@ -315,17 +315,17 @@ TEST(DumpBlf, TimesFarFromTheMeasurementStartAreKeptUpToTheYear2262) {
     EXPECT_EQ(got[2].ts_ns, 0x2222222222222222LL);
     EXPECT_EQ(got[3].status, ReadStatus::Malformed);
     EXPECT_NE(got[3].error.find("(CAN_MESSAGE): timestamp 9223372036854775808 (ns) is past the "
-                                "year 2262"),
+                                "year 2255"),
               std::string::npos)
         << got[3].error;
-    EXPECT_NE(got[4].error.find("timestamp 72057594037927936 (10 µs units) is past the year 2262"),
+    EXPECT_NE(got[4].error.find("timestamp 72057594037927936 (10 µs units) is past the year 2255"),
               std::string::npos)
         << got[4].error;
 }
 
 // TSMaster writes CAN_FD_MESSAGE_64 objects of 64-byte frames with a valid length of 64 and only
 // 48 bytes stored (python-can issue 1905, a real file). CANoe shows the missing bytes as 00, and
-// so does this reader; a valid length and a stored payload both short of the DLC stay an error.
+// so does this reader; a valid length short of the DLC stays an error.
 TEST(DumpBlf, ACanFd64ObjectStoringFewerBytesThanItsDlcKeepsTheFrame) {
     const auto payload = [](std::uint8_t valid, std::size_t stored, std::uint8_t ext_offset) {
         std::string p;

@@ -265,3 +265,22 @@ TEST(DumpDecoder, RemoteFramesAreNamedNotDecodedAsData) {
     EXPECT_EQ(text(tpdo), "node 5 TPDO2 remote request");
     EXPECT_EQ(text(feed(0x705, 1)), "node 5 guarding request");
 }
+
+// A remote request names the PDO that uses the COB-ID now: node 3's TPDO1 moved to 285h by an
+// SDO download of 1800h:01 is "node 3 TPDO1" there, and 183h then belongs to no PDO.
+TEST(DumpDecoder, ARemoteRequestNamesThePdoMovedToItsCobId) {
+    SdoFeed f;
+    (void)f.feed(0x603, {0x23, 0x00, 0x18, 0x01, 0x85, 0x02, 0x00, 0x00});
+    (void)f.feed(0x583, {0x60, 0x00, 0x18, 0x01, 0x00, 0x00, 0x00, 0x00});
+    const auto rtr = [&](std::uint32_t id) {
+        TraceRecord r;
+        r.has_ts = true;
+        r.frame = Frame::make_rtr(id, 8);
+        r.ts_ns = f.ts;
+        Decoded out;
+        f.dec.decode(r, out, f.notes);
+        return std::pair{text(out), out.node};
+    };
+    EXPECT_EQ(rtr(0x285), (std::pair<std::string, NodeId>{"node 3 TPDO1 remote request", 3}));
+    EXPECT_EQ(rtr(0x183).first, "") << "183h is no PDO's COB-ID any more";
+}

@@ -14,6 +14,7 @@
 #include <filesystem>
 #include <fstream>
 #include <string>
+#include <tuple>
 #include <unistd.h>
 
 using namespace codrive;
@@ -189,4 +190,37 @@ TEST(DumpGzip, ACutOrCorruptStreamKeepsTheFramesBeforeAndSaysWhy) {
     EXPECT_EQ(c.items.back().status, ReadStatus::Fatal);
     EXPECT_NE(c.read_error.find("gzip: "), std::string::npos) << c.read_error;
     EXPECT_NE(c.items.back().error.find(c.read_error), std::string::npos) << c.items.back().error;
+    // Damaged deflate data may inflate to wrong bytes before zlib notices (the checksum at the
+    // end catches the rest): the frames from before the damage are read as they were.
+    const auto read_back = frames_of(c.items);
+    std::size_t intact = 0;
+    while (intact < read_back.size() && intact < want.size() &&
+           read_back[intact].frame == want[intact].frame) {
+        ++intact;
+    }
+    EXPECT_GT(intact, want.size() / 10) << "the frames before the damage are read";
+}
+
+// A damaged checksum (the member's last 8 bytes: CRC-32 and size, RFC 1952 §2.3.1) is found only
+// after all the data has been inflated: every frame is read, then the error is named, as gzip -d
+// writes the data and then complains. Bytes after the last member that are neither a member nor
+// zero padding are named too, after everything before them.
+TEST(DumpGzip, ADamagedChecksumOrTrailingGarbageComesAfterEveryFrame) {
+    const auto plain = long_candump_log(2000);
+    const auto want = frames_of(read_trace(plain));
+    auto crc = gzip_bytes(plain);
+    crc[crc.size() - 8] = static_cast<char>(crc[crc.size() - 8] ^ 0x01);
+    for (const auto& [what, bytes, cause] :
+         {std::tuple{std::string("checksum"), crc, std::string("incorrect data check")},
+          std::tuple{std::string("trailing garbage"), gzip_bytes(plain) + "not gzip\n",
+                     std::string("are no gzip member")}}) {
+        for (const std::size_t capacity : {std::size_t{512}, std::size_t{1} << 20}) {
+            GzTempFile file(bytes);
+            const auto r = read_gz_file(file.path, capacity);
+            expect_same_gz(frames_of(r.items), want, what);
+            ASSERT_FALSE(r.items.empty()) << what;
+            EXPECT_EQ(r.items.back().status, ReadStatus::Fatal) << what;
+            EXPECT_NE(r.read_error.find(cause), std::string::npos) << what << ": " << r.read_error;
+        }
+    }
 }

@@ -161,3 +161,19 @@ TEST(DumpLogParser, ScreenExtrasGiveDirectionAndCanFdFlags) {
     EXPECT_TRUE(items[2].frame.fd()) << "a two-digit length is candump's CAN FD form";
     EXPECT_EQ(items[3].error.rfind("4: expected candump -x flags", 0), 0U) << items[3].error;
 }
+
+// candump -t d prints the time since the previous frame; summed they stay below the year 2255
+// (kMaxTraceTimeNs), and a sum past it is named instead of wrapping around.
+TEST(DumpLog, DeltaTimesThatAddUpPastTheYear2255AreNamed) {
+    std::string screen = " (000.000000)  can0  181   [1]  01\n";
+    for (int i = 0; i < 95; ++i) {
+        screen += " (99999999.000000)  can0  181   [1]  01\n";
+    }
+    const auto items = codrive::dump::testing::read_trace(screen);
+    ASSERT_EQ(items.size(), 96U);
+    EXPECT_EQ(items[90].status, ReadStatus::Frame) << items[90].error;
+    EXPECT_EQ(items[90].ts_ns, 90 * 99'999'999'000'000'000LL);
+    EXPECT_EQ(items[91].status, ReadStatus::Malformed);
+    EXPECT_EQ(items[91].error.rfind("92: the time deltas add up past the year 2255", 0), 0U)
+        << items[91].error;
+}

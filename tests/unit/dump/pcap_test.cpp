@@ -156,6 +156,16 @@ TEST(DumpPcap, PcapngWithNanosecondResolutionAndInterfaceName) {
     u32(16);
     b += std::string("\x00\x00\x07\x01\x01\x00\x00\x00\x05\x00\x00\x00\x00\x00\x00\x00", 16);
     u32(32 + 16);
+    // The same frame at 2^64 - 1 ns: past the year 2255, the latest time a trace may carry.
+    u32(6);
+    u32(32 + 16);
+    u32(0);
+    u32(0xFFFFFFFF);
+    u32(0xFFFFFFFF);
+    u32(16);
+    u32(16);
+    b += std::string("\x00\x00\x07\x01\x01\x00\x00\x00\x05\x00\x00\x00\x00\x00\x00\x00", 16);
+    u32(32 + 16);
     auto in = BufferedInput::from_memory(b);
     PcapReader reader(*in);
     TraceRecord r;
@@ -163,6 +173,9 @@ TEST(DumpPcap, PcapngWithNanosecondResolutionAndInterfaceName) {
     EXPECT_EQ(r.iface, "vcan7");
     EXPECT_EQ(r.ts_ns, 1'500'000'000);
     EXPECT_EQ(r.frame, Frame::make(0x701, {5}));
+    ASSERT_EQ(reader.next(r), ReadStatus::Malformed);
+    EXPECT_EQ(reader.error(), "pcapng packet 2: timestamp 18446744073709551615 (1000000000 per "
+                              "second) is past the year 2255, skipped");
     EXPECT_EQ(reader.next(r), ReadStatus::End);
 }
 

@@ -45,13 +45,20 @@ bool parse_decimal(std::string_view t, std::uint32_t& v) {
 
 } // namespace
 
-void AscReader::stamp(std::int64_t t_ns, TraceRecord& out) {
+LineStatus AscReader::stamp(std::int64_t t_ns, TraceRecord& out, std::string& why) {
     if (relative_) {
-        last_ns_ += t_ns;
+        if (!add_trace_time(last_ns_, t_ns, last_ns_)) {
+            why = "the relative times add up past the year 2255";
+            return LineStatus::Error;
+        }
         t_ns = last_ns_;
     }
-    out.ts_ns = start_ns_ + t_ns;
+    if (!add_trace_time(start_ns_, t_ns, out.ts_ns)) {
+        why = "the date plus this time is past the year 2255";
+        return LineStatus::Error;
+    }
     out.has_ts = true;
+    return LineStatus::Frame;
 }
 
 LineStatus AscReader::parse_date(std::string_view rest, std::string& why) {
@@ -229,10 +236,7 @@ LineStatus AscReader::parse_line(std::string_view line, TraceRecord& out, std::s
     const auto ch = c.token();
     if (ch == "CANFD") {
         const auto s = parse_fd(c.rest(), out, why);
-        if (s == LineStatus::Frame) {
-            stamp(t_ns, out);
-        }
-        return s;
+        return s == LineStatus::Frame ? stamp(t_ns, out, why) : s;
     }
     std::int64_t channel = 0;
     if (!scan::parse_digits(ch, channel)) {
@@ -244,8 +248,7 @@ LineStatus AscReader::parse_line(std::string_view line, TraceRecord& out, std::s
     out.iface = iface_;
     if (id_tok == "ErrorFrame") {
         f = protocol_error_frame(0, false, 0);
-        stamp(t_ns, out);
-        return LineStatus::Frame;
+        return stamp(t_ns, out, why);
     }
     const auto dir = c.token();
     if (dir != "Rx" && dir != "Tx") {
@@ -264,8 +267,7 @@ LineStatus AscReader::parse_line(std::string_view line, TraceRecord& out, std::s
         if (!dlc_tok.empty() && scan::parse_hex_u32(dlc_tok, dlc) && dlc <= 15) {
             f.len = static_cast<std::uint8_t>(dlc > 8 ? 8 : dlc);
         }
-        stamp(t_ns, out);
-        return LineStatus::Frame;
+        return stamp(t_ns, out, why);
     }
     if (kind != "d" || !scan::parse_hex_u32(dlc_tok, dlc)) {
         why = "expected 'd <dlc>' or 'r' after the direction";
@@ -291,8 +293,8 @@ LineStatus AscReader::parse_line(std::string_view line, TraceRecord& out, std::s
         }
     }
     f.len = static_cast<std::uint8_t>(n);
-    stamp(t_ns, out);
-    return LineStatus::Frame; // "Length = ... BitCount = ... ID = ..." after the data is ignored
+    // "Length = ... BitCount = ... ID = ..." after the data is ignored.
+    return stamp(t_ns, out, why);
 }
 
 } // namespace codrive::dump

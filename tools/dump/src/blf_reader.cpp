@@ -470,12 +470,12 @@ ReadStatus BlfReader::decode(const std::uint8_t* obj, std::uint32_t size, std::u
     const std::uint32_t flags = le32(obj + 16);
     const std::uint64_t ts = le64(obj + 24);
     const std::uint64_t unit = flags == kObjFlagTenMicros ? 10'000 : 1;
-    // Any time that fits the trace clock (signed 64-bit ns since 1970, up to the year 2262) is
-    // taken: some writers leave the measurement start empty and put times since 1970 here.
+    // Any time a trace may carry (to the year 2255) is taken: some writers leave the measurement
+    // start empty and put times since 1970 here.
     std::int64_t ts_ns = 0;
-    if (ts > static_cast<std::uint64_t>(std::numeric_limits<std::int64_t>::max()) / unit ||
-        __builtin_add_overflow(start_ns_, static_cast<std::int64_t>(ts * unit), &ts_ns)) {
-        return malformed(fmt::format("timestamp {} ({}) is past the year 2262", ts,
+    if (ts > static_cast<std::uint64_t>(kMaxTraceTimeNs) / unit ||
+        !add_trace_time(start_ns_, static_cast<std::int64_t>(ts * unit), ts_ns)) {
+        return malformed(fmt::format("timestamp {} ({}) is past the year 2255", ts,
                                      unit == 1 ? "ns" : "10 µs units"));
     }
     const auto* p = obj + header_size;
@@ -558,7 +558,7 @@ ReadStatus BlfReader::decode(const std::uint8_t* obj, std::uint32_t size, std::u
             const std::size_t ext = p[35];
             const std::size_t end = ext >= header_size + 40U ? ext - header_size : n;
             const std::size_t stored = std::min<std::size_t>({end, n}) - 40;
-            if (p[2] < f.len && stored < f.len) {
+            if (p[2] < f.len) { // the valid length contradicts the DLC
                 return malformed(fmt::format("DLC {} needs {} data bytes, the object has {}", dlc,
                                              f.len, std::min<std::size_t>(p[2], stored)));
             }

@@ -174,11 +174,11 @@ void Decoder::decode(const TraceRecord& r, Decoded& out, std::vector<Note>& note
         break;
     }
     if (f.rtr()) {
-        if (info.pdo_number() != 0) {
+        // The PDO that uses the COB-ID now, also one moved there by its 1400h/1800h:01.
+        const NodeId requested = pdo_.remote_request(f.id, out.text);
+        if (requested != 0) {
             out.service = Service::Pdo;
-            out.node = info.node;
-            fmt::format_to(std::back_inserter(out.text), "node {} {} remote request", info.node,
-                           to_string(info.type));
+            out.node = requested;
         }
         return;
     }

@@ -27,6 +27,7 @@ struct Gunzip::State {
     bool in_member = true; ///< inside a member: the file must not end here
     bool file_end = false;
     std::uint64_t inflated = 0;
+    std::string pending_error; ///< found after the bytes last returned; reported next time
     std::vector<std::uint8_t> in;
     State() { ready = inflateInit2(&s, 16 + MAX_WBITS) == Z_OK; } // 16: gzip, not zlib
     ~State() {
@@ -63,6 +64,10 @@ std::unique_ptr<Gunzip> Gunzip::start(std::string_view first, bool file_end) {
 
 long Gunzip::read(int fd, std::uint8_t* dst, std::size_t n, std::string& error) {
     State& g = *st_;
+    if (!g.pending_error.empty()) {
+        error = g.pending_error;
+        return -1;
+    }
     const auto fail_with = [&](std::string why) {
         error = fmt::format("gzip: {} after {} uncompressed bytes", why, g.inflated);
         return -1L;
@@ -82,10 +87,10 @@ long Gunzip::read(int fd, std::uint8_t* dst, std::size_t n, std::string& error) 
             return g.in_member ? fail_with("the compressed stream is cut short") : 0;
         }
         if (!g.in_member) {
-            // RFC 1952 §2.2: a file is a series of members. Anything else after a member (zero
-            // padding, say) is ignored, as gzip -d does.
+            // RFC 1952 §2.2: a file is a series of members. Zero padding after the last one is
+            // ignored; other bytes are named (gzip -d warns "trailing garbage ignored").
             if (g.s.next_in[0] != kGzipMagic0) {
-                return 0;
+                return trailing(fd, error);
             }
             if (inflateReset(&g.s) != Z_OK) {
                 return fail_with("zlib could not start the next member");
@@ -100,13 +105,42 @@ long Gunzip::read(int fd, std::uint8_t* dst, std::size_t n, std::string& error) 
         if (r == Z_STREAM_END) {
             g.in_member = false;
         } else if (r != Z_OK && r != Z_BUF_ERROR) {
-            return fail_with(
+            const auto failed = fail_with(
                 fmt::format("bad compressed data ({})", g.s.msg != nullptr ? g.s.msg : zError(r)));
+            if (produced == 0) {
+                return failed;
+            }
+            g.pending_error = error; // the bytes before the damage first (a bad checksum, say)
+            error.clear();
         }
         if (produced > 0) {
             return static_cast<long>(produced);
         }
     }
+}
+
+long Gunzip::trailing(int fd, std::string& error) {
+    State& g = *st_;
+    const auto nonzero = [](const std::uint8_t* p, std::size_t n) {
+        return std::any_of(p, p + n, [](std::uint8_t b) { return b != 0; });
+    };
+    bool garbage = nonzero(g.s.next_in, g.s.avail_in);
+    g.s.avail_in = 0;
+    while (!garbage && !g.file_end) {
+        const long got = read_retrying(fd, g.in.data(), g.in.size());
+        if (got <= 0) {
+            break;
+        }
+        garbage = nonzero(g.in.data(), static_cast<std::size_t>(got));
+    }
+    g.file_end = true;
+    if (garbage) {
+        error = fmt::format("gzip: the bytes after the last member ({} uncompressed bytes) are no "
+                            "gzip member and were not read",
+                            g.inflated);
+        return -1;
+    }
+    return 0;
 }
 
 } // namespace codrive::dump

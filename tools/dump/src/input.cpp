@@ -43,7 +43,7 @@ Result<std::unique_ptr<BufferedInput>> BufferedInput::open(const std::string& pa
     }
     in->buf_.resize(capacity);
     // The first two bytes say whether the file is gzip; a pipe may deliver them one by one.
-    while (in->end_ < 2 && !in->eof_) {
+    while (in->end_ < std::min<std::size_t>(2, in->buf_.size()) && !in->eof_) {
         const std::size_t room = std::min(in->buf_.size(), kFirstRead) - in->end_;
         const long got = read_retrying(in->fd_, in->buf_.data() + in->end_, room);
         if (got < 0) {

@@ -270,7 +270,10 @@ LineStatus LogReader::parse_line(std::string_view line, TraceRecord& out, std::s
             relative_ = looks_like_deltas() ? Relative::Delta : Relative::FromZero;
         }
         if (relative_ == Relative::Delta) {
-            delta_sum_ns_ += out.ts_ns;
+            if (!add_trace_time(delta_sum_ns_, out.ts_ns, delta_sum_ns_)) {
+                why = "the time deltas add up past the year 2255";
+                return LineStatus::Error;
+            }
             out.ts_ns = delta_sum_ns_;
         }
     }

@@ -283,24 +283,34 @@ ReadStatus PcapReader::next_ng(TraceRecord& record) {
             } else {
                 const auto& itf = interfaces_[if_id];
                 record.iface = itf.name;
+                bool ts_ok = true;
                 if (epb) {
                     const std::uint64_t ts =
                         (static_cast<std::uint64_t>(u32(body + 4)) << 32) | u32(body + 8);
                     const auto per = static_cast<std::uint64_t>(itf.ts_per_second);
                     const std::uint64_t sec = ts / per;
                     const std::uint64_t rem = ts % per;
-                    record.ts_ns = static_cast<std::int64_t>(
-                        sec * 1'000'000'000ULL +
-                        static_cast<std::uint64_t>(static_cast<double>(rem) * 1e9 /
-                                                   static_cast<double>(per)));
+                    const auto frac_ns = static_cast<std::int64_t>(static_cast<double>(rem) * 1e9 /
+                                                                   static_cast<double>(per));
+                    if (sec > static_cast<std::uint64_t>(kMaxTraceTimeNs) / 1'000'000'000ULL ||
+                        !add_trace_time(static_cast<std::int64_t>(sec) * 1'000'000'000LL, frac_ns,
+                                        record.ts_ns)) {
+                        error_ = fmt::format("pcapng packet {}: timestamp {} ({} per second) is "
+                                             "past the year 2255, skipped",
+                                             records_, ts, per);
+                        ts_ok = false;
+                    }
                     record.has_ts = true;
                 } else {
                     record.has_ts = false;
                 }
                 const std::uint32_t wire = epb ? u32(body + 16) : u32(body);
                 const auto result =
-                    decode_socketcan_record(body + data_off, cap, wire, record.frame);
-                if (result == SocketCanDecode::Ok) {
+                    ts_ok ? decode_socketcan_record(body + data_off, cap, wire, record.frame)
+                          : SocketCanDecode::Ok;
+                if (!ts_ok) {
+                    status = ReadStatus::Malformed;
+                } else if (result == SocketCanDecode::Ok) {
                     status = ReadStatus::Frame;
                 } else {
                     error_ = socketcan_decode_error(

@@ -152,10 +152,9 @@ void PdoTracker::resolve(Pdo& p) {
     }
 }
 
-NodeId PdoTracker::decode(std::uint32_t cob_id, std::span<const std::uint8_t> payload,
-                          fmt::memory_buffer& out) {
+PdoTracker::Pdo* PdoTracker::find(std::uint32_t cob_id) {
     if (cob_id >= by_cob_.size()) {
-        return 0;
+        return nullptr;
     }
     std::uint32_t key = by_cob_[cob_id];
     if (key == kNoPdo) {
@@ -163,15 +162,33 @@ NodeId PdoTracker::decode(std::uint32_t cob_id, std::span<const std::uint8_t> pa
         const auto info = classify_cob_id(cob_id);
         const unsigned n = info.pdo_number();
         if (n == 0 || info.node == 0) {
-            return 0;
+            return nullptr;
         }
         (void)pdo(info.node, info.is_tpdo(), static_cast<std::uint16_t>(n));
         key = by_cob_[cob_id];
         if (key == kNoPdo) {
-            return 0; // that PDO was moved to another COB-ID
+            return nullptr; // that PDO was moved to another COB-ID
         }
     }
-    Pdo& p = pdos_.find(key)->second;
+    return &pdos_.find(key)->second;
+}
+
+NodeId PdoTracker::remote_request(std::uint32_t cob_id, fmt::memory_buffer& out) {
+    const Pdo* p = find(cob_id);
+    if (p == nullptr) {
+        return 0;
+    }
+    fmt::format_to(std::back_inserter(out), "node {} {} remote request", p->node, p->label);
+    return p->node;
+}
+
+NodeId PdoTracker::decode(std::uint32_t cob_id, std::span<const std::uint8_t> payload,
+                          fmt::memory_buffer& out) {
+    Pdo* found = find(cob_id);
+    if (found == nullptr) {
+        return 0;
+    }
+    Pdo& p = *found;
     auto it = std::back_inserter(out);
     text::put(out, "node ");
     text::put_uint(out, p.node);

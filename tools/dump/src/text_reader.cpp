@@ -7,6 +7,9 @@
 namespace codrive::dump {
 
 ReadStatus TextTraceReader::next(TraceRecord& record) {
+    if (frames_ == 0 && failed_before_frames_ >= kUnreadableLinesToStop) {
+        return ReadStatus::Fatal; // stopped: error() still says why
+    }
     std::string_view line;
     bool too_long = false;
     std::string why;

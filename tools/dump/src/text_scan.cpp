@@ -2,6 +2,8 @@
 // Scanners shared by the text trace readers.
 #include <codrive/dump/text_scan.hpp>
 
+#include <codrive/dump/record.hpp>
+
 #include <array>
 
 namespace codrive::dump::scan {
@@ -61,7 +63,7 @@ bool parse_digits(std::string_view s, std::int64_t& v) {
 bool parse_scaled(std::string_view s, std::int64_t unit_ns, std::int64_t& ns) {
     const auto dot = s.find('.');
     std::int64_t whole = 0;
-    if (!parse_digits(s.substr(0, dot), whole) || whole > 9'000'000'000'000'000'000LL / unit_ns) {
+    if (!parse_digits(s.substr(0, dot), whole) || whole > kMaxTraceTimeNs / unit_ns) {
         return false;
     }
     std::int64_t frac_ns = 0;

@@ -33,7 +33,8 @@ private:
     bool parse_id(std::string_view tok, Frame& f) const;
     bool parse_byte(std::string_view tok, std::uint8_t& b) const;
     LineStatus parse_fd(std::string_view rest, TraceRecord& out, std::string& why);
-    void stamp(std::int64_t t_ns, TraceRecord& out);
+    /// Sets the record's time (the date plus `t_ns`, summed when relative); Error past 2255.
+    LineStatus stamp(std::int64_t t_ns, TraceRecord& out, std::string& why);
 
     bool hex_ = true;
     bool relative_ = false;

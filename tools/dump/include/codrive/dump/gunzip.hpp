@@ -15,8 +15,9 @@ namespace codrive::dump {
 inline constexpr std::size_t kMaxInflateRatio = 1032;
 
 /// Inflates a gzip file: one member or several one after another (RFC 1952 §2.2, as
-/// `cat a.gz b.gz` makes), with bytes after the last member that start no member (zero padding)
-/// ignored, as gzip -d does. Compressed bytes come from a file descriptor in 64 KiB reads.
+/// `cat a.gz b.gz` makes); zero padding after the last member is ignored, other bytes there are
+/// an error after everything before them. Compressed bytes come from a file descriptor in 64 KiB
+/// reads.
 class Gunzip {
 public:
     /// True if `p` starts with the gzip magic bytes 1F 8B (RFC 1952 §2.3.1).
@@ -30,11 +31,14 @@ public:
 
     /// Up to `n` inflated bytes, reading `fd` for more compressed ones: > 0 bytes, 0 at the end,
     /// -1 on a read error, a corrupt stream or a file that ends inside a member (`error` says
-    /// which and after how many uncompressed bytes).
+    /// which and after how many uncompressed bytes). The bytes inflated before damage are
+    /// returned first; the error comes with the next call.
     long read(int fd, std::uint8_t* dst, std::size_t n, std::string& error);
 
 private:
     struct State;
+    /// After the last member: 0 if only zero bytes follow, else -1 with `error` set.
+    long trailing(int fd, std::string& error);
     explicit Gunzip(std::unique_ptr<State> state);
     std::unique_ptr<State> st_;
 };

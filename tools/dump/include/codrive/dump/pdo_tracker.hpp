@@ -35,6 +35,9 @@ public:
     /// returns the node, or returns 0 and appends nothing if the id is no PDO.
     NodeId decode(std::uint32_t cob_id, std::span<const std::uint8_t> payload,
                   fmt::memory_buffer& out);
+    /// For a remote frame on a known or default PDO's COB-ID: appends "node 3 TPDO1 remote
+    /// request" and returns the node; else 0 and nothing.
+    NodeId remote_request(std::uint32_t cob_id, fmt::memory_buffer& out);
 
 private:
     struct Entry {
@@ -64,6 +67,8 @@ private:
     static constexpr std::uint32_t kNoPdo = 0xFFFFFFFF;
 
     Pdo& pdo(NodeId node, bool tpdo, std::uint16_t number);
+    /// The PDO that uses `cob_id` now (a default one created on first use), or null.
+    Pdo* find(std::uint32_t cob_id);
     void set_cob_id(Pdo& p, std::uint32_t cob_value);
     void resolve(Pdo& p);
 

@@ -9,6 +9,21 @@
 
 namespace codrive::dump {
 
+/// The latest time a trace may carry: 9e18 ns after 1970 (the year 2255). Every reader gives
+/// times in 0..kMaxTraceTimeNs and names a later one, so whoever uses a time may add intervals
+/// (SDO timeouts, statistics windows) to it or subtract two without overflow.
+inline constexpr std::int64_t kMaxTraceTimeNs = 9'000'000'000'000'000'000LL;
+
+/// `a + b` into `sum` when both are times or intervals of 0..kMaxTraceTimeNs and the sum is one
+/// too; false (and `sum` untouched) otherwise.
+[[nodiscard]] inline bool add_trace_time(std::int64_t a, std::int64_t b, std::int64_t& sum) {
+    if (a < 0 || b < 0 || a > kMaxTraceTimeNs || b > kMaxTraceTimeNs - a) {
+        return false;
+    }
+    sum = a + b;
+    return true;
+}
+
 /// A frame with where and when it was seen. `iface` views the reader's storage and is valid until
 /// the reader's next call.
 struct TraceRecord {
