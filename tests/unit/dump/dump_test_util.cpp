@@ -66,7 +66,11 @@ std::string run_dump_bytes(std::string_view bytes, DumpOptions options) {
 
 std::vector<ReadItem> read_trace(std::string_view bytes, TraceFormat* format) {
     auto in = BufferedInput::from_memory(bytes);
-    auto reader = open_trace_reader(*in, format);
+    return read_input(*in, format);
+}
+
+std::vector<ReadItem> read_input(BufferedInput& in, TraceFormat* format) {
+    auto reader = open_trace_reader(in, format);
     std::vector<ReadItem> items;
     TraceRecord r;
     for (int i = 0; i < 10000; ++i) {

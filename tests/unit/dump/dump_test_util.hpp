@@ -38,6 +38,9 @@ struct ReadItem {
 /// or Fatal; every Frame and Malformed step in order (at most 10000).
 std::vector<ReadItem> read_trace(std::string_view bytes, TraceFormat* format = nullptr);
 
+/// read_trace() of an input already open (a file, to read it through BufferedInput::open).
+std::vector<ReadItem> read_input(BufferedInput& in, TraceFormat* format = nullptr);
+
 /// Only the frames of read_trace().
 std::vector<ReadItem> frames_of(const std::vector<ReadItem>& items);
 

@@ -22,6 +22,7 @@ using namespace codrive::dump;
 using codrive::dump::testing::blf_file;
 using codrive::dump::testing::BlfEvent;
 using codrive::dump::testing::frames_of;
+using codrive::dump::testing::read_input;
 using codrive::dump::testing::read_trace;
 using codrive::dump::testing::ReadItem;
 using codrive::dump::testing::slurp;
@@ -73,22 +74,7 @@ GzFileRead read_gz_file(const std::string& path, std::size_t capacity = 4096) {
     if (!in) {
         return r;
     }
-    auto reader = open_trace_reader(**in);
-    TraceRecord rec;
-    for (int i = 0; i < 100000; ++i) {
-        ReadItem item;
-        item.status = reader->next(rec);
-        if (item.status == ReadStatus::End) {
-            break;
-        }
-        item.frame = rec.frame;
-        item.ts_ns = rec.ts_ns;
-        item.error = std::string(reader->error());
-        r.items.push_back(item);
-        if (item.status == ReadStatus::Fatal) {
-            break;
-        }
-    }
+    r.items = read_input(**in);
     r.read_error = (*in)->read_error();
     r.gzipped = (*in)->gzipped();
     return r;
