@@ -210,3 +210,27 @@ TEST(DumpGzip, ADamagedChecksumOrTrailingGarbageComesAfterEveryFrame) {
         }
     }
 }
+
+// A trace compressed with another tool is named as such, not read as text line by line.
+TEST(DumpGzip, AFileOfAnotherCompressorIsNamedWithTheCommandThatOpensIt) {
+    DumpOptions o;
+    const std::pair<std::string, std::string> files[] = {
+        {std::string("\xFD"
+                     "7zXZ\x00\x00\x04",
+                     8),
+         "xz-compressed; codrive-dump inflates gzip "
+         "only: decompress it first (xz -d)"},
+        {"BZh91AY&SY", "bzip2-compressed; codrive-dump inflates gzip only: decompress it first "
+                       "(bzip2 -d)"},
+        {std::string("\x28\xB5\x2F\xFD\x00\x58", 6), "zstd-compressed"},
+        {std::string("PK\x03\x04\x14\x00", 6), "zip-compressed; codrive-dump inflates gzip only: "
+                                               "decompress it first (unzip)"},
+    };
+    for (const auto& [bytes, says] : files) {
+        const auto out = codrive::dump::testing::run_dump_bytes(bytes, o);
+        EXPECT_NE(out.find(says), std::string::npos) << out;
+    }
+    EXPECT_EQ(codrive::dump::testing::run_dump_bytes("BZh is a word\n", o).find("compressed"),
+              std::string::npos)
+        << "BZh without a block size digit is text";
+}

@@ -123,6 +123,15 @@ bool report_read_error(const BufferedInput& input, std::string_view name, std::s
 
 InputSummary dump_input(BufferedInput& input, std::string_view name, Dumper& dumper) {
     InputSummary sum;
+    const auto n = input.ensure(6);
+    if (const auto tool = other_compression(input.data(), n); !tool.empty()) {
+        dumper.report(fmt::format(
+            "{}: the file is {}-compressed; codrive-dump inflates gzip only: "
+            "decompress it first ({})",
+            name, tool, tool == "zip" ? std::string("unzip") : fmt::format("{} -d", tool)));
+        sum.fatal = true;
+        return sum;
+    }
     auto source = open_trace_reader(input);
     // Text readers name the line ("trace.trc:12: ..."), container readers the record.
     const std::string_view sep = source->line_numbered() ? ":" : ": ";

@@ -7,6 +7,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <array>
 #include <cerrno>
 #include <cstring>
 #include <vector>
@@ -38,6 +39,33 @@ struct Gunzip::State {
     State(const State&) = delete;
     State& operator=(const State&) = delete;
 };
+
+std::string_view other_compression(const std::uint8_t* p, std::size_t n) {
+    struct Magic {
+        std::string_view bytes;
+        std::string_view tool;
+    };
+    // The formats' own magic numbers: xz (FD "7zXZ" 00), bzip2 ("BZh" and a block size digit),
+    // zstd frames (28 B5 2F FD), lz4 frames (04 22 4D 18), zip local file headers ("PK" 03 04).
+    static constexpr std::array<Magic, 5> kMagics = {{
+        {std::string_view("\xFD"
+                          "7zXZ\x00",
+                          6),
+         "xz"},
+        {"BZh", "bzip2"},
+        {"\x28\xB5\x2F\xFD", "zstd"},
+        {"\x04\x22\x4D\x18", "lz4"},
+        {"PK\x03\x04", "zip"},
+    }};
+    const std::string_view head(reinterpret_cast<const char*>(p), n);
+    for (const auto& m : kMagics) {
+        if (head.substr(0, m.bytes.size()) == m.bytes &&
+            (m.tool != "bzip2" || (n > 3 && p[3] >= '1' && p[3] <= '9'))) {
+            return m.tool;
+        }
+    }
+    return {};
+}
 
 bool Gunzip::is_gzip(const std::uint8_t* p, std::size_t n) {
     return n >= 2 && p[0] == kGzipMagic0 && p[1] == kGzipMagic1;
