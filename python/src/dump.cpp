@@ -32,7 +32,12 @@ public:
     TraceStream(const std::string& path, const std::map<long, std::string>& eds,
                 const std::map<long, std::string>& profiles, double sdo_timeout)
         : path_(path) {
-        auto in = dump::BufferedInput::open(path);
+        // open() reads the file's first bytes (is it gzip?): on a pipe that waits for its
+        // writer, so other Python threads run meanwhile.
+        auto in = [&] {
+            py::gil_scoped_release unlocked;
+            return dump::BufferedInput::open(path);
+        }();
         if (!in) {
             errno = in.error().value();
             PyErr_SetFromErrnoWithFilename(PyExc_OSError, path.c_str());

@@ -2,7 +2,9 @@
 """codrive.dump.read against the repository's traces and codrive-dump --json itself (host)."""
 import gzip
 import json
+import os
 import subprocess
+import threading
 
 import pytest
 
@@ -62,6 +64,21 @@ def test_a_gzip_compressed_trace_reads_like_the_plain_one(root, tmp_path):
         for rec in codrive.dump.read(cut):
             records.append(rec)
     assert 0 < len(records) <= len(list(codrive.dump.read(plain)))
+
+
+def test_a_fifo_is_read_while_other_threads_run(tmp_path):
+    # Opening a FIFO waits for its writer, and codrive-dump then reads its first bytes (gzip or
+    # not): both without the GIL, or the writer below could never run.
+    fifo = tmp_path / "live.log"
+    os.mkfifo(fifo)
+    result = {}
+    reader = threading.Thread(target=lambda: result.update(records=list(codrive.dump.read(fifo))))
+    reader.start()
+    with open(fifo, "w") as w:
+        w.write("(1700000000.000000) can0 704#05\n")
+    reader.join(timeout=10)
+    assert not reader.is_alive()
+    assert [r["id"] for r in result["records"]] == [0x704]
 
 
 def test_a_missing_file_raises_os_error(tmp_path):
