@@ -141,7 +141,9 @@ int main(int argc, char** argv) {
                    "Write an HTML report at the end: bus load, heartbeats, SYNC, SDO and PDO "
                    "timing, EMCY/anomaly timeline, node table (one self-contained file)");
     app.add_flag("--top", top, "Live: show the statistics table, refreshed every second");
-    app.add_option("--bitrate", bitrate, "Bit rate for the bus load figure")->capture_default_str();
+    app.add_option("--bitrate", bitrate, "Bit rate for the bus load figure")
+        ->capture_default_str()
+        ->check(CLI::PositiveNumber);
     app.add_option("--sdo-timeout", sdo_timeout_ms,
                    "Report SDO requests unanswered after this many ms")
         ->capture_default_str();

@@ -284,3 +284,21 @@ TEST(DumpDecoder, ARemoteRequestNamesThePdoMovedToItsCobId) {
     EXPECT_EQ(rtr(0x285), (std::pair<std::string, NodeId>{"node 3 TPDO1 remote request", 3}));
     EXPECT_EQ(rtr(0x183).first, "") << "183h is no PDO's COB-ID any more";
 }
+
+// A relative trace (TRC without STARTTIME, candump -t z, CSV) may have a heartbeat at exactly
+// t = 0: it starts the period measurement like any other.
+TEST(DumpStats, AHeartbeatAtTimeZeroStartsThePeriod) {
+    Stats stats;
+    Decoder dec({}, &stats);
+    std::vector<Note> notes;
+    for (const std::int64_t ts : {0LL, 100'000'000LL, 200'000'000LL}) {
+        TraceRecord r;
+        r.has_ts = true;
+        r.frame = Frame::make(0x704, {0x05});
+        r.ts_ns = ts;
+        Decoded out;
+        dec.decode(r, out, notes);
+    }
+    EXPECT_EQ(stats.node(4).hb.n, 2U) << "two periods from three heartbeats";
+    EXPECT_NEAR(stats.node(4).hb.mean_ns, 100'000'000.0, 1.0);
+}

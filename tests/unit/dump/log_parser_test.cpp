@@ -177,3 +177,27 @@ TEST(DumpLog, DeltaTimesThatAddUpPastTheYear2255AreNamed) {
     EXPECT_EQ(items[91].error.rfind("92: the time deltas add up past the year 2255", 0), 0U)
         << items[91].error;
 }
+
+// candump -t d written on Windows (CRLF): the look-ahead that recognises deltas reads the lines
+// as next_line() does, so the times are summed, not taken as times from zero.
+TEST(DumpLog, DeltaTimesAreRecognisedInACrlfFile) {
+    std::string screen;
+    for (int i = 0; i < 5; ++i) {
+        screen += std::string(i == 0 ? " (000.000000)" : " (000.010000)") +
+                  "  can0  181   [2]  01 22\r\n";
+    }
+    const auto items = codrive::dump::testing::read_trace(screen);
+    ASSERT_EQ(items.size(), 5U);
+    EXPECT_EQ(items[4].status, ReadStatus::Frame) << items[4].error;
+    EXPECT_EQ(items[4].ts_ns, 40'000'000) << "deltas summed";
+}
+
+// The fraction of a time at the bound takes it past kMaxTraceTimeNs: refused too.
+TEST(DumpLog, ATimeWhoseFractionPassesTheBoundIsRefused) {
+    const auto items = codrive::dump::testing::read_trace("(9000000000.000000) can0 181#01\n"
+                                                          "(9000000000.999999) can0 181#01\n");
+    ASSERT_EQ(items.size(), 2U);
+    EXPECT_EQ(items[0].status, ReadStatus::Frame);
+    EXPECT_EQ(items[0].ts_ns, 9'000'000'000'000'000'000LL);
+    EXPECT_EQ(items[1].status, ReadStatus::Malformed);
+}

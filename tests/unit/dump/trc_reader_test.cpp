@@ -160,11 +160,12 @@ TEST(DumpTrc, BadHeaderValuesAreReported) {
 
 // fuzz_dump_traces (bench/fuzz_long.sh, 516,951 executions): a STARTTIME far in the future
 // overflowed the 64-bit nanosecond timestamp (signed overflow, undefined behaviour).
-TEST(DumpTrc, TimesPastTheYear2262AreRefusedNotWrapped) {
+// Since session 32 the bound is kMaxTraceTimeNs (the year 2255, day 129,735), for every reader.
+TEST(DumpTrc, TimesPastTheYear2255AreRefusedNotWrapped) {
     const auto items = read_trace(";$FILEVERSION=1.3\n"
                                   ";$STARTTIME=463250.0\n"
-                                  ";$STARTTIME=132000.5\n"
-                                  ";$STARTTIME=131000\n"
+                                  ";$STARTTIME=129735.5\n"
+                                  ";$STARTTIME=129000\n"
                                   "     1)      1841.0 1  Rx         0704 -  1  05\n"
                                   "     2) 8999999999999.0 1  Rx         0704 -  1  05\n"
                                   "     3)      1842.0 1  Rx         0704 -  1  05\n");
@@ -172,7 +173,7 @@ TEST(DumpTrc, TimesPastTheYear2262AreRefusedNotWrapped) {
     EXPECT_EQ(items[0].error.rfind("2: bad STARTTIME", 0), 0U) << items[0].error;
     EXPECT_EQ(items[1].error.rfind("3: bad STARTTIME", 0), 0U) << items[1].error;
     ASSERT_EQ(items[2].status, ReadStatus::Frame);
-    EXPECT_EQ(items[2].ts_ns, (131'000LL - 25'569) * 86'400'000'000'000LL + 1'841'000'000LL);
+    EXPECT_EQ(items[2].ts_ns, (129'000LL - 25'569) * 86'400'000'000'000LL + 1'841'000'000LL);
     EXPECT_EQ(items[3].error.rfind("6: time offset too large", 0), 0U) << items[3].error;
     EXPECT_EQ(items[4].status, ReadStatus::Frame); // reading goes on
 }
@@ -184,4 +185,30 @@ TEST(DumpTrc, Version12HasABusColumnBeforeTheType) {
     ASSERT_EQ(items.size(), 1U);
     EXPECT_EQ(items[0].frame, Frame::make(0x704, {0x05}));
     EXPECT_EQ(items[0].iface, "pcan3");
+}
+
+// A status line takes its time from the O column; with $COLUMNS putting the type (T) before it,
+// the reader would have used the previous line's time (with the start added twice), so such a
+// line is refused, naming the cause; more than 8 status bytes are named as such.
+TEST(DumpTrc, AStatusLineBeforeItsTimeOffsetIsRefusedNotGivenAnOldTime) {
+    const auto items = read_trace(";$FILEVERSION=2.1\n"
+                                  ";$STARTTIME=45254.5\n"
+                                  ";$COLUMNS=N,T,O,B,I,d,R,L,D\n"
+                                  "      1 DT  1000.000 1  0704 Rx -  1  05\n"
+                                  "      2 ST  1001.000 1     - Rx -  4  00 00 00 08\n"
+                                  "      3 DT  1002.000 1  0704 Rx -  1  05\n");
+    ASSERT_EQ(items.size(), 3U);
+    EXPECT_EQ(items[0].status, ReadStatus::Frame);
+    EXPECT_EQ(items[1].error.rfind("5: a status line whose $COLUMNS puts the type before the "
+                                   "time offset",
+                                   0),
+              0U)
+        << items[1].error;
+    EXPECT_EQ(items[2].ts_ns - items[0].ts_ns, 2'000'000);
+    const auto nine =
+        read_trace(";$FILEVERSION=2.1\n"
+                   ";$COLUMNS=N,O,T,B,I,d,R,L,D\n"
+                   "      1  1000.000 ST 1     - Rx -  4  00 00 00 08 00 00 00 00 01\n");
+    ASSERT_EQ(nine.size(), 1U);
+    EXPECT_EQ(nine[0].error.rfind("3: more than 8 status bytes", 0), 0U) << nine[0].error;
 }

@@ -166,6 +166,9 @@ bool parse_dotted_time(std::string_view v, std::int64_t& ns) {
     for (; groups < 3; ++groups) {
         total *= 1000;
     }
+    if (total > kMaxTraceTimeNs) {
+        return false; // 9000000000.999.999.999: the groups pass the bound
+    }
     ns = total;
     return true;
 }

@@ -12,6 +12,7 @@
 #include <codrive/sync/time.hpp>
 
 #include <iterator>
+#include <limits>
 
 namespace codrive::dump {
 namespace {
@@ -122,7 +123,10 @@ void Decoder::decode(const TraceRecord& r, Decoded& out, std::vector<Note>& note
     if (r.has_ts && r.ts_ns >= next_timeout_check_) {
         sdo_.check_timeouts(r.ts_ns, stalls_);
         collect_stalls(stalls_, notes, "timeout");
-        next_timeout_check_ = r.ts_ns + 10'000'000; // scan at most every 10 ms of trace time
+        // Scan at most every 10 ms of trace time. Readers keep times to kMaxTraceTimeNs; a
+        // record from elsewhere (the library's users) may not, hence the bound.
+        next_timeout_check_ = r.ts_ns <= kMaxTraceTimeNs ? r.ts_ns + 10'000'000
+                                                         : std::numeric_limits<std::int64_t>::max();
     }
     if (f.error()) {
         out.service = Service::Error;

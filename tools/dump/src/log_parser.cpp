@@ -238,6 +238,9 @@ bool LogReader::looks_like_deltas() const {
         const auto nl = rest.find('\n');
         auto line = rest.substr(0, nl);
         rest = nl == std::string_view::npos ? std::string_view() : rest.substr(nl + 1);
+        if (!line.empty() && line.back() == '\r') {
+            line.remove_suffix(1); // as next_line() does: CRLF files
+        }
         std::string_view why;
         if (!is_screen_line(line) || parse_log_line(line, r, why) != LineStatus::Frame ||
             !r.has_ts || r.ts_ns >= kRelativeBelowNs) {

@@ -75,11 +75,11 @@ void Stats::on_heartbeat(NodeId node, std::uint8_t state, std::int64_t ts) {
     n.seen = true;
     n.nmt_state = state;
     if (state == 0) {
-        n.last_hb_ns = 0; // a boot-up restarts the period measurement
+        n.hb_measuring = false; // a boot-up restarts the period measurement
         ++n.heartbeats;
         return;
     }
-    if (n.last_hb_ns != 0 && ts > n.last_hb_ns) {
+    if (n.hb_measuring && ts > n.last_hb_ns) {
         const auto d = ts - n.last_hb_ns;
         n.hb.add(d);
         if (detail_) {
@@ -90,6 +90,7 @@ void Stats::on_heartbeat(NodeId node, std::uint8_t state, std::int64_t ts) {
         }
     }
     n.last_hb_ns = ts;
+    n.hb_measuring = true; // also at t = 0 of a relative trace
     ++n.heartbeats;
 }
 

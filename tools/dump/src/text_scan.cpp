@@ -79,8 +79,7 @@ bool parse_scaled(std::string_view s, std::int64_t unit_ns, std::int64_t& ns) {
         }
         frac_ns = frac * unit_ns / scale;
     }
-    ns = whole * unit_ns + frac_ns;
-    return true;
+    return add_trace_time(whole * unit_ns, frac_ns, ns); // the fraction may pass the bound
 }
 
 bool parse_seconds(std::string_view s, std::int64_t& ns) {

@@ -26,9 +26,8 @@ constexpr const char* kColumns21 = "NOTBIdRLD";
 // epoch is day 25569.
 constexpr std::int64_t kEpochDay = 25569;
 constexpr std::int64_t kDayNs = 86'400'000'000'000LL;
-// Timestamps are 64-bit nanoseconds since 1970, which end in April 2262 (day 106,751): a start
-// after 2261 is refused rather than wrapped.
-constexpr std::int64_t kLastStartDay = kEpochDay + 106'000;
+// Trace times end at kMaxTraceTimeNs (the year 2255): a later start is refused.
+constexpr std::int64_t kLastStartDay = kEpochDay + kMaxTraceTimeNs / kDayNs - 1;
 
 bool parse_start_time(std::string_view s, std::int64_t& ns) {
     const auto dot = s.find('.');
@@ -90,8 +89,8 @@ TraceBusState status_state(std::uint32_t v) {
 } // namespace
 
 bool TrcReader::add_start(std::int64_t& ts_ns, std::string& why) const {
-    if (__builtin_add_overflow(ts_ns, start_ns_, &ts_ns)) {
-        why = "time offset too large: with STARTTIME it is past the year 2262";
+    if (!add_trace_time(ts_ns, start_ns_, ts_ns)) {
+        why = "time offset too large: with STARTTIME it is past the year 2255";
         return false;
     }
     return true;
@@ -231,6 +230,7 @@ LineStatus TrcReader::parse_line(std::string_view line, TraceRecord& out, std::s
     std::int64_t length = -1;
     bool length_is_dlc = false;
     unsigned bus = 0;
+    bool have_offset = false;
     for (char col : columns_) {
         if (col == 'D') {
             break;
@@ -258,6 +258,7 @@ LineStatus TrcReader::parse_line(std::string_view line, TraceRecord& out, std::s
                 why = "bad time offset";
                 return LineStatus::Error;
             }
+            have_offset = true;
             break;
         case 'T':
             type = tok;
@@ -265,6 +266,10 @@ LineStatus TrcReader::parse_line(std::string_view line, TraceRecord& out, std::s
                 return LineStatus::Skip; // a user event: text, no CAN data
             }
             if (type == "ST" || type == "ER" || type == "EC") {
+                if (!have_offset) { // the time would be the previous line's
+                    why = "a status line whose $COLUMNS puts the type before the time offset";
+                    return LineStatus::Error;
+                }
                 // Status lines leave out columns in some writers: the bytes are what counts.
                 std::uint8_t bytes[8];
                 std::size_t n = 0;
@@ -274,7 +279,11 @@ LineStatus TrcReader::parse_line(std::string_view line, TraceRecord& out, std::s
                         n = 0; // columns before the data
                         continue;
                     }
-                    if (!scan::parse_hex_byte(t, b) || n == sizeof bytes) {
+                    if (n == sizeof bytes) {
+                        why = "more than 8 status bytes";
+                        return LineStatus::Error;
+                    }
+                    if (!scan::parse_hex_byte(t, b)) {
                         why = "bad data byte";
                         return LineStatus::Error;
                     }

@@ -37,7 +37,8 @@ public:
         std::uint8_t nmt_state = 0xFF; ///< last heartbeat state byte, 0xFF = none
         std::uint64_t heartbeats = 0;
         std::int64_t last_hb_ns = 0;
-        Running hb; ///< heartbeat intervals (a boot-up restarts the measurement)
+        bool hb_measuring = false; ///< last_hb_ns holds a heartbeat to measure the next from
+        Running hb;                ///< heartbeat intervals (a boot-up restarts the measurement)
         std::uint64_t emcy = 0;
         std::uint16_t last_emcy_code = 0;
         std::string last_emcy_text;
