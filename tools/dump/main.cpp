@@ -143,7 +143,7 @@ int main(int argc, char** argv) {
     app.add_flag("--top", top, "Live: show the statistics table, refreshed every second");
     app.add_option("--bitrate", bitrate, "Bit rate for the bus load figure")
         ->capture_default_str()
-        ->check(CLI::PositiveNumber);
+        ->check(CLI::Range(1U, 1'000'000'000U));
     app.add_option("--sdo-timeout", sdo_timeout_ms,
                    "Report SDO requests unanswered after this many ms")
         ->capture_default_str();
