@@ -80,6 +80,12 @@ bool decoded_type(std::uint32_t type) {
            type_name(type) != "object";
 }
 
+// How many of the `n` bytes at `p` are zero before the first that is not (zero padding).
+std::size_t leading_zeros(const std::uint8_t* p, std::size_t n) {
+    return static_cast<std::size_t>(std::find_if(p, p + n, [](std::uint8_t b) { return b != 0; }) -
+                                    p);
+}
+
 void add_flags(Frame& f, unsigned flags) {
     f.flags = static_cast<std::uint8_t>(f.flags | flags);
 }
@@ -195,13 +201,10 @@ BlfReader::Fill BlfReader::next_source() {
         if (n == 0) {
             return Fill::End;
         }
-        const auto* p = input_.data();
-        const auto* end = p + n;
-        const auto* first = std::find_if(p, end, [](std::uint8_t b) { return b != 0; });
-        const auto zeros = static_cast<std::size_t>(first - p);
+        const auto zeros = leading_zeros(input_.data(), n);
         input_.consume(zeros);
         offset_ += zeros;
-        if (first != end) {
+        if (zeros < n) {
             break;
         }
     }
@@ -395,13 +398,11 @@ ReadStatus BlfReader::next(TraceRecord& record) {
             if (s == Fill::End) {
                 return ReadStatus::End;
             }
-            const auto* p = inner_.data() + inner_pos_;
-            const auto* end = p + inner_available();
-            const auto* first = std::find_if(p, end, [](std::uint8_t b) { return b != 0; });
-            const auto zeros = static_cast<std::size_t>(first - p);
+            const auto n = inner_available();
+            const auto zeros = leading_zeros(inner_.data() + inner_pos_, n);
             inner_pos_ += zeros;
             inner_offset_ += zeros;
-            if (first != end) {
+            if (zeros < n) {
                 break;
             }
         }

@@ -144,7 +144,7 @@ bool parse_dotted_time(std::string_view v, std::int64_t& ns) {
         return false;
     }
     std::int64_t secs = 0;
-    if (!scan::parse_digits(v.substr(0, dot), secs) || secs > 9'000'000'000LL) {
+    if (!scan::parse_digits(v.substr(0, dot), secs) || secs > kMaxTraceTimeS) {
         return false;
     }
     std::int64_t total = secs;

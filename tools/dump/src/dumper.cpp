@@ -123,7 +123,7 @@ bool report_read_error(const BufferedInput& input, std::string_view name, std::s
 
 InputSummary dump_input(BufferedInput& input, std::string_view name, Dumper& dumper) {
     InputSummary sum;
-    const auto n = input.ensure(6);
+    const auto n = input.ensure(kCompressionMagicBytes);
     if (const auto tool = other_compression(input.data(), n); !tool.empty()) {
         dumper.report(fmt::format(
             "{}: the file is {}-compressed; codrive-dump inflates gzip only: "

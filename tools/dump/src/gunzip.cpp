@@ -96,8 +96,11 @@ long Gunzip::read(int fd, std::uint8_t* dst, std::size_t n, std::string& error) 
         error = g.pending_error;
         return -1;
     }
-    const auto fail_with = [&](std::string why) {
-        error = fmt::format("gzip: {} after {} uncompressed bytes", why, g.inflated);
+    const auto message = [&](std::string_view why) {
+        return fmt::format("gzip: {} after {} uncompressed bytes", why, g.inflated);
+    };
+    const auto fail_with = [&](std::string_view why) {
+        error = message(why);
         return -1L;
     };
     for (;;) {
@@ -133,13 +136,12 @@ long Gunzip::read(int fd, std::uint8_t* dst, std::size_t n, std::string& error) 
         if (r == Z_STREAM_END) {
             g.in_member = false;
         } else if (r != Z_OK && r != Z_BUF_ERROR) {
-            const auto failed = fail_with(
-                fmt::format("bad compressed data ({})", g.s.msg != nullptr ? g.s.msg : zError(r)));
+            const auto why =
+                fmt::format("bad compressed data ({})", g.s.msg != nullptr ? g.s.msg : zError(r));
             if (produced == 0) {
-                return failed;
+                return fail_with(why);
             }
-            g.pending_error = error; // the bytes before the damage first (a bad checksum, say)
-            error.clear();
+            g.pending_error = message(why); // the bytes before the damage first (a bad checksum)
         }
         if (produced > 0) {
             return static_cast<long>(produced);

@@ -9,11 +9,6 @@
 #include <unistd.h>
 
 namespace codrive::dump {
-namespace {
-
-constexpr std::size_t kFirstRead = 64U * 1024U; // what open() reads to look for gzip
-
-} // namespace
 
 long read_retrying(int fd, std::uint8_t* dst, std::size_t n) {
     for (;;) {
@@ -43,20 +38,9 @@ Result<std::unique_ptr<BufferedInput>> BufferedInput::open(const std::string& pa
     }
     in->buf_.resize(capacity);
     // The first two bytes say whether the file is gzip; a pipe may deliver them one by one.
-    while (in->end_ < std::min<std::size_t>(2, in->buf_.size()) && !in->eof_) {
-        const std::size_t room = std::min(in->buf_.size(), kFirstRead) - in->end_;
-        const long got = read_retrying(in->fd_, in->buf_.data() + in->end_, room);
-        if (got < 0) {
-            in->read_error_ = std::strerror(errno);
-            in->eof_ = true;
-        } else if (got == 0) {
-            in->eof_ = true;
-        } else {
-            in->end_ += static_cast<std::size_t>(got);
-        }
-    }
+    in->ensure(std::min<std::size_t>(2, in->buf_.size()));
     if (Gunzip::is_gzip(in->buf_.data(), in->end_)) {
-        // All of the first read (at most 64 KiB) becomes the first compressed input.
+        // All that has been read becomes the first compressed input.
         const std::string_view first(reinterpret_cast<const char*>(in->buf_.data()), in->end_);
         if (!in->start_gunzip(first, in->eof_)) {
             return fail(std::errc::not_enough_memory);
@@ -68,7 +52,7 @@ Result<std::unique_ptr<BufferedInput>> BufferedInput::open(const std::string& pa
 std::unique_ptr<BufferedInput> BufferedInput::from_memory(std::string_view bytes) {
     std::unique_ptr<BufferedInput> in(new BufferedInput());
     if (Gunzip::is_gzip(reinterpret_cast<const std::uint8_t*>(bytes.data()), bytes.size())) {
-        in->buf_.resize(1U << 20);
+        in->buf_.resize(kDefaultCapacity);
         if (in->start_gunzip(bytes, true)) {
             return in;
         }

@@ -292,7 +292,7 @@ ReadStatus PcapReader::next_ng(TraceRecord& record) {
                     const std::uint64_t rem = ts % per;
                     const auto frac_ns = static_cast<std::int64_t>(static_cast<double>(rem) * 1e9 /
                                                                    static_cast<double>(per));
-                    if (sec > static_cast<std::uint64_t>(kMaxTraceTimeNs) / 1'000'000'000ULL ||
+                    if (sec > static_cast<std::uint64_t>(kMaxTraceTimeS) ||
                         !add_trace_time(static_cast<std::int64_t>(sec) * 1'000'000'000LL, frac_ns,
                                         record.ts_ns)) {
                         error_ = fmt::format("pcapng packet {}: timestamp {} ({} per second) is "
@@ -305,12 +305,11 @@ ReadStatus PcapReader::next_ng(TraceRecord& record) {
                     record.has_ts = false;
                 }
                 const std::uint32_t wire = epb ? u32(body + 16) : u32(body);
-                const auto result =
-                    ts_ok ? decode_socketcan_record(body + data_off, cap, wire, record.frame)
-                          : SocketCanDecode::Ok;
                 if (!ts_ok) {
                     status = ReadStatus::Malformed;
-                } else if (result == SocketCanDecode::Ok) {
+                } else if (const auto result =
+                               decode_socketcan_record(body + data_off, cap, wire, record.frame);
+                           result == SocketCanDecode::Ok) {
                     status = ReadStatus::Frame;
                 } else {
                     error_ = socketcan_decode_error(

@@ -85,7 +85,7 @@ bool parse_scaled(std::string_view s, std::int64_t unit_ns, std::int64_t& ns) {
 bool parse_seconds(std::string_view s, std::int64_t& ns) {
     const auto dot = s.find('.');
     std::int64_t sec = 0;
-    if (!parse_digits(s.substr(0, dot), sec) || sec > 9'000'000'000LL) {
+    if (!parse_digits(s.substr(0, dot), sec) || sec > kMaxTraceTimeS) {
         return false;
     }
     if (dot != std::string_view::npos && s.size() == dot + 1) {

@@ -14,14 +14,18 @@ namespace codrive::dump {
 /// bytes inflates to at most n times this.
 inline constexpr std::size_t kMaxInflateRatio = 1032;
 
+/// The most bytes other_compression() looks at (xz's magic number).
+inline constexpr std::size_t kCompressionMagicBytes = 6;
+
 /// The compressor of a file that starts with the magic bytes of one codrive-dump does not
 /// inflate ("xz", "bzip2", "zstd", "lz4", "zip"), or empty.
 [[nodiscard]] std::string_view other_compression(const std::uint8_t* p, std::size_t n);
 
 /// Inflates a gzip file: one member or several one after another (RFC 1952 §2.2, as
 /// `cat a.gz b.gz` makes); zero padding after the last member is ignored, other bytes there are
-/// an error after everything before them. Compressed bytes come from a file descriptor in 64 KiB
-/// reads.
+/// an error after everything before them. Compressed bytes come from a file descriptor in reads of
+/// 64 KiB, or of the size of the first bytes given to start() when they are more (at most the
+/// BufferedInput's capacity).
 class Gunzip {
 public:
     /// True if `p` starts with the gzip magic bytes 1F 8B (RFC 1952 §2.3.1).

@@ -24,9 +24,10 @@ long read_retrying(int fd, std::uint8_t* dst, std::size_t n);
 /// makes) is inflated as it is read, so every trace format may come compressed.
 class BufferedInput {
 public:
+    static constexpr std::size_t kDefaultCapacity = 1U << 20;
     /// Opens `path` ("-" is stdin). Errors: the std::errc of a failed open.
     static Result<std::unique_ptr<BufferedInput>> open(const std::string& path,
-                                                       std::size_t capacity = 1U << 20);
+                                                       std::size_t capacity = kDefaultCapacity);
     /// Reads from bytes in memory (tests, fuzzing), inflated when they are gzip.
     static std::unique_ptr<BufferedInput> from_memory(std::string_view bytes);
     ~BufferedInput();

@@ -13,6 +13,8 @@ namespace codrive::dump {
 /// times in 0..kMaxTraceTimeNs and names a later one, so whoever uses a time may add intervals
 /// (SDO timeouts, statistics windows) to it or subtract two without overflow.
 inline constexpr std::int64_t kMaxTraceTimeNs = 9'000'000'000'000'000'000LL;
+/// kMaxTraceTimeNs in whole seconds, for readers that parse seconds first.
+inline constexpr std::int64_t kMaxTraceTimeS = kMaxTraceTimeNs / 1'000'000'000LL;
 
 /// `a + b` into `sum` when both are times or intervals of 0..kMaxTraceTimeNs and the sum is one
 /// too; false (and `sum` untouched) otherwise.
