@@ -133,6 +133,20 @@ TEST(DumpAsc, UnreadableDateIsReportedAndTimesCountFromZero) {
     EXPECT_EQ(items[1].ts_ns, 10'000'000);
 }
 
+// The date line is checked against the calendar (a leap day is accepted only in a leap year).
+TEST(DumpAsc, ADateThatDoesNotExistIsUnreadable) {
+    auto items = read_trace("date Thu Feb 29 01:02:03.000 2024\n   0.010000 1  181  Rx   d 1 05\n");
+    ASSERT_EQ(items.size(), 1U);
+    EXPECT_EQ(items[0].ts_ns, 1'709'168'523'010'000'000LL);
+    items = read_trace("date Wed Feb 29 01:02:03.000 2023\n   0.010000 1  181  Rx   d 1 05\n");
+    ASSERT_EQ(items.size(), 2U);
+    EXPECT_EQ(items[0].error.rfind("1: unreadable date", 0), 0U) << items[0].error;
+    EXPECT_EQ(items[1].ts_ns, 10'000'000);
+    items = read_trace("date Sat Jun 31 01:02:03.000 2023\n   0.010000 1  181  Rx   d 1 05\n");
+    ASSERT_EQ(items.size(), 2U);
+    EXPECT_EQ(items[0].error.rfind("1: unreadable date", 0), 0U) << items[0].error;
+}
+
 // A CANFD event with more than 8 data bytes is CAN FD even when its flags lack EDL (python-can's
 // test_CanFdMessage64.asc and logfile.asc have such lines): the frame is kept, not dropped. A
 // classic event with a DLC above F (python-can writes "d 40" for a 64-byte frame not marked CAN

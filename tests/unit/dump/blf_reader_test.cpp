@@ -406,3 +406,26 @@ TEST(DumpBlf, OverloadDriverErrorAndCanFdErrorObjectsAreErrorFrames) {
     EXPECT_EQ(got[3].frame, protocol_error_frame(0, false, 0));
     EXPECT_EQ(got[3].ts_ns, t0 + 4000);
 }
+
+// The header's SYSTEMTIME start is a calendar date: 29 February 2024 is one, 29 February 2023 is
+// not. An impossible date gives no start (times count from the start of the measurement) rather
+// than 1 March.
+TEST(DumpBlf, AnImpossibleStartDateIsNoStartAndALeapDayIsOne) {
+    const std::int64_t leap_day = 1'709'164'800'000'000'000LL; // 2024-02-29 00:00:00 UTC
+    const std::vector<BlfEvent> events{
+        {Frame::make(0x705, {0x05}), leap_day, 1, BlfObjectType::CanMessage},
+        {Frame::make(0x705, {0x05}), leap_day + 1'500'000, 1, BlfObjectType::CanMessage}};
+    auto file = blf_file(events, BlfWriteOptions{});
+    auto got = frames_of(read_trace(file));
+    ASSERT_EQ(got.size(), 2U);
+    EXPECT_EQ(got[0].ts_ns, leap_day);
+    EXPECT_EQ(got[1].ts_ns, leap_day + 1'500'000);
+    ASSERT_EQ(static_cast<unsigned char>(file[40]) | static_cast<unsigned char>(file[41]) << 8,
+              2024); // SYSTEMTIME year
+    file[40] = static_cast<char>(2023 & 0xFF);
+    file[41] = static_cast<char>(2023 >> 8);
+    got = frames_of(read_trace(file));
+    ASSERT_EQ(got.size(), 2U);
+    EXPECT_EQ(got[0].ts_ns, 0);
+    EXPECT_EQ(got[1].ts_ns, 1'500'000);
+}

@@ -201,3 +201,16 @@ TEST(DumpLog, ATimeWhoseFractionPassesTheBoundIsRefused) {
     EXPECT_EQ(items[0].ts_ns, 9'000'000'000'000'000'000LL);
     EXPECT_EQ(items[1].status, ReadStatus::Malformed);
 }
+
+// candump -ta style dates are checked against the calendar: a date that does not exist is a bad
+// timestamp, not the first days of the next month.
+TEST(DumpLogParser, DatesThatDoNotExistAreBadTimestamps) {
+    EXPECT_EQ(parse_ok(" (2024-02-29 00:00:00.000000)  can0  701   [1]  7F").ts_ns,
+              1'709'164'800'000'000'000LL);
+    EXPECT_EQ(parse_ok(" (2000-02-29 00:00:00.000000)  can0  701   [1]  7F").ts_ns,
+              951'782'400'000'000'000LL);
+    EXPECT_EQ(parse_error(" (2023-02-29 00:00:00.000000)  can0  701   [1]  7F"), "bad timestamp");
+    EXPECT_EQ(parse_error(" (2100-02-29 00:00:00.000000)  can0  701   [1]  7F"), "bad timestamp");
+    EXPECT_EQ(parse_error(" (2023-04-31 00:00:00.000000)  can0  701   [1]  7F"), "bad timestamp");
+    EXPECT_EQ(parse_error(" (2023-13-01 00:00:00.000000)  can0  701   [1]  7F"), "bad timestamp");
+}

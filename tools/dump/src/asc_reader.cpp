@@ -80,11 +80,12 @@ LineStatus AscReader::parse_date(std::string_view rest, std::string& why) {
     std::int64_t h = 0;
     std::int64_t m = 0;
     std::int64_t sec_ns = 0;
-    if (month == 0 || !day_ok || day < 1 || day > 31 || time.size() < 8 || time[2] != ':' ||
-        time[5] != ':' || !scan::parse_digits(time.substr(0, 2), h) ||
-        !scan::parse_digits(time.substr(3, 2), m) ||
+    std::int64_t days = 0;
+    if (!day_ok || time.size() < 8 || time[2] != ':' || time[5] != ':' ||
+        !scan::parse_digits(time.substr(0, 2), h) || !scan::parse_digits(time.substr(3, 2), m) ||
         !scan::parse_scaled(time.substr(6), 1'000'000'000LL, sec_ns) ||
-        !scan::parse_digits(next, year) || year < 1970 || year > 2200 || h > 23 || m > 59) {
+        !scan::parse_digits(next, year) || h > 23 || m > 59 ||
+        !scan::days_since_epoch(year, month, day, days)) {
         why = "unreadable date (expected e.g. 'date Thu Nov 24 01:02:03.456 pm 2022'); "
               "timestamps count from the start of the measurement";
         return LineStatus::Error;
@@ -92,8 +93,6 @@ LineStatus AscReader::parse_date(std::string_view rest, std::string& why) {
     if (twelve_hour) {
         h = h % 12 + hour_shift; // 12:xx am is just after midnight, 12:xx pm just after noon
     }
-    const auto days =
-        scan::days_from_civil(year, static_cast<unsigned>(month), static_cast<unsigned>(day));
     start_ns_ = ((days * 24 + h) * 60 + m) * 60 * 1'000'000'000LL + sec_ns;
     return LineStatus::Skip;
 }

@@ -179,9 +179,9 @@ ReadStatus BlfReader::read_file_header() {
     const auto minute = le16(h + 50);
     const auto second = le16(h + 52);
     const auto ms = le16(h + 54);
-    if (year >= 1970 && year <= 2200 && month >= 1 && month <= 12 && day >= 1 && day <= 31 &&
-        hour < 24 && minute < 60 && second < 61 && ms < 1000) {
-        const auto days = scan::days_from_civil(year, month, day);
+    std::int64_t days = 0;
+    if (hour < 24 && minute < 60 && second < 61 && ms < 1000 &&
+        scan::days_since_epoch(year, month, day, days)) {
         start_ns_ =
             (((days * 24 + hour) * 60 + minute) * 60 + second) * 1'000'000'000LL + ms * 1'000'000LL;
     } // else: no usable start, timestamps count from the start of the measurement

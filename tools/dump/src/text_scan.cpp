@@ -31,12 +31,8 @@ char lower(char c) {
     return (c >= 'A' && c <= 'Z') ? static_cast<char>(c - 'A' + 'a') : c;
 }
 
-} // namespace
-
-int hexval(char c) {
-    return kHex[static_cast<unsigned char>(c)];
-}
-
+// Days from 1970-01-01 by 400-year eras of 146097 days, with March as the first month so the
+// leap day falls at the end of the year.
 std::int64_t days_from_civil(std::int64_t y, unsigned m, unsigned d) {
     y -= m <= 2 ? 1 : 0;
     const std::int64_t era = (y >= 0 ? y : y - 399) / 400;
@@ -44,6 +40,26 @@ std::int64_t days_from_civil(std::int64_t y, unsigned m, unsigned d) {
     const unsigned doy = (153 * (m + (m > 2 ? static_cast<unsigned>(-3) : 9)) + 2) / 5 + d - 1;
     const unsigned doe = yoe * 365 + yoe / 4 - yoe / 100 + doy;
     return era * 146097 + static_cast<std::int64_t>(doe) - 719468;
+}
+
+} // namespace
+
+int hexval(char c) {
+    return kHex[static_cast<unsigned char>(c)];
+}
+
+bool days_since_epoch(std::int64_t y, std::int64_t m, std::int64_t d, std::int64_t& days) {
+    if (y < 1970 || y > 2200 || m < 1 || m > 12 || d < 1) {
+        return false;
+    }
+    static constexpr std::array<std::int64_t, 12> kMonthDays{31, 28, 31, 30, 31, 30,
+                                                             31, 31, 30, 31, 30, 31};
+    const bool leap = (y % 4 == 0 && y % 100 != 0) || y % 400 == 0;
+    if (d > kMonthDays[static_cast<std::size_t>(m - 1)] + (m == 2 && leap ? 1 : 0)) {
+        return false;
+    }
+    days = days_from_civil(y, static_cast<unsigned>(m), static_cast<unsigned>(d));
+    return true;
 }
 
 bool parse_digits(std::string_view s, std::int64_t& v) {
@@ -107,12 +123,14 @@ bool parse_date_time(std::string_view s, std::int64_t& ns) {
     std::int64_t sec_ns = 0;
     if (!parse_digits(s.substr(0, 4), y) || !parse_digits(s.substr(5, 2), mo) ||
         !parse_digits(s.substr(8, 2), d) || !parse_digits(s.substr(11, 2), h) ||
-        !parse_digits(s.substr(14, 2), mi) || !parse_seconds(s.substr(17), sec_ns) || y < 1970 ||
-        y > 2200 || mo < 1 || mo > 12 || d < 1 || d > 31 || h > 23 || mi > 59 ||
-        sec_ns >= 61'000'000'000LL) {
+        !parse_digits(s.substr(14, 2), mi) || !parse_seconds(s.substr(17), sec_ns) || h > 23 ||
+        mi > 59 || sec_ns >= 61'000'000'000LL) {
         return false;
     }
-    const auto days = days_from_civil(y, static_cast<unsigned>(mo), static_cast<unsigned>(d));
+    std::int64_t days = 0;
+    if (!days_since_epoch(y, mo, d, days)) {
+        return false;
+    }
     ns = ((days * 24 + h) * 60 + mi) * 60 * 1'000'000'000LL + sec_ns;
     return true;
 }

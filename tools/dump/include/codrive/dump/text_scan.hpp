@@ -49,8 +49,11 @@ struct Cursor {
 [[nodiscard]] bool parse_scaled(std::string_view s, std::int64_t unit_ns, std::int64_t& ns);
 /// "2023-11-14 22:13:20.123456" (read as UTC) into nanoseconds since the epoch.
 [[nodiscard]] bool parse_date_time(std::string_view s, std::int64_t& ns);
-/// Days from 1970-01-01 to y-m-d (proleptic Gregorian).
-[[nodiscard]] std::int64_t days_from_civil(std::int64_t y, unsigned m, unsigned d);
+/// Days from 1970-01-01 to y-m-d (proleptic Gregorian) when the date exists and lies in
+/// 1970..2200, the years a trace timestamp can carry; false for 2023-02-29, 2023-04-31 or a
+/// month 13, so no reader turns an impossible date into the next month's.
+[[nodiscard]] bool days_since_epoch(std::int64_t y, std::int64_t m, std::int64_t d,
+                                    std::int64_t& days);
 /// 1..8 hex digits (an optional "0x" prefix is accepted when `allow_prefix`).
 [[nodiscard]] bool parse_hex_u32(std::string_view s, std::uint32_t& v, bool allow_prefix = false);
 /// Exactly two hex digits.
