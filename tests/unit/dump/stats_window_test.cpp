@@ -8,6 +8,7 @@
 
 #include <sstream>
 #include <string>
+#include <vector>
 
 using namespace codrive;
 using namespace codrive::dump;
@@ -92,4 +93,25 @@ TEST(DumpStatsWindow, WithoutTimestampsThereAreNoRatesNotCountsPerSecond) {
                                 out.find('\n', out.find("\n   4 ") + 1) - out.find("\n   4 "));
     EXPECT_EQ(row.find(" 3"), std::string::npos) << row;
     EXPECT_NE(row.find("-         -"), std::string::npos) << row;
+}
+
+TEST(DumpStatsWindow, WithoutTimestampsAnSdoIsCountedButHasNoDuration) {
+    // An SDO upload of 1000h from node 4 in candump screen output without -t: one transfer, and
+    // no "0.0 ms" mean that nobody measured.
+    codrive::dump::DumpOptions o;
+    o.print = false;
+    o.stats = true;
+    const auto out =
+        codrive::dump::testing::run_dump_bytes("  can0  604   [8]  40 00 10 00 00 00 00 00\n"
+                                               "  can0  584   [8]  43 00 10 00 92 01 02 00\n",
+                                               o);
+    std::istringstream in(row(out, 4));
+    std::vector<std::string> cols;
+    for (std::string token; in >> token;) {
+        cols.push_back(token);
+    }
+    ASSERT_GE(cols.size(), 8U) << out;
+    EXPECT_EQ(cols[5], "1") << out; // SDO transfers
+    EXPECT_EQ(cols[7], "-") << out; // SDO mean
+    EXPECT_EQ(out.find("0.0 ms"), std::string::npos) << out;
 }

@@ -117,6 +117,7 @@ void Decoder::decode(const TraceRecord& r, Decoded& out, std::vector<Note>& note
     out.node = 0;
     out.severity = Severity::Info;
     out.service = Service::Other;
+    timed_ = r.has_ts;
     if (stats_ != nullptr) {
         stats_->on_frame(f, r.ts_ns, r.has_ts);
     }
@@ -446,7 +447,7 @@ void Decoder::decode_sdo(const Frame& f, NodeId node, bool client, std::int64_t 
     case SdoOutcome::Kind::Completed:
         out.severity = Severity::Notice;
         if (stats_ != nullptr) {
-            stats_->on_sdo_done(node, o.duration_ns);
+            stats_->on_sdo_done(node, o.duration_ns, timed_);
         }
         (void)pdo_.learn(node, o.index, o.subindex, o.data);
         if (o.index == 0x1018 && (o.subindex == 1 || o.subindex == 2) && o.data.size() >= 4) {

@@ -198,9 +198,9 @@ void node_row(Json& j, const Stats& s, NodeId id, const Stats::Detail* d) {
     j.key("timeouts");
     j.uint(n.sdo_timeouts);
     j.key("mean_ms");
-    n.sdo_done > 0 ? j.num(ms(n.sdo_rtt_sum_ns / static_cast<double>(n.sdo_done))) : j.null();
+    n.sdo_timed > 0 ? j.num(ms(n.sdo_rtt_sum_ns / static_cast<double>(n.sdo_timed))) : j.null();
     j.key("max_ms");
-    n.sdo_done > 0 ? j.num(ms(static_cast<double>(n.sdo_rtt_max_ns))) : j.null();
+    n.sdo_timed > 0 ? j.num(ms(static_cast<double>(n.sdo_rtt_max_ns))) : j.null();
     j.close('}');
     const double secs = static_cast<double>(s.last_ns() - s.first_ns()) / 1e9;
     j.key("tpdo");

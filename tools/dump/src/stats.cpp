@@ -134,9 +134,13 @@ void Stats::on_emcy(NodeId node, std::uint16_t code, std::string text) {
     n.last_emcy_text = std::move(text);
 }
 
-void Stats::on_sdo_done(NodeId node, std::int64_t d) {
+void Stats::on_sdo_done(NodeId node, std::int64_t d, bool timed) {
     nodes_[node].seen = true;
     ++nodes_[node].sdo_done;
+    if (!timed) {
+        return;
+    }
+    ++nodes_[node].sdo_timed;
     nodes_[node].sdo_rtt_sum_ns += static_cast<double>(std::max<std::int64_t>(d, 0));
     nodes_[node].sdo_rtt_max_ns = std::max(nodes_[node].sdo_rtt_max_ns, d);
     if (detail_) {
@@ -305,9 +309,9 @@ std::string Stats::table(std::optional<std::int64_t> now_ns) const {
         const std::string jitter =
             n.hb.n > 1 ? fmt::format("{:.2f} ms", n.hb.stddev_ns() / 1e6) : "-";
         const std::string rtt =
-            n.sdo_done > 0
-                ? fmt::format("{:.1f} ms", n.sdo_rtt_sum_ns / static_cast<double>(n.sdo_done) / 1e6)
-                : "-";
+            n.sdo_timed > 0 ? fmt::format("{:.1f} ms",
+                                          n.sdo_rtt_sum_ns / static_cast<double>(n.sdo_timed) / 1e6)
+                            : "-";
         const auto rate = [&](std::uint64_t c, const std::array<std::uint32_t, kSlots>& slots) {
             if (now_ns) {
                 return fmt::format("{:.1f}", recent_rate(slots, n.slot_ids, *now_ns));

@@ -105,6 +105,7 @@ private:
     const ProfileRegistry* registry_ = nullptr;
     std::array<NodeState, kMaxNodeId + 1> nodes_{};
     std::int64_t next_timeout_check_ = 0;
+    bool timed_ = true; ///< the record being decoded carries a timestamp
     std::vector<SdoStall> stalls_;
 };
 

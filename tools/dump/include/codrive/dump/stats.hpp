@@ -43,6 +43,7 @@ public:
         std::uint16_t last_emcy_code = 0;
         std::string last_emcy_text;
         std::uint64_t sdo_done = 0;
+        std::uint64_t sdo_timed = 0; ///< of sdo_done, those with a measured duration
         std::uint64_t sdo_aborts = 0;
         std::uint64_t sdo_timeouts = 0;
         double sdo_rtt_sum_ns = 0; // double: out-of-order traces must not overflow a sum
@@ -111,7 +112,9 @@ public:
     /// A node guarding reply: state byte without the toggle bit, and the toggle bit.
     void on_guard_reply(NodeId node, std::uint8_t state, bool toggle);
     void on_emcy(NodeId node, std::uint16_t code, std::string text);
-    void on_sdo_done(NodeId node, std::int64_t duration_ns);
+    /// A completed transfer; its duration counts only when the trace is `timed` (a candump
+    /// without -t has none, and 0 ms would be a figure nobody measured).
+    void on_sdo_done(NodeId node, std::int64_t duration_ns, bool timed = true);
     void on_sdo_abort(NodeId node);
     void on_sdo_timeout(NodeId node);
     void on_pdo(NodeId node, bool tpdo, std::int64_t ts_ns = 0);
