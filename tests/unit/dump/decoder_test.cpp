@@ -4,6 +4,7 @@
 #include <codrive/dump/decoder.hpp>
 #include <codrive/dump/line_format.hpp>
 #include <codrive/dump/live.hpp>
+#include <codrive/dump/stats.hpp>
 
 #include <gtest/gtest.h>
 
@@ -301,4 +302,77 @@ TEST(DumpStats, AHeartbeatAtTimeZeroStartsThePeriod) {
     }
     EXPECT_EQ(stats.node(4).hb.n, 2U) << "two periods from three heartbeats";
     EXPECT_NEAR(stats.node(4).hb.mean_ns, 100'000'000.0, 1.0);
+}
+
+namespace {
+// Feeds timed frames to a decoder, keeping the notes of each step.
+struct TimedFeed {
+    explicit TimedFeed(Decoder& d) : dec(d) {}
+    Decoder& dec;
+    Decoded out;
+    std::vector<Note> notes;
+    void operator()(std::int64_t ts_ns, std::uint32_t id, std::initializer_list<std::uint8_t> b) {
+        TraceRecord r;
+        r.has_ts = true;
+        r.ts_ns = ts_ns;
+        r.frame = Frame::make(id, b);
+        notes.clear();
+        dec.decode(r, out, notes);
+    }
+};
+constexpr std::int64_t kSec = 1'000'000'000;
+constexpr std::int64_t kMilli = 1'000'000;
+} // namespace
+
+// Two captures in one file, the second with relative times starting again at 0: one warning,
+// then the open transfer and the SDO timeouts go on in the new time instead of waiting for it to
+// pass the first capture's end. Frames a little out of order are not a step.
+TEST(DumpDecoder, AStepBackInTimeIsOneWarningAndTimeoutsGoOn) {
+    DecoderOptions o;
+    o.sdo_timeout_ns = 500 * kMilli;
+    Stats stats;
+    Decoder dec(o, &stats);
+    TimedFeed feed(dec);
+    feed(100 * kSec, 0x603, {0x40, 0x17, 0x10, 0x00, 0, 0, 0, 0});
+    feed(100 * kSec + 200 * kMilli, 0x080, {});
+    EXPECT_TRUE(feed.notes.empty());
+    feed(0, 0x080, {});
+    ASSERT_EQ(feed.notes.size(), 1U);
+    EXPECT_EQ(feed.notes[0].event, "time step");
+    EXPECT_EQ(feed.notes[0].severity, Severity::Warning);
+    EXPECT_EQ(feed.notes[0].text.rfind("time goes back 100.200 s", 0), 0U) << feed.notes[0].text;
+    feed(200 * kMilli, 0x080, {});
+    EXPECT_TRUE(feed.notes.empty()) << "node 3 asked 200 ms before the step: 400 ms ago";
+    feed(400 * kMilli, 0x080, {});
+    ASSERT_EQ(feed.notes.size(), 1U);
+    EXPECT_EQ(feed.notes[0].event, "timeout");
+    EXPECT_EQ(feed.notes[0].ts_ns, 300 * kMilli);
+    EXPECT_EQ(feed.notes[0].text.rfind("node 3 SDO upload 1017:00", 0), 0U) << feed.notes[0].text;
+    // A request of the second capture times out in it.
+    feed(500 * kMilli, 0x605, {0x40, 0x18, 0x10, 0x01, 0, 0, 0, 0});
+    feed(1100 * kMilli, 0x080, {});
+    ASSERT_EQ(feed.notes.size(), 1U);
+    EXPECT_EQ(feed.notes[0].event, "timeout");
+    EXPECT_EQ(feed.notes[0].text.rfind("node 5 SDO upload 1018:01", 0), 0U) << feed.notes[0].text;
+    feed(1050 * kMilli, 0x080, {}); // 50 ms out of order: no step
+    EXPECT_TRUE(feed.notes.empty());
+    EXPECT_EQ(stats.duration_ns(), 200 * kMilli + 1100 * kMilli);
+}
+
+// Ten seconds at about 13 % load, twice, the second capture appended with times from 0 again:
+// the one-second windows restart at the step, so the peak stays near the mean (before, every
+// frame of the second capture fell into one window of the first and the peak read 100s of %).
+TEST(DumpDecoder, AStepBackRestartsTheLoadWindow) {
+    DecoderOptions o;
+    Stats stats(125'000);
+    Decoder dec(o, &stats);
+    TimedFeed feed(dec);
+    for (const std::int64_t start : {100 * kSec, std::int64_t{0}}) {
+        for (std::int64_t t = 0; t < 10 * kSec; t += 5 * kMilli) {
+            feed(start + t, 0x181, {1, 2, 3, 4}); // 86 bits with stuffing
+        }
+    }
+    EXPECT_EQ(stats.duration_ns(), 2 * (10 * kSec - 5 * kMilli));
+    EXPECT_NEAR(stats.bus_load(), 86.0 * 200 / 125'000 * 100, 0.2);
+    EXPECT_NEAR(stats.peak_load_so_far(), stats.bus_load(), 0.2);
 }

@@ -106,6 +106,40 @@ void Decoder::collect_stalls(std::vector<SdoStall>& stalls, std::vector<Note>& n
     stalls.clear();
 }
 
+// Frames from several interfaces or threads may come a little out of order; a step back of
+// more than a second is another capture appended to the first (relative times starting again
+// at 0) or a clock set back. Left alone, it would stop SDO timeouts and the one-second load
+// window until the time caught up again.
+void Decoder::follow_time(const TraceRecord& r, std::vector<Note>& notes) {
+    constexpr std::int64_t kStepBackNs = 1'000'000'000;
+    if (!r.has_ts) {
+        return;
+    }
+    if (!any_timed_ || r.ts_ns >= latest_ns_) {
+        any_timed_ = true;
+        latest_ns_ = r.ts_ns;
+        return;
+    }
+    if (latest_ns_ - r.ts_ns <= kStepBackNs) {
+        return;
+    }
+    Note n;
+    n.ts_ns = r.ts_ns;
+    n.service = Service::Other;
+    n.severity = Severity::Warning;
+    n.event = "time step";
+    n.text = fmt::format("time goes back {:.3f} s (an appended capture or a clock step): SDO "
+                         "timeouts, durations and the bus load go on from the new time",
+                         static_cast<double>(latest_ns_ - r.ts_ns) / 1e9);
+    notes.push_back(std::move(n));
+    sdo_.shift_time(r.ts_ns - latest_ns_);
+    if (stats_ != nullptr) {
+        stats_->on_time_step(r.ts_ns);
+    }
+    next_timeout_check_ = r.ts_ns;
+    latest_ns_ = r.ts_ns;
+}
+
 void Decoder::finish(std::vector<Note>& notes) {
     sdo_.finish(stalls_);
     collect_stalls(stalls_, notes, "unfinished");
@@ -118,6 +152,7 @@ void Decoder::decode(const TraceRecord& r, Decoded& out, std::vector<Note>& note
     out.severity = Severity::Info;
     out.service = Service::Other;
     timed_ = r.has_ts;
+    follow_time(r, notes);
     if (stats_ != nullptr) {
         stats_->on_frame(f, r.ts_ns, r.has_ts);
     }
@@ -440,14 +475,14 @@ void Decoder::decode_sdo(const Frame& f, NodeId node, bool client, std::int64_t 
         return;
     }
     const auto o = sdo_.on_frame(node, client ? sdo::Sender::Client : sdo::Sender::Server,
-                                 f.payload(), ts, out.text);
+                                 f.payload(), ts, out.text, timed_);
     switch (o.kind) {
     case SdoOutcome::Kind::None:
         return;
     case SdoOutcome::Kind::Completed:
         out.severity = Severity::Notice;
         if (stats_ != nullptr) {
-            stats_->on_sdo_done(node, o.duration_ns, timed_);
+            stats_->on_sdo_done(node, o.duration_ns, o.timed);
         }
         (void)pdo_.learn(node, o.index, o.subindex, o.data);
         if (o.index == 0x1018 && (o.subindex == 1 || o.subindex == 2) && o.data.size() >= 4) {

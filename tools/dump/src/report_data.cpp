@@ -202,7 +202,7 @@ void node_row(Json& j, const Stats& s, NodeId id, const Stats::Detail* d) {
     j.key("max_ms");
     n.sdo_timed > 0 ? j.num(ms(static_cast<double>(n.sdo_rtt_max_ns))) : j.null();
     j.close('}');
-    const double secs = static_cast<double>(s.last_ns() - s.first_ns()) / 1e9;
+    const double secs = static_cast<double>(s.duration_ns()) / 1e9;
     j.key("tpdo");
     j.uint(n.tpdo);
     j.key("rpdo");
@@ -257,7 +257,7 @@ std::string report_json(const Stats& s, const ReportInfo& info) {
     j.key("start_s");
     j.num(static_cast<double>(s.first_ns()) / 1e9);
     j.key("duration_s");
-    j.num(static_cast<double>(s.last_ns() - s.first_ns()) / 1e9);
+    j.num(static_cast<double>(s.duration_ns()) / 1e9);
     j.key("load_mean");
     j.num(s.bus_load());
     j.key("load_peak_1s");

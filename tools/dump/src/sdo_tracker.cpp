@@ -49,14 +49,16 @@ bool SdoTracker::start(NodeId node, Channel& ch, Op op, const sdo::FrameInfo& fi
         // CiA 301 §7.2.4.3: one transfer per SDO channel; a new initiate ends the old one unseen.
         fmt::format_to(std::back_inserter(out), "SDO {}", kOpNames[static_cast<int>(ch.op)]);
         object_name(out, node, ch.index, ch.subindex);
-        fmt::format_to(std::back_inserter(out), " abandoned by the client after {:.1f} ms; ",
-                       to_ms(ts - ch.t0));
+        text::put(out, " abandoned by the client");
+        put_elapsed(out, ch, ts, " after ");
+        text::put(out, "; ");
     }
     std::vector<std::uint8_t> keep = std::move(ch.data);
     ch = Channel{};
     ch.data = std::move(keep);
     ch.data.clear();
     ch.op = op;
+    ch.timed = frame_timed_;
     ch.index = fi.index;
     ch.subindex = fi.subindex;
     ch.t0 = ts;
@@ -89,8 +91,9 @@ SdoOutcome SdoTracker::complete(NodeId node, Channel& ch, std::int64_t ts, SdoMo
         format_cia402_meaning(out, ch.index, get_le_n(ch.data.data(), ch.data.size()));
     }
     static constexpr std::string_view kModes[] = {"expedited", "segmented", "block"};
-    fmt::format_to(std::back_inserter(out), " ({} byte{}, {}, {:.1f} ms", ch.total,
-                   ch.total == 1 ? "" : "s", kModes[static_cast<int>(mode)], to_ms(ts - ch.t0));
+    fmt::format_to(std::back_inserter(out), " ({} byte{}, {}", ch.total, ch.total == 1 ? "" : "s",
+                   kModes[static_cast<int>(mode)]);
+    put_elapsed(out, ch, ts, ", ");
     if (ch.size_known && ch.size != ch.total) {
         fmt::format_to(std::back_inserter(out), ", size mismatch: {} announced", ch.size);
     }
@@ -103,14 +106,24 @@ SdoOutcome SdoTracker::complete(NodeId node, Channel& ch, std::int64_t ts, SdoMo
     o.data = ch.data;
     o.size = ch.total;
     o.duration_ns = ts - ch.t0;
+    o.timed = ch.timed && frame_timed_;
     ch.op = Op::None;
     --open_;
     return o;
 }
 
+void SdoTracker::put_elapsed(fmt::memory_buffer& out, const Channel& ch, std::int64_t ts,
+                             std::string_view before) const {
+    if (ch.timed && frame_timed_) {
+        text::put(out, before);
+        fmt::format_to(std::back_inserter(out), "{:.1f} ms", to_ms(ts - ch.t0));
+    }
+}
+
 SdoOutcome SdoTracker::on_frame(NodeId node, sdo::Sender sender,
                                 std::span<const std::uint8_t> payload, std::int64_t ts,
-                                fmt::memory_buffer& out) {
+                                fmt::memory_buffer& out, bool timed) {
+    frame_timed_ = timed;
     auto it = std::back_inserter(out);
     fmt::format_to(it, "node {} ", node);
     SdoOutcome none;
@@ -171,9 +184,10 @@ SdoOutcome SdoTracker::on_frame(NodeId node, sdo::Sender sender,
         o.index = fi.index;
         o.subindex = fi.subindex;
         if (ch.op != Op::None) {
-            fmt::format_to(it, ", after {:.1f} ms", to_ms(ts - ch.t0));
+            put_elapsed(out, ch, ts, ", after ");
             o.upload = ch.op == Op::Upload || ch.op == Op::BlockUpload;
             o.duration_ns = ts - ch.t0;
+            o.timed = ch.timed && frame_timed_;
             ch.op = Op::None;
             --open_;
         }
@@ -468,7 +482,7 @@ void SdoTracker::check_timeouts(std::int64_t now_ns, std::vector<SdoStall>& stal
     }
     for (std::size_t n = 0; n < channels_.size(); ++n) {
         Channel& ch = channels_[n];
-        if (ch.op == Op::None || now_ns - ch.last <= timeout_ns_) {
+        if (ch.op == Op::None || !ch.timed || now_ns - ch.last <= timeout_ns_) {
             continue;
         }
         if (ch.short_response) { // already reported with the too-short response
@@ -487,6 +501,15 @@ void SdoTracker::check_timeouts(std::int64_t now_ns, std::vector<SdoStall>& stal
         stalls.push_back(std::move(s));
         ch.op = Op::None;
         --open_;
+    }
+}
+
+void SdoTracker::shift_time(std::int64_t delta_ns) {
+    for (Channel& ch : channels_) {
+        if (ch.op != Op::None) {
+            ch.t0 += delta_ns;
+            ch.last += delta_ns;
+        }
     }
 }
 

@@ -47,6 +47,8 @@ void Stats::on_frame(const Frame& f, std::int64_t ts, bool timed) {
     if (timed_frames_++ == 0) {
         first_ns_ = ts;
         last_ns_ = ts;
+        stretch_first_ns_ = ts;
+        stretch_last_ns_ = ts;
         window_start_ns_ = ts;
     }
     if (f.error()) {
@@ -55,6 +57,7 @@ void Stats::on_frame(const Frame& f, std::int64_t ts, bool timed) {
     const auto bits = frame_bits_exact(f);
     bits_ += bits;
     last_ns_ = std::max(last_ns_, ts);
+    stretch_last_ns_ = std::max(stretch_last_ns_, ts);
     if (detail_) {
         auto& b = detail_->timeline.bus(detail_->timeline.bucket(ts));
         b.bits += bits;
@@ -68,6 +71,22 @@ void Stats::on_frame(const Frame& f, std::int64_t ts, bool timed) {
         window_bits_ = 0;
     }
     window_bits_ += bits;
+}
+
+void Stats::on_time_step(std::int64_t ts) {
+    if (timed_frames_ == 0) {
+        return;
+    }
+    peak_load_ = std::max(peak_load_, open_window_load()); // the window the step cuts short
+    earlier_stretches_ns_ += stretch_last_ns_ - stretch_first_ns_;
+    stretch_first_ns_ = ts;
+    stretch_last_ns_ = ts;
+    window_start_ns_ = ts;
+    window_bits_ = 0;
+}
+
+std::int64_t Stats::duration_ns() const {
+    return earlier_stretches_ns_ + stretch_last_ns_ - stretch_first_ns_;
 }
 
 void Stats::on_heartbeat(NodeId node, std::uint8_t state, std::int64_t ts) {
@@ -264,7 +283,7 @@ std::string ranges(const std::vector<unsigned>& ids) {
 } // namespace
 
 double Stats::bus_load() const {
-    const auto span = last_ns_ - first_ns_;
+    const auto span = duration_ns();
     if (span <= 0 || bitrate_ == 0) {
         return 0;
     }
@@ -272,16 +291,19 @@ double Stats::bus_load() const {
            (static_cast<double>(bitrate_) * 1e-9 * static_cast<double>(span));
 }
 
-double Stats::peak_load_so_far() const {
+double Stats::open_window_load() const {
     // The window still open counts if it is long enough to say something.
-    double peak = peak_load_;
-    const auto open_ns = last_ns_ - window_start_ns_;
-    if (open_ns >= 100'000'000 && bitrate_ != 0) {
-        peak = std::max(peak,
-                        100.0 * static_cast<double>(window_bits_) /
-                            (static_cast<double>(bitrate_) * 1e-9 * static_cast<double>(open_ns)));
+    const auto open_ns = stretch_last_ns_ - window_start_ns_;
+    if (open_ns < 100'000'000 || bitrate_ == 0) {
+        return 0;
     }
-    if (static_cast<double>(last_ns_ - first_ns_) / 1e9 < 1.0) {
+    return 100.0 * static_cast<double>(window_bits_) /
+           (static_cast<double>(bitrate_) * 1e-9 * static_cast<double>(open_ns));
+}
+
+double Stats::peak_load_so_far() const {
+    double peak = std::max(peak_load_, open_window_load());
+    if (static_cast<double>(duration_ns()) / 1e9 < 1.0) {
         peak = std::max(peak, bus_load());
     }
     return peak;
@@ -290,7 +312,7 @@ double Stats::peak_load_so_far() const {
 std::string Stats::table(std::optional<std::int64_t> now_ns) const {
     fmt::memory_buffer b;
     auto it = std::back_inserter(b);
-    const double secs = static_cast<double>(last_ns_ - first_ns_) / 1e9;
+    const double secs = static_cast<double>(duration_ns()) / 1e9;
     fmt::format_to(it,
                    "{:>4}  {:<15}  {:>9}  {:>8}  {:>5}  {:>5}  {:>6}  {:>8}  {:>8}  {:>8}  {}\n",
                    "node", "NMT state", "HB period", "HB jit.", "EMCY", "SDO", "ab/to", "SDO mean",

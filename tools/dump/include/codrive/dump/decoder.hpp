@@ -43,13 +43,14 @@ struct Decoded {
     fmt::memory_buffer text;
 };
 
-/// An event not carried by the frame being decoded (an SDO request that got no answer).
+/// An event not carried by the frame being decoded (an SDO request that got no answer, a step
+/// back in time).
 struct Note {
     std::int64_t ts_ns = 0;
     Service service = Service::Sdo;
     NodeId node = 0;
     Severity severity = Severity::Error;
-    std::string event; ///< "timeout", "unfinished"
+    std::string event; ///< "timeout", "unfinished", "time step"
     std::string text;
 };
 
@@ -94,6 +95,8 @@ private:
     void decode_lss(const Frame& f, bool from_master, Decoded& out);
     void decode_sdo(const Frame& f, NodeId node, bool client, std::int64_t ts, Decoded& out);
     void learn_identity(NodeId node, std::uint8_t sub, std::uint32_t value);
+    /// Notices a step back in time and moves the time-keeping state to the new time.
+    void follow_time(const TraceRecord& r, std::vector<Note>& notes);
     void collect_stalls(std::vector<SdoStall>& stalls, std::vector<Note>& notes,
                         std::string_view event);
 
@@ -105,6 +108,8 @@ private:
     const ProfileRegistry* registry_ = nullptr;
     std::array<NodeState, kMaxNodeId + 1> nodes_{};
     std::int64_t next_timeout_check_ = 0;
+    std::int64_t latest_ns_ = 0; ///< the latest timestamp so far (since the last step back)
+    bool any_timed_ = false;
     bool timed_ = true; ///< the record being decoded carries a timestamp
     std::vector<SdoStall> stalls_;
 };

@@ -30,6 +30,7 @@ struct SdoOutcome {
     std::span<const std::uint8_t> data; ///< completed: the value (first kKeepBytes bytes)
     std::uint32_t size = 0;             ///< completed: the full size
     std::int64_t duration_ns = 0;
+    bool timed = false; ///< both ends of the transfer carry a timestamp: duration_ns is measured
 };
 
 /// A transfer that got no answer (reported as a timeout) or was left unfinished.
@@ -48,11 +49,16 @@ public:
     SdoTracker(const ObjectCatalog& catalog, std::int64_t timeout_ns);
 
     /// Decodes one SDO frame of `node`, appending its text to `out` ("node 4 upload 1008:00 …").
+    /// A frame without a timestamp (`timed` false) has `ts_ns` 0: a transfer that starts or ends
+    /// with one gets no duration, and no timeout (it is reported if still open at the end).
     SdoOutcome on_frame(NodeId node, sdo::Sender sender, std::span<const std::uint8_t> payload,
-                        std::int64_t ts_ns, fmt::memory_buffer& out);
+                        std::int64_t ts_ns, fmt::memory_buffer& out, bool timed = true);
 
     /// Reports transfers idle for longer than the timeout at `now_ns`.
     void check_timeouts(std::int64_t now_ns, std::vector<SdoStall>& stalls);
+    /// The trace's time jumped by `delta_ns` (negative: back): open transfers move with it, so
+    /// their timeouts and durations count in the new time.
+    void shift_time(std::int64_t delta_ns);
     /// Reports every transfer still open (end of input).
     void finish(std::vector<SdoStall>& stalls);
 
@@ -72,6 +78,7 @@ private:
         bool confirmed = false;      ///< the server answered the initiate (segments may follow)
         bool short_response = false; ///< last server frame was too short (already reported)
         bool tail_pending = false;
+        bool timed = false; ///< the initiate carried a timestamp
         std::uint8_t block_size = 0;
         std::uint8_t last_seq = 0;
         std::uint8_t tail_len = 0;
@@ -96,11 +103,15 @@ private:
     void object_name(fmt::memory_buffer& out, NodeId node, std::uint16_t index,
                      std::uint8_t sub) const;
     void stall_text(NodeId node, const Channel& ch, std::string& text) const;
+    /// Appends "<before>12.3 ms" when the transfer's time was measured (both ends timed).
+    void put_elapsed(fmt::memory_buffer& out, const Channel& ch, std::int64_t ts,
+                     std::string_view before) const;
 
     const ObjectCatalog& catalog_;
     std::int64_t timeout_ns_;
     std::array<Channel, kMaxNodeId + 1> channels_{};
-    std::uint32_t open_ = 0; ///< channels with op != None (skip the timeout scan when 0)
+    std::uint32_t open_ = 0;  ///< channels with op != None (skip the timeout scan when 0)
+    bool frame_timed_ = true; ///< the frame being decoded carries a timestamp
 };
 
 } // namespace codrive::dump

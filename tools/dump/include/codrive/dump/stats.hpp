@@ -107,6 +107,9 @@ public:
     /// shows no rates and no bus load instead of dividing by a zero duration.
     void on_frame(const Frame& f, std::int64_t ts_ns, bool timed = true);
     void on_heartbeat(NodeId node, std::uint8_t state, std::int64_t ts_ns);
+    /// The trace's time went back to `ts_ns` (a second capture appended to the first, a clock
+    /// step): the one-second load window restarts there, and the duration goes on from it.
+    void on_time_step(std::int64_t ts_ns);
     /// A node guarding remote request to `node`.
     void on_guard_request(NodeId node);
     /// A node guarding reply: state byte without the toggle bit, and the toggle bit.
@@ -145,11 +148,17 @@ public:
     [[nodiscard]] std::uint64_t timed_frames() const { return timed_frames_; }
     [[nodiscard]] std::int64_t first_ns() const { return first_ns_; }
     [[nodiscard]] std::int64_t last_ns() const { return last_ns_; }
+    /// The time the timed frames cover: last minus first, summed over the stretches between
+    /// steps back (so two appended captures of 10 s make 20 s, not 10).
+    [[nodiscard]] std::int64_t duration_ns() const;
     /// SYNC intervals over the trace.
     [[nodiscard]] const Running& sync_period() const { return sync_period_; }
     [[nodiscard]] std::uint64_t syncs() const { return syncs_; }
 
 private:
+    /// Load of the one-second window still open, or 0 while it is under 100 ms.
+    [[nodiscard]] double open_window_load() const;
+
     std::uint32_t bitrate_;
     std::array<Node, kMaxNodeId + 1> nodes_{};
     std::uint64_t frames_ = 0;
@@ -158,6 +167,9 @@ private:
     std::uint64_t bits_ = 0;
     std::int64_t first_ns_ = 0;
     std::int64_t last_ns_ = 0;
+    std::int64_t stretch_first_ns_ = 0; ///< the stretch since the last step back
+    std::int64_t stretch_last_ns_ = 0;
+    std::int64_t earlier_stretches_ns_ = 0;
     std::int64_t window_start_ns_ = 0;
     std::uint64_t window_bits_ = 0;
     double peak_load_ = 0;
