@@ -277,3 +277,97 @@ TEST(DumpPcap, JunkPadRecordsInAFileDecodeAsCanopen) {
     EXPECT_NE(out.find("NMT reset node"), std::string::npos) << out;
     EXPECT_EQ(out.find("FD"), std::string::npos) << out;
 }
+
+namespace {
+// A pcapng file in either byte order: a section header, one SocketCAN interface with `options`
+// (code, value), and one EPB of the frame 701h [1] 05 per timestamp (in interface units).
+std::string pcapng_file(bool big_endian,
+                        const std::vector<std::pair<std::uint16_t, std::string>>& options,
+                        const std::vector<std::uint64_t>& stamps) {
+    const auto put = [big_endian](std::string& b, std::uint64_t v, int bytes) {
+        for (int i = 0; i < bytes; ++i) {
+            const int shift = 8 * (big_endian ? bytes - 1 - i : i);
+            b.push_back(static_cast<char>(v >> shift));
+        }
+    };
+    const auto block = [&](std::uint32_t type, const std::string& body) {
+        std::string b;
+        put(b, type, 4);
+        put(b, 12 + body.size(), 4);
+        b += body;
+        put(b, 12 + body.size(), 4);
+        return b;
+    };
+    std::string shb;
+    put(shb, 0x1A2B3C4D, 4);
+    put(shb, 1, 2);
+    put(shb, 0, 2);
+    put(shb, ~std::uint64_t{0}, 8);
+    std::string idb;
+    put(idb, 227, 2); // LINKTYPE_CAN_SOCKETCAN
+    put(idb, 0, 2);
+    put(idb, 0, 4);
+    for (const auto& [code, value] : options) {
+        put(idb, code, 2);
+        put(idb, value.size(), 2);
+        idb += value;
+        idb.append((4 - value.size() % 4) % 4, '\0');
+    }
+    put(idb, 0, 4); // opt_endofopt
+    std::string file = block(0x0A0D0D0A, shb) + block(1, idb);
+    for (const auto ts : stamps) {
+        std::string epb;
+        put(epb, 0, 4);
+        put(epb, ts >> 32, 4);
+        put(epb, ts & 0xFFFFFFFFU, 4);
+        put(epb, 16, 4);
+        put(epb, 16, 4);
+        epb += std::string("\x00\x00\x07\x01\x01\x00\x00\x00\x05\x00\x00\x00\x00\x00\x00\x00", 16);
+        file += block(6, epb);
+    }
+    return file;
+}
+
+std::string int64_value(bool big_endian, std::int64_t v) {
+    std::string s;
+    for (int i = 0; i < 8; ++i) {
+        s.push_back(
+            static_cast<char>(static_cast<std::uint64_t>(v) >> (8 * (big_endian ? 7 - i : i))));
+    }
+    return s;
+}
+} // namespace
+
+// if_tsresol in powers of two and down to 10^-19 s, and if_tsoffset (seconds added to every
+// timestamp), in both byte orders. The expected times are tshark 4.0's for the same files, but
+// for 10^-19 s, where tshark reads 1.0 s (1.5 * 10^19 units of 10^-19 s are 1.5 s).
+TEST(DumpPcap, PcapngResolutionAndOffsetOptionsInBothByteOrders) {
+    for (const bool big : {false, true}) {
+        SCOPED_TRACE(big ? "big-endian section" : "little-endian section");
+        const auto times = [](const std::string& file) {
+            auto in = BufferedInput::from_memory(file);
+            PcapReader reader(*in);
+            std::vector<std::string> out;
+            TraceRecord r;
+            for (ReadStatus s; (s = reader.next(r)) != ReadStatus::End && s != ReadStatus::Fatal;) {
+                out.push_back(s == ReadStatus::Frame ? std::to_string(r.ts_ns)
+                                                     : std::string(reader.error()));
+            }
+            return out;
+        };
+        using V = std::vector<std::string>;
+        EXPECT_EQ(times(pcapng_file(big, {{9, "\x94"}}, {3 * (1U << 20) + (1U << 19)})),
+                  V{"3500000000"}); // 2^-20 s units
+        EXPECT_EQ(times(pcapng_file(big, {{9, "\x13"}}, {15'000'000'000'000'000'000ULL})),
+                  V{"1500000000"}); // 10^-19 s units
+        EXPECT_EQ(times(pcapng_file(big, {{14, int64_value(big, 1'700'000'000)}}, {1'500'000})),
+                  V{"1700000001500000000"});
+        EXPECT_EQ(times(pcapng_file(big, {{14, int64_value(big, -10)}}, {1'500'000, 12'500'000})),
+                  (V{"pcapng packet 1: timestamp 1500000 (1000000 per second) with the interface's "
+                     "offset of -10 s is before 1970 or past the year 2255, skipped",
+                     "2500000000"}));
+        EXPECT_EQ(times(pcapng_file(big, {{9, "\x14"}}, {1})),
+                  V{"pcapng packet 1: its interface's if_tsresol of 10^-20 s is too fine: a "
+                    "second holds more than 2^64 such units, skipped"});
+    }
+}

@@ -22,6 +22,12 @@ std::uint32_t bswap32(std::uint32_t v) {
     return __builtin_bswap32(v);
 }
 
+// floor(a * b / c), exact through a 128-bit product (a < c keeps the result below b).
+std::uint64_t mul_div_below(std::uint64_t a, std::uint64_t b, std::uint64_t c) {
+    __extension__ typedef unsigned __int128 Wide;
+    return static_cast<std::uint64_t>(static_cast<Wide>(a) * b / c);
+}
+
 } // namespace
 
 bool looks_like_pcap(const std::uint8_t* p, std::size_t n) {
@@ -191,6 +197,84 @@ ReadStatus PcapReader::next_classic(TraceRecord& record) {
     return ReadStatus::Frame;
 }
 
+// An IDB: link type (2 bytes), reserved (2), snap length (4), then options of code (2), length
+// (2) and a value padded to 4 bytes (pcapng, draft-ietf-opsawg-pcapng §4.2).
+PcapReader::Interface PcapReader::read_interface(const std::uint8_t* body,
+                                                 std::uint32_t body_len) const {
+    Interface itf;
+    itf.link_type = u16(body);
+    std::size_t o = 8;
+    while (o + 4 <= body_len) {
+        const std::uint16_t code = u16(body + o);
+        const std::uint16_t olen = u16(body + o + 2);
+        if (code == 0 || o + 4 + olen > body_len) {
+            break;
+        }
+        const auto* v = body + o + 4;
+        if (code == 9 && olen >= 1) {
+            // if_tsresol: 10^-n s, or 2^-n s with the top bit set. Units finer than 10^-19 or
+            // 2^-63 s do not fit a 64-bit count of units per second.
+            const unsigned exp = v[0] & 0x7FU;
+            const bool binary = (v[0] & 0x80U) != 0;
+            if (binary ? exp > 63 : exp > 19) {
+                itf.bad_resolution = fmt::format(
+                    "if_tsresol of {}^-{} s is too fine: a second holds more than 2^64 such units",
+                    binary ? 2 : 10, exp);
+            } else {
+                std::uint64_t per = 1;
+                for (unsigned i = 0; i < exp; ++i) {
+                    per *= binary ? 2U : 10U;
+                }
+                itf.ts_per_second = per;
+                itf.bad_resolution.clear();
+            }
+        } else if (code == 14 && olen == 8) {
+            // if_tsoffset: signed seconds added to every timestamp, one 64-bit value in the
+            // section's byte order.
+            const std::uint64_t lo = u32(swapped_ ? v + 4 : v);
+            const std::uint64_t hi = u32(swapped_ ? v : v + 4);
+            itf.ts_offset_s = static_cast<std::int64_t>((hi << 32) | lo);
+        } else if (code == 2 && olen > 0) { // if_name
+            itf.name.assign(reinterpret_cast<const char*>(v),
+                            strnlen(reinterpret_cast<const char*>(v), olen));
+        }
+        o += 4 + ((olen + 3U) & ~3U);
+    }
+    if (itf.name.empty()) {
+        itf.name = fmt::format("if{}", interfaces_.size());
+    }
+    return itf;
+}
+
+bool PcapReader::packet_time(const Interface& itf, std::uint64_t ts, std::int64_t& ns) {
+    if (!itf.bad_resolution.empty()) {
+        error_ = fmt::format("pcapng packet {}: its interface's {}, skipped", records_,
+                             itf.bad_resolution);
+        return false;
+    }
+    const std::uint64_t per = itf.ts_per_second;
+    const std::uint64_t whole = ts / per;
+    const std::uint64_t frac_ns = mul_div_below(ts % per, 1'000'000'000U, per);
+    const bool in_range = whole <= static_cast<std::uint64_t>(kMaxTraceTimeS) &&
+                          itf.ts_offset_s >= -kMaxTraceTimeS && itf.ts_offset_s <= kMaxTraceTimeS;
+    const std::int64_t sec = in_range ? static_cast<std::int64_t>(whole) + itf.ts_offset_s : -1;
+    if (sec >= 0 && sec <= kMaxTraceTimeS &&
+        add_trace_time(sec * 1'000'000'000LL, static_cast<std::int64_t>(frac_ns), ns)) {
+        return true;
+    }
+    if (itf.ts_offset_s == 0) {
+        error_ = fmt::format("pcapng packet {}: timestamp {} ({} per second) is past the year "
+                             "2255, skipped",
+                             records_, ts, per);
+    } else {
+        error_ = fmt::format("pcapng packet {}: timestamp {} ({} per second) with the "
+                             "interface's offset of {} s is before 1970 or past the year 2255, "
+                             "skipped",
+                             records_, ts, per, itf.ts_offset_s);
+    }
+    return false;
+}
+
 ReadStatus PcapReader::next_ng(TraceRecord& record) {
     for (;;) {
         const auto have = input_.ensure(12);
@@ -228,40 +312,7 @@ ReadStatus PcapReader::next_ng(TraceRecord& record) {
         const auto* body = b + 8;
         ReadStatus status = ReadStatus::End; // End here means "no record from this block"
         if (type == kNgIdb && body_len >= 8) {
-            Interface itf;
-            itf.link_type = u16(body);
-            // Options: code(2) len(2) value padded to 4.
-            std::size_t o = 8;
-            while (o + 4 <= body_len) {
-                const std::uint16_t code = u16(body + o);
-                const std::uint16_t olen = u16(body + o + 2);
-                if (code == 0 || o + 4 + olen > body_len) {
-                    break;
-                }
-                const auto* v = body + o + 4;
-                if (code == 9 && olen >= 1) { // if_tsresol
-                    const std::uint8_t r = v[0];
-                    std::int64_t per = 1;
-                    const unsigned exp = r & 0x7F;
-                    if ((r & 0x80) != 0) {
-                        per = exp < 62 ? (std::int64_t{1} << exp) : 0;
-                    } else {
-                        for (unsigned i = 0; i < exp && i < 18; ++i) {
-                            per *= 10;
-                        }
-                    }
-                    if (per > 0) {
-                        itf.ts_per_second = per;
-                    }
-                } else if (code == 2 && olen > 0) { // if_name
-                    itf.name.assign(reinterpret_cast<const char*>(v),
-                                    strnlen(reinterpret_cast<const char*>(v), olen));
-                }
-                o += 4 + ((olen + 3U) & ~3U);
-            }
-            if (itf.name.empty()) {
-                itf.name = fmt::format("if{}", interfaces_.size());
-            }
+            auto itf = read_interface(body, body_len);
             if (interfaces_.size() < 256) {
                 interfaces_.push_back(std::move(itf));
             }
@@ -287,19 +338,7 @@ ReadStatus PcapReader::next_ng(TraceRecord& record) {
                 if (epb) {
                     const std::uint64_t ts =
                         (static_cast<std::uint64_t>(u32(body + 4)) << 32) | u32(body + 8);
-                    const auto per = static_cast<std::uint64_t>(itf.ts_per_second);
-                    const std::uint64_t sec = ts / per;
-                    const std::uint64_t rem = ts % per;
-                    const auto frac_ns = static_cast<std::int64_t>(static_cast<double>(rem) * 1e9 /
-                                                                   static_cast<double>(per));
-                    if (sec > static_cast<std::uint64_t>(kMaxTraceTimeS) ||
-                        !add_trace_time(static_cast<std::int64_t>(sec) * 1'000'000'000LL, frac_ns,
-                                        record.ts_ns)) {
-                        error_ = fmt::format("pcapng packet {}: timestamp {} ({} per second) is "
-                                             "past the year 2255, skipped",
-                                             records_, ts, per);
-                        ts_ok = false;
-                    }
+                    ts_ok = packet_time(itf, ts, record.ts_ns);
                     record.has_ts = true;
                 } else {
                     record.has_ts = false;

@@ -50,9 +50,15 @@ public:
 private:
     struct Interface {
         std::uint16_t link_type = 0;
-        std::int64_t ts_per_second = 1'000'000;
+        std::uint64_t ts_per_second = 1'000'000; ///< if_tsresol (default: microseconds)
+        std::int64_t ts_offset_s = 0;            ///< if_tsoffset, added to every timestamp
+        std::string bad_resolution; ///< an if_tsresol no timestamp can be read with, named
         std::string name;
     };
+    /// The interface an IDB body describes (link type, if_name, if_tsresol, if_tsoffset).
+    [[nodiscard]] Interface read_interface(const std::uint8_t* body, std::uint32_t body_len) const;
+    /// An EPB timestamp of `itf` into `ns`; false with error_ set when it cannot be a trace time.
+    bool packet_time(const Interface& itf, std::uint64_t ts, std::int64_t& ns);
     ReadStatus read_header();
     ReadStatus next_classic(TraceRecord& record);
     ReadStatus next_ng(TraceRecord& record);
