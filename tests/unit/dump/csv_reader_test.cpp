@@ -114,3 +114,18 @@ TEST(DumpCsv, SavvyCanGenericIdDataColumnsWithEightDigitIds) {
     EXPECT_TRUE(items[2].frame.extended());
     EXPECT_EQ(items[2].frame.id, 0x18FEF100U);
 }
+
+// With several time columns the first that is not an interval gives the time, in its own unit: a
+// "Time Delta (ms)" after it neither overwrites the time nor changes its unit.
+TEST(DumpCsv, TheFirstTimeColumnThatIsNotAnIntervalGivesTheTime) {
+    auto items = read_trace("Time Delta (ms),Timestamp (us),Time (rel),ID,Data\n"
+                            "0.000,1500,0.0,181,37 06\n"
+                            "1.000,2500,1.0,181,37 07\n");
+    ASSERT_EQ(items.size(), 2U);
+    EXPECT_EQ(items[0].status, ReadStatus::Frame) << items[0].error;
+    EXPECT_EQ(items[0].ts_ns, 1'500'000);
+    EXPECT_EQ(items[1].ts_ns, 2'500'000);
+    items = read_trace("Time,Time Stamp (ms),ID,Data\n1.5,7,181,37 06\n");
+    ASSERT_EQ(items.size(), 1U);
+    EXPECT_EQ(items[0].ts_ns, 1'500'000'000) << "the first, in seconds";
+}

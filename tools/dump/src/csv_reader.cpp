@@ -197,9 +197,19 @@ LineStatus CsvReader::parse_header(std::string_view line, std::string& why) {
     }
     sep_ = line.find(',') != std::string_view::npos ? ',' : ';';
     ids_padded_to_8_ = scan::iequals(trim(line), "ID,Data Bytes"); // SavvyCAN "Generic ID/Data CSV"
+    bool have_time = false;
     for_each_field(line, sep_, [&](std::string_view name) {
         Role r = Role::Ignore;
         if (contains_ci(name, "time")) {
+            // One time column is read: the first that is not an interval ("Time Delta",
+            // "Time (rel)"); with "Timestamp,Time Delta" the delta would otherwise overwrite
+            // the timestamp, and its unit the timestamp's.
+            if (have_time || contains_ci(name, "delta") || contains_ci(name, "diff") ||
+                contains_ci(name, "rel") || contains_ci(name, "interval")) {
+                roles_.push_back(Role::Ignore);
+                return;
+            }
+            have_time = true;
             r = Role::Time;
             if (contains_ci(name, "ms")) {
                 time_unit_ns_ = 1'000'000;
