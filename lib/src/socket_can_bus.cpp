@@ -3,6 +3,8 @@
 // decoding, and an allocation-free transmit retry ring for ENOBUFS/EAGAIN.
 #include <codrive/core/socket_can_bus.hpp>
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <array>
 #include <cerrno>
@@ -543,6 +545,56 @@ void SocketCanBus::handle_frame(const Frame& f, TimePoint rx_time) {
     }
 }
 
+namespace {
+
+// Where in the frame a protocol error happened (CAN_ERR_PROT_LOC_*, the SJA1000's segment codes).
+std::string_view error_location(std::uint8_t loc) {
+    switch (loc) {
+    case CAN_ERR_PROT_LOC_SOF:
+        return "start of frame";
+    case CAN_ERR_PROT_LOC_ID28_21:
+        return "identifier bits 28-21 (11-bit: 10-3)";
+    case CAN_ERR_PROT_LOC_ID20_18:
+        return "identifier bits 20-18 (11-bit: 2-0)";
+    case CAN_ERR_PROT_LOC_SRTR:
+        return "SRR bit (11-bit: RTR bit)";
+    case CAN_ERR_PROT_LOC_IDE:
+        return "IDE bit";
+    case CAN_ERR_PROT_LOC_ID17_13:
+        return "identifier bits 17-13";
+    case CAN_ERR_PROT_LOC_ID12_05:
+        return "identifier bits 12-5";
+    case CAN_ERR_PROT_LOC_ID04_00:
+        return "identifier bits 4-0";
+    case CAN_ERR_PROT_LOC_RTR:
+        return "RTR bit";
+    case CAN_ERR_PROT_LOC_RES1:
+        return "reserved bit 1";
+    case CAN_ERR_PROT_LOC_RES0:
+        return "reserved bit 0";
+    case CAN_ERR_PROT_LOC_DLC:
+        return "data length code";
+    case CAN_ERR_PROT_LOC_DATA:
+        return "data field";
+    case CAN_ERR_PROT_LOC_CRC_SEQ:
+        return "CRC sequence";
+    case CAN_ERR_PROT_LOC_CRC_DEL:
+        return "CRC delimiter";
+    case CAN_ERR_PROT_LOC_ACK:
+        return "ACK slot";
+    case CAN_ERR_PROT_LOC_ACK_DEL:
+        return "ACK delimiter";
+    case CAN_ERR_PROT_LOC_EOF:
+        return "end of frame";
+    case CAN_ERR_PROT_LOC_INTERM:
+        return "intermission";
+    default:
+        return {};
+    }
+}
+
+} // namespace
+
 std::vector<BusEvent> decode_error_frame(const Frame& f) {
     std::vector<BusEvent> out;
     const std::uint32_t cls = f.id;
@@ -615,13 +667,16 @@ std::vector<BusEvent> decode_error_frame(const Frame& f) {
             what = "unspecified ";
         }
         what.pop_back();
-        if (d(3) != 0) {
-            what += " (location " + std::to_string(d(3)) + ")";
+        if (const auto where = error_location(d(3)); !where.empty()) {
+            what += " in the ";
+            what += where;
+        } else if (d(3) != 0) {
+            what += fmt::format(" (location 0x{:02X})", d(3));
         }
         push(BusEvent::Kind::ProtocolError, what);
     }
     if ((cls & CAN_ERR_TRX) != 0) {
-        push(BusEvent::Kind::TransceiverError, "status 0x" + std::to_string(d(4)));
+        push(BusEvent::Kind::TransceiverError, fmt::format("status 0x{:02X}", d(4)));
     }
     if ((cls & CAN_ERR_ACK) != 0) {
         push(BusEvent::Kind::NoAck);

@@ -68,3 +68,20 @@ TEST(CanInterface, MissingInterfaceIsNamed) {
     EXPECT_EQ(describe_interface_error("nosuchcan9", "read state", info.error()),
               "nosuchcan9: cannot read state: no such network interface (check `ip link show`)");
 }
+
+// The location byte is named as linux/can/error.h names it; a transceiver status is in hex.
+TEST(ErrorFrame, ProtocolErrorLocationIsNamedAndTransceiverStatusIsHex) {
+    Frame f;
+    f.flags = Frame::kError;
+    f.id = CAN_ERR_PROT | CAN_ERR_TRX;
+    f.len = 8;
+    f.data[2] = CAN_ERR_PROT_FORM | CAN_ERR_PROT_TX;
+    f.data[3] = CAN_ERR_PROT_LOC_ACK_DEL;
+    f.data[4] = CAN_ERR_TRX_CANL_SHORT_TO_GND;
+    auto events = decode_error_frame(f);
+    ASSERT_EQ(events.size(), 2U);
+    EXPECT_EQ(events[0].detail, "form error on transmission in the ACK delimiter");
+    EXPECT_EQ(events[1].detail, "status 0x70");
+    f.data[3] = 0x1F; // not a location linux/can/error.h defines
+    EXPECT_EQ(decode_error_frame(f).at(0).detail, "form error on transmission (location 0x1F)");
+}

@@ -147,6 +147,36 @@ TEST(DumpAsc, ADateThatDoesNotExistIsUnreadable) {
     EXPECT_EQ(items[0].error.rfind("1: unreadable date", 0), 0U) << items[0].error;
 }
 
+// CANoe writes what it knows of an error frame after "ErrorFrame" (lines from python-can's
+// logfile.asc): an SJA1000 ECC in binary, the CAN-Core registers, or a text in CANFD events.
+TEST(DumpAsc, ErrorFrameDetailsBecomeTheProtocolErrorTheyDescribe) {
+    const auto items = read_trace(
+        "date Tue Nov 24 00:00:00.000 2026\n"
+        "base hex  timestamps absolute\n"
+        "   2.501000 1 ErrorFrame\n"
+        "   2.501010 1 ErrorFrame ECC: 10100010\n"
+        "   2.501020 2 ErrorFrame Flags = 0xe CodeExt = 0x20a2 Code = 0x82 ID = 0 DLC = 0 "
+        "Position = 5 Length = 11300\n"
+        "  30.806898 CANFD   5 Tx ErrorFrame Not Acknowledge error, dominant error flag fffe c7 "
+        "31ca Arb. 556 44 0 0 f 64 00 00 1331984 11 0 46500250 460a0250 20011736 20010205\n"
+        "   2.501030 1 ErrorFrame ECC: 1010001\n");
+    ASSERT_EQ(items.size(), 5U);
+    const auto text = [&](std::size_t i) {
+        EXPECT_TRUE(items[i].frame.error()) << i;
+        std::string all;
+        for (const auto& e : decode_error_frame(items[i].frame)) {
+            all += (all.empty() ? "" : "; ") + to_string(e);
+        }
+        return all;
+    };
+    EXPECT_EQ(text(0), "protocol error: unspecified");
+    EXPECT_EQ(text(1), "protocol error: stuff error in the identifier bits 28-21 (11-bit: 10-3)");
+    EXPECT_EQ(text(2), "protocol error: stuff error");
+    EXPECT_EQ(text(3), "protocol error: on transmission in the ACK slot; transmission not "
+                       "acknowledged (no other node on the bus?)");
+    EXPECT_EQ(text(4), "protocol error: unspecified") << "seven bits are not an ECC";
+}
+
 // A CANFD event with more than 8 data bytes is CAN FD even when its flags lack EDL (python-can's
 // test_CanFdMessage64.asc and logfile.asc have such lines): the frame is kept, not dropped. A
 // classic event with a DLC above F (python-can writes "d 40" for a 64-byte frame not marked CAN

@@ -4,6 +4,7 @@
 #include "blf_test_writer.hpp"
 #include "dump_test_util.hpp"
 
+#include <codrive/core/socket_can_bus.hpp>
 #include <codrive/dump/blf_reader.hpp>
 #include <codrive/dump/error_frame_build.hpp>
 
@@ -428,4 +429,42 @@ TEST(DumpBlf, AnImpossibleStartDateIsNoStartAndALeapDayIsOne) {
     ASSERT_EQ(got.size(), 2U);
     EXPECT_EQ(got[0].ts_ns, 0);
     EXPECT_EQ(got[1].ts_ns, 1'500'000);
+}
+
+// CAN_ERROR_EXT carries the error register: flag 1 an SJA1000 ECC (what Vector's converter
+// writes for the ASC line "ErrorFrame ECC: 10100010"), flag 2 the CAN-Core register. Without
+// either flag the error is unspecified.
+TEST(DumpBlf, ErrorExtObjectsGiveTheErrorTheirRegisterHolds) {
+    const auto payload = [](std::uint32_t flags, std::uint8_t ecc) {
+        std::string p(32, '\0');
+        p[0] = 1; // channel 1
+        p[2] = 6; // length
+        for (int i = 0; i < 4; ++i) {
+            p[static_cast<std::size_t>(4 + i)] = static_cast<char>(flags >> (8 * i));
+        }
+        p[8] = static_cast<char>(ecc);
+        return p;
+    };
+    std::string stream;
+    stream += blf_object(BlfObjectType::CanErrorExt, payload(1, 0xA2), 1'000'000);
+    stream += blf_object(BlfObjectType::CanErrorExt, payload(0xE, 0x82), 2'000'000);
+    stream += blf_object(BlfObjectType::CanErrorExt, payload(2, 0x43), 3'000'000);
+    stream += blf_object(BlfObjectType::CanErrorExt, payload(0, 0xA2), 4'000'000);
+    const auto got = read_trace(blf_file(0, stream, BlfWriteOptions{}));
+    ASSERT_EQ(got.size(), 4U);
+    std::vector<std::string> texts;
+    for (const auto& i : got) {
+        ASSERT_EQ(i.status, ReadStatus::Frame) << i.error;
+        EXPECT_EQ(i.iface, "can1");
+        std::string all;
+        for (const auto& e : decode_error_frame(i.frame)) {
+            all += (all.empty() ? "" : "; ") + to_string(e);
+        }
+        texts.push_back(all);
+    }
+    EXPECT_EQ(texts[0], "protocol error: stuff error in the identifier bits 28-21 (11-bit: 10-3)");
+    EXPECT_EQ(texts[1], "protocol error: stuff error");
+    EXPECT_EQ(texts[2], "protocol error: on transmission in the ACK slot; transmission not "
+                        "acknowledged (no other node on the bus?)");
+    EXPECT_EQ(texts[3], "protocol error: unspecified");
 }

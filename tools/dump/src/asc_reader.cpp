@@ -6,6 +6,7 @@
 #include <codrive/dump/text_scan.hpp>
 
 #include <fmt/format.h>
+#include <linux/can/error.h>
 
 #include <array>
 
@@ -28,6 +29,61 @@ int month_number(std::string_view m) {
         }
     }
     return 0;
+}
+
+// The details CANoe writes after "ErrorFrame": "ECC: 10100010" (an SJA1000 error code capture
+// register in binary), "Flags = 0xe CodeExt = 0x20a2 Code = 0x82 ..." (flag 2: Code is the
+// CAN-Core error register, flag 1: an SJA1000 ECC), or in CANFD events a text ("Not Acknowledge
+// error, dominant error flag ..."). Without details: an unspecified protocol error.
+Frame error_frame_details(std::string_view rest, bool tx) {
+    Cursor c(rest);
+    const auto first = c.token();
+    if (first == "ECC:") {
+        const auto bits = c.token();
+        std::uint8_t ecc = 0;
+        bool ok = bits.size() == 8;
+        for (std::size_t i = 0; ok && i < 8; ++i) {
+            ok = bits[i] == '0' || bits[i] == '1';
+            ecc = static_cast<std::uint8_t>((ecc << 1) | (bits[i] == '1' ? 1 : 0));
+        }
+        return ok ? sja1000_ecc_error_frame(ecc) : protocol_error_frame(0, tx, 0);
+    }
+    if (first == "Flags") {
+        std::uint32_t flags = 0;
+        std::uint32_t code = 0;
+        bool have_flags = c.token() == "=" && scan::parse_hex_u32(c.token(), flags, true);
+        bool have_code = false;
+        for (auto t = c.token(); have_flags && !t.empty() && !have_code; t = c.token()) {
+            have_code =
+                t == "Code" && c.token() == "=" && scan::parse_hex_u32(c.token(), code, true);
+        }
+        if (have_code && code <= 0xFF && (flags & 2U) != 0) {
+            return can_core_error_frame(static_cast<std::uint8_t>(code));
+        }
+        if (have_code && code <= 0xFF && (flags & 1U) != 0) {
+            return sja1000_ecc_error_frame(static_cast<std::uint8_t>(code));
+        }
+        return protocol_error_frame(0, tx, 0);
+    }
+    if (scan::contains_ci(rest, "acknowledge")) {
+        Frame f = protocol_error_frame(0, tx, CAN_ERR_PROT_LOC_ACK);
+        f.id |= CAN_ERR_ACK;
+        return f;
+    }
+    static constexpr struct {
+        std::string_view word;
+        std::uint8_t prot;
+        std::uint8_t location;
+    } kWords[] = {{"stuff", CAN_ERR_PROT_STUFF, 0},
+                  {"form", CAN_ERR_PROT_FORM, 0},
+                  {"crc", CAN_ERR_PROT_UNSPEC, CAN_ERR_PROT_LOC_CRC_SEQ},
+                  {"bit error", CAN_ERR_PROT_BIT, 0}};
+    for (const auto& w : kWords) {
+        if (scan::contains_ci(rest, w.word)) {
+            return protocol_error_frame(w.prot, tx, w.location);
+        }
+    }
+    return protocol_error_frame(0, tx, 0);
 }
 
 bool is_time_token(std::string_view t) {
@@ -140,7 +196,7 @@ LineStatus AscReader::parse_fd(std::string_view rest, TraceRecord& out, std::str
         return LineStatus::Skip; // e.g. "CANFD 1 Statistic:"
     }
     if (id_tok == "ErrorFrame") {
-        f = protocol_error_frame(0, dir == "Tx", 0);
+        f = error_frame_details(c.rest(), dir == "Tx");
         return LineStatus::Frame;
     }
     if (!parse_id(id_tok, f)) {
@@ -246,7 +302,7 @@ LineStatus AscReader::parse_line(std::string_view line, TraceRecord& out, std::s
     iface_ = fmt::format("can{}", channel);
     out.iface = iface_;
     if (id_tok == "ErrorFrame") {
-        f = protocol_error_frame(0, false, 0);
+        f = error_frame_details(c.rest(), false);
         return stamp(t_ns, out, why);
     }
     const auto dir = c.token();

@@ -568,13 +568,30 @@ ReadStatus BlfReader::decode(const std::uint8_t* obj, std::uint32_t size, std::u
         break;
     }
     case BlfObjectType::CanError:
-    case BlfObjectType::CanErrorExt:
         if (n < 2) {
             return malformed("no channel");
         }
         channel = le16(p);
         f = protocol_error_frame(0, false, 0);
         break;
+    case BlfObjectType::CanErrorExt: {
+        // u16 channel, u16 length, u32 flags (1: ecc is an SJA1000 ECC, 2: ecc is the CAN-Core
+        // error register), u8 ecc, u8 position, u8 dlc, u8, u32 frame length (ns), u32 id,
+        // u16 extended flags, u16, 8 data bytes.
+        if (n < 2) {
+            return malformed("no channel");
+        }
+        channel = le16(p);
+        const std::uint32_t error_flags = n >= 9 ? le32(p + 4) : 0;
+        if ((error_flags & 2U) != 0) {
+            f = can_core_error_frame(p[8]);
+        } else if ((error_flags & 1U) != 0) {
+            f = sja1000_ecc_error_frame(p[8]);
+        } else {
+            f = protocol_error_frame(0, false, 0);
+        }
+        break;
+    }
     case BlfObjectType::CanFdError64: // u8 channel, then the frame as CAN_FD_MESSAGE_64
         if (n < 1) {
             return malformed("no channel");

@@ -45,14 +45,7 @@ bool any_of(std::string_view name, std::initializer_list<std::string_view> names
     return false;
 }
 
-bool contains_ci(std::string_view s, std::string_view part) {
-    for (std::size_t i = 0; i + part.size() <= s.size(); ++i) {
-        if (scan::iequals(s.substr(i, part.size()), part)) {
-            return true;
-        }
-    }
-    return false;
-}
+using scan::contains_ci;
 
 // "D1", "d0", "Byte 3", "Data7", "B2", "data[4]" - one column per data byte.
 bool is_byte_column(std::string_view name) {

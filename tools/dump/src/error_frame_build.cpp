@@ -30,6 +30,48 @@ Frame protocol_error_frame(std::uint8_t prot, bool on_tx, std::uint8_t location,
     return f;
 }
 
+Frame sja1000_ecc_error_frame(std::uint8_t ecc) {
+    static constexpr std::uint8_t kType[] = {CAN_ERR_PROT_BIT, CAN_ERR_PROT_FORM,
+                                             CAN_ERR_PROT_STUFF, CAN_ERR_PROT_UNSPEC};
+    return protocol_error_frame(kType[ecc >> 6], (ecc & 0x20U) == 0,
+                                static_cast<std::uint8_t>(ecc & 0x1FU));
+}
+
+Frame can_core_error_frame(std::uint8_t code) {
+    const unsigned error = code & 0x3FU;
+    const unsigned direction = code >> 6;
+    std::uint8_t prot = CAN_ERR_PROT_UNSPEC;
+    std::uint8_t location = CAN_ERR_PROT_LOC_UNSPEC;
+    switch (error) {
+    case 0:
+        prot = CAN_ERR_PROT_BIT;
+        break;
+    case 1:
+        prot = CAN_ERR_PROT_FORM;
+        break;
+    case 2:
+        prot = CAN_ERR_PROT_STUFF;
+        break;
+    case 4:
+        location = CAN_ERR_PROT_LOC_CRC_SEQ;
+        break;
+    case 5:
+        prot = CAN_ERR_PROT_FORM;
+        location = CAN_ERR_PROT_LOC_ACK_DEL;
+        break;
+    default: // 3 "other" and codes the register does not define
+        break;
+    }
+    Frame f = protocol_error_frame(prot, direction == 1 || direction == 3, location);
+    if (direction <= 1) {
+        f.id |= CAN_ERR_ACK;
+        if (location == CAN_ERR_PROT_LOC_UNSPEC) {
+            f.data[3] = CAN_ERR_PROT_LOC_ACK;
+        }
+    }
+    return f;
+}
+
 Frame state_error_frame(TraceBusState state, int tec, int rec) {
     Frame f = blank();
     switch (state) {

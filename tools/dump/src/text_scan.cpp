@@ -178,4 +178,13 @@ bool istarts_with(std::string_view s, std::string_view prefix) {
     return s.size() >= prefix.size() && iequals(s.substr(0, prefix.size()), prefix);
 }
 
+bool contains_ci(std::string_view s, std::string_view part) {
+    for (std::size_t i = 0; i + part.size() <= s.size(); ++i) {
+        if (iequals(s.substr(i, part.size()), part)) {
+            return true;
+        }
+    }
+    return false;
+}
+
 } // namespace codrive::dump::scan

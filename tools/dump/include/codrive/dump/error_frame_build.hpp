@@ -18,6 +18,17 @@ enum class TraceBusState : std::uint8_t { Active, Warning, Passive, BusOff, RxOv
 [[nodiscard]] Frame protocol_error_frame(std::uint8_t prot, bool on_tx, std::uint8_t location,
                                          int tec = -1, int rec = -1);
 
+/// A protocol error from an SJA1000 error code capture register (Vector ASC `ECC:` and BLF
+/// CAN_ERROR_EXT with flag 1): bits 7-6 the type (bit, form, stuff, other), bit 5 the direction
+/// (1 receive), bits 4-0 the segment code, which is SocketCAN's CAN_ERR_PROT_LOC_* value.
+[[nodiscard]] Frame sja1000_ecc_error_frame(std::uint8_t ecc);
+
+/// A protocol error from Vector's CAN-Core error register (ASC `Flags = 0x2.. Code = ...` and
+/// BLF CAN_ERROR_EXT with flag 2): bits 5-0 the error (0 bit, 1 form, 2 stuff, 3 other, 4 CRC,
+/// 5 ACK delimiter), bits 7-6 the direction (0 receive NAK, 1 transmit NAK, 2 receive,
+/// 3 transmit). A NAK is a missing acknowledge (CAN_ERR_ACK).
+[[nodiscard]] Frame can_core_error_frame(std::uint8_t code);
+
 /// A SocketCAN error frame for a controller state (CAN_ERR_CRTL / CAN_ERR_BUSOFF).
 [[nodiscard]] Frame state_error_frame(TraceBusState state, int tec = -1, int rec = -1);
 

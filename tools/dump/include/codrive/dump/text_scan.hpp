@@ -62,5 +62,7 @@ struct Cursor {
 [[nodiscard]] bool iequals(std::string_view a, std::string_view b);
 /// Case-insensitive prefix test.
 [[nodiscard]] bool istarts_with(std::string_view s, std::string_view prefix);
+/// Case-insensitive substring test.
+[[nodiscard]] bool contains_ci(std::string_view s, std::string_view part);
 
 } // namespace codrive::dump::scan
