@@ -63,7 +63,7 @@ Frame can_core_error_frame(std::uint8_t code) {
         break;
     }
     Frame f = protocol_error_frame(prot, direction == 1 || direction == 3, location);
-    if (direction <= 1) {
+    if (direction == 1) { // a transmitter that saw no acknowledge
         f.id |= CAN_ERR_ACK;
         if (location == CAN_ERR_PROT_LOC_UNSPEC) {
             f.data[3] = CAN_ERR_PROT_LOC_ACK;

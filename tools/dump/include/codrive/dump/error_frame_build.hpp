@@ -26,7 +26,8 @@ enum class TraceBusState : std::uint8_t { Active, Warning, Passive, BusOff, RxOv
 /// A protocol error from Vector's CAN-Core error register (ASC `Flags = 0x2.. Code = ...` and
 /// BLF CAN_ERROR_EXT with flag 2): bits 5-0 the error (0 bit, 1 form, 2 stuff, 3 other, 4 CRC,
 /// 5 ACK delimiter), bits 7-6 the direction (0 receive NAK, 1 transmit NAK, 2 receive,
-/// 3 transmit). A NAK is a missing acknowledge (CAN_ERR_ACK).
+/// 3 transmit). A transmit NAK is a missing acknowledge (CAN_ERR_ACK); a receive NAK, which no
+/// source explains, is taken as a receive error.
 [[nodiscard]] Frame can_core_error_frame(std::uint8_t code);
 
 /// A SocketCAN error frame for a controller state (CAN_ERR_CRTL / CAN_ERR_BUSOFF).
