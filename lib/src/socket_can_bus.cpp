@@ -691,7 +691,8 @@ std::vector<BusEvent> decode_error_frame(const Frame& f) {
         push(BusEvent::Kind::Restarted);
     }
     if (out.empty()) {
-        push(BusEvent::Kind::ControllerProblem, "error frame with class 0x" + std::to_string(cls));
+        push(BusEvent::Kind::ControllerProblem,
+             fmt::format("error frame with class 0x{:08X}", cls));
     }
     return out;
 }

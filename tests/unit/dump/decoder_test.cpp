@@ -8,6 +8,7 @@
 
 #include <gtest/gtest.h>
 
+#include <limits>
 #include <string>
 
 using namespace codrive;
@@ -311,8 +312,10 @@ struct TimedFeed {
     Decoder& dec;
     Decoded out;
     std::vector<Note> notes;
+    std::string iface;
     void operator()(std::int64_t ts_ns, std::uint32_t id, std::initializer_list<std::uint8_t> b) {
         TraceRecord r;
+        r.iface = iface;
         r.has_ts = true;
         r.ts_ns = ts_ns;
         r.frame = Frame::make(id, b);
@@ -325,8 +328,9 @@ constexpr std::int64_t kMilli = 1'000'000;
 } // namespace
 
 // Two captures in one file, the second with relative times starting again at 0: one warning,
-// then the open transfer and the SDO timeouts go on in the new time instead of waiting for it to
-// pass the first capture's end. Frames a little out of order are not a step.
+// then the open transfer waits for its timeout from the new time instead of until the time
+// passes the first capture's end, and a request of the second capture times out in it. Frames a
+// little out of order are not a step.
 TEST(DumpDecoder, AStepBackInTimeIsOneWarningAndTimeoutsGoOn) {
     DecoderOptions o;
     o.sdo_timeout_ns = 500 * kMilli;
@@ -341,22 +345,66 @@ TEST(DumpDecoder, AStepBackInTimeIsOneWarningAndTimeoutsGoOn) {
     EXPECT_EQ(feed.notes[0].event, "time step");
     EXPECT_EQ(feed.notes[0].severity, Severity::Warning);
     EXPECT_EQ(feed.notes[0].text.rfind("time goes back 100.200 s", 0), 0U) << feed.notes[0].text;
-    feed(200 * kMilli, 0x080, {});
-    EXPECT_TRUE(feed.notes.empty()) << "node 3 asked 200 ms before the step: 400 ms ago";
     feed(400 * kMilli, 0x080, {});
+    EXPECT_TRUE(feed.notes.empty()) << "node 3 waits from the step: 400 ms";
+    feed(600 * kMilli, 0x080, {});
     ASSERT_EQ(feed.notes.size(), 1U);
     EXPECT_EQ(feed.notes[0].event, "timeout");
-    EXPECT_EQ(feed.notes[0].ts_ns, 300 * kMilli);
+    EXPECT_EQ(feed.notes[0].ts_ns, 500 * kMilli);
     EXPECT_EQ(feed.notes[0].text.rfind("node 3 SDO upload 1017:00", 0), 0U) << feed.notes[0].text;
-    // A request of the second capture times out in it.
-    feed(500 * kMilli, 0x605, {0x40, 0x18, 0x10, 0x01, 0, 0, 0, 0});
-    feed(1100 * kMilli, 0x080, {});
+    feed(700 * kMilli, 0x605, {0x40, 0x18, 0x10, 0x01, 0, 0, 0, 0});
+    feed(1300 * kMilli, 0x080, {});
     ASSERT_EQ(feed.notes.size(), 1U);
     EXPECT_EQ(feed.notes[0].event, "timeout");
     EXPECT_EQ(feed.notes[0].text.rfind("node 5 SDO upload 1018:01", 0), 0U) << feed.notes[0].text;
-    feed(1050 * kMilli, 0x080, {}); // 50 ms out of order: no step
+    feed(1250 * kMilli, 0x080, {}); // 50 ms out of order: no step
     EXPECT_TRUE(feed.notes.empty());
-    EXPECT_EQ(stats.duration_ns(), 200 * kMilli + 1100 * kMilli);
+    EXPECT_EQ(stats.duration_ns(), 200 * kMilli + 1300 * kMilli);
+    // On the report's timeline the second capture follows the first.
+    EXPECT_EQ(stats.on_timeline(0), 100 * kSec + 200 * kMilli);
+    EXPECT_EQ(stats.timeline_last_ns(), 100 * kSec + 1500 * kMilli);
+}
+
+// Interfaces are not compared with each other: two captures of the same second concatenated
+// (`cat can0.log can1.log`), or a clock 2 s apart, interleave without a step, and a transfer
+// on one goes on across frames of the other.
+TEST(DumpDecoder, InterfacesOutOfStepWithEachOtherAreNoStepBack) {
+    Stats stats;
+    Decoder dec(DecoderOptions{}, &stats);
+    TimedFeed feed(dec);
+    feed.iface = "can0";
+    feed(100 * kSec, 0x603, {0x40, 0x17, 0x10, 0x00, 0, 0, 0, 0});
+    feed.iface = "can1";
+    feed(98 * kSec, 0x701, {0x05});
+    EXPECT_TRUE(feed.notes.empty());
+    feed.iface = "can0";
+    feed(100 * kSec + 5 * kMilli, 0x583, {0x43, 0x17, 0x10, 0x00, 1, 2, 3, 4});
+    EXPECT_TRUE(feed.notes.empty());
+    const std::string line(feed.out.text.data(), feed.out.text.size());
+    EXPECT_NE(line.find("(4 bytes, expedited, 5.0 ms)"), std::string::npos) << line;
+    // Both interfaces stepping back (two two-interface captures appended) is one new stretch.
+    feed(1 * kSec, 0x080, {});
+    ASSERT_EQ(feed.notes.size(), 1U);
+    EXPECT_EQ(feed.notes[0].text.rfind("can0: time goes back 99.005 s", 0), 0U)
+        << feed.notes[0].text;
+    feed.iface = "can1";
+    feed(1 * kSec + 1 * kMilli, 0x701, {0x05});
+    ASSERT_EQ(feed.notes.size(), 1U);
+    EXPECT_EQ(feed.notes[0].text.rfind("can1: time goes back 96.999 s", 0), 0U)
+        << feed.notes[0].text;
+    EXPECT_EQ(stats.duration_ns(), 2 * kSec + 5 * kMilli + 1 * kMilli);
+}
+
+// Times as far apart as readers allow (up to the year 2255) sum without overflow.
+TEST(DumpDecoder, StretchesAsLongAsTracesAllowSumWithoutOverflow) {
+    Stats stats;
+    Decoder dec(DecoderOptions{}, &stats);
+    TimedFeed feed(dec);
+    for (const std::int64_t t : {kSec, kMaxTraceTimeNs, std::int64_t{0}, kMaxTraceTimeNs}) {
+        feed(t, 0x080, {});
+    }
+    EXPECT_EQ(stats.duration_ns(), std::numeric_limits<std::int64_t>::max());
+    EXPECT_EQ(stats.timeline_last_ns(), kMaxTraceTimeNs);
 }
 
 // Ten seconds at about 13 % load, twice, the second capture appended with times from 0 again:
@@ -375,4 +423,25 @@ TEST(DumpDecoder, AStepBackRestartsTheLoadWindow) {
     EXPECT_EQ(stats.duration_ns(), 2 * (10 * kSec - 5 * kMilli));
     EXPECT_NEAR(stats.bus_load(), 86.0 * 200 / 125'000 * 100, 0.2);
     EXPECT_NEAR(stats.peak_load_so_far(), stats.bus_load(), 0.2);
+}
+
+// A frame without a timestamp in a timed trace (records from two sources) does not restart an
+// open transfer's clock: its timeout still counts from the last timed frame.
+TEST(DumpDecoder, AnUntimedFrameLeavesATransfersClockAlone) {
+    DecoderOptions o;
+    o.sdo_timeout_ns = 500 * kMilli;
+    Decoder dec(o);
+    TimedFeed feed(dec);
+    feed(10 * kSec, 0x603, {0x40, 0x08, 0x10, 0x00, 0, 0, 0, 0});
+    TraceRecord untimed;
+    untimed.has_ts = false;
+    untimed.frame = Frame::make(0x583, {0x41, 0x08, 0x10, 0x00, 20, 0, 0, 0});
+    dec.decode(untimed, feed.out, feed.notes);
+    EXPECT_TRUE(feed.notes.empty());
+    feed(10 * kSec + 400 * kMilli, 0x080, {});
+    EXPECT_TRUE(feed.notes.empty()) << "400 ms since the request";
+    feed(10 * kSec + 600 * kMilli, 0x080, {});
+    ASSERT_EQ(feed.notes.size(), 1U);
+    EXPECT_EQ(feed.notes[0].ts_ns, 10 * kSec + 500 * kMilli);
+    EXPECT_NE(feed.notes[0].text.find("(abandoned)"), std::string::npos) << feed.notes[0].text;
 }

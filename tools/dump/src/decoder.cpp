@@ -11,6 +11,7 @@
 #include <codrive/nmt/state.hpp>
 #include <codrive/sync/time.hpp>
 
+#include <algorithm>
 #include <iterator>
 #include <limits>
 
@@ -106,21 +107,31 @@ void Decoder::collect_stalls(std::vector<SdoStall>& stalls, std::vector<Note>& n
     stalls.clear();
 }
 
-// Frames from several interfaces or threads may come a little out of order; a step back of
-// more than a second is another capture appended to the first (relative times starting again
-// at 0) or a clock set back. Left alone, it would stop SDO timeouts and the one-second load
-// window until the time caught up again.
+// An interface's time going back by more than a second is another capture appended to the
+// first (relative times starting again at 0) or a clock set back. Left alone, it would stop SDO
+// timeouts and the one-second load window until the time caught up again. Frames of different
+// interfaces are not compared: `cat can0.log can1.log` of one period, or a live capture reading
+// one socket's backlog before the next, interleave times without a step.
 void Decoder::follow_time(const TraceRecord& r, std::vector<Note>& notes) {
     constexpr std::int64_t kStepBackNs = 1'000'000'000;
     if (!r.has_ts) {
         return;
     }
-    if (!any_timed_ || r.ts_ns >= latest_ns_) {
-        any_timed_ = true;
-        latest_ns_ = r.ts_ns;
+    auto clock = std::find_if(clocks_.begin(), clocks_.end(),
+                              [&](const InterfaceClock& c) { return c.iface == r.iface; });
+    if (clock == clocks_.end()) {
+        if (clocks_.size() < kMaxClocks) {
+            clocks_.push_back({std::string(r.iface), r.ts_ns});
+        }
         return;
     }
-    if (latest_ns_ - r.ts_ns <= kStepBackNs) {
+    const std::int64_t latest = clock->latest_ns;
+    if (r.ts_ns >= latest) {
+        clock->latest_ns = r.ts_ns;
+        return;
+    }
+    clock->latest_ns = latest - r.ts_ns > kStepBackNs ? r.ts_ns : latest;
+    if (latest - r.ts_ns <= kStepBackNs) {
         return;
     }
     Note n;
@@ -128,16 +139,16 @@ void Decoder::follow_time(const TraceRecord& r, std::vector<Note>& notes) {
     n.service = Service::Other;
     n.severity = Severity::Warning;
     n.event = "time step";
-    n.text = fmt::format("time goes back {:.3f} s (an appended capture or a clock step): SDO "
-                         "timeouts, durations and the bus load go on from the new time",
-                         static_cast<double>(latest_ns_ - r.ts_ns) / 1e9);
+    n.text = fmt::format("{}time goes back {:.3f} s (an appended capture or a clock step): SDO "
+                         "timeouts and the bus load go on from the new time",
+                         r.iface.empty() ? std::string() : fmt::format("{}: ", r.iface),
+                         static_cast<double>(latest - r.ts_ns) / 1e9);
     notes.push_back(std::move(n));
-    sdo_.shift_time(r.ts_ns - latest_ns_);
+    sdo_.restart_clocks(r.ts_ns);
     if (stats_ != nullptr) {
         stats_->on_time_step(r.ts_ns);
     }
-    next_timeout_check_ = r.ts_ns;
-    latest_ns_ = r.ts_ns;
+    next_timeout_check_ = std::min(next_timeout_check_, r.ts_ns);
 }
 
 void Decoder::finish(std::vector<Note>& notes) {

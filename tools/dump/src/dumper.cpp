@@ -44,7 +44,9 @@ void Dumper::record_event(std::int64_t ts_ns, NodeId node, Service service, Seve
 void Dumper::emit_notes() {
     for (const auto& n : notes_) {
         record_event(n.ts_ns, n.node, n.service, n.severity, n.text);
-        if (options_.print && wanted(n.service, n.node)) {
+        // A step in time is shown whatever --only and --node keep: it explains the times and
+        // timeouts of every service after it.
+        if (options_.print && (wanted(n.service, n.node) || n.event == "time step")) {
             lines_.note(buf_, n);
         }
     }

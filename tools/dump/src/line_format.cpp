@@ -43,6 +43,16 @@ std::string_view color_of(const Decoded& d) {
     }
 }
 
+// A JSON number of seconds with microseconds: "12.000345", "-0.200000" (a time given by a library
+// user, or a note's, may be negative; readers never give one).
+void json_seconds(fmt::memory_buffer& out, std::int64_t ns) {
+    const bool neg = ns < 0;
+    const std::uint64_t a =
+        neg ? static_cast<std::uint64_t>(-(ns + 1)) + 1U : static_cast<std::uint64_t>(ns);
+    fmt::format_to(std::back_inserter(out), "{}{}.{:06}", neg ? "-" : "", a / 1'000'000'000U,
+                   (a % 1'000'000'000U) / 1000U);
+}
+
 // Seconds and microseconds, with a sign for negative deltas (out-of-order merged traces).
 void seconds(fmt::memory_buffer& out, std::int64_t ns, int width) {
     const bool neg = ns < 0;
@@ -122,8 +132,9 @@ void LineFormatter::frame(fmt::memory_buffer& out, const TraceRecord& r, const D
         auto it = std::back_inserter(out);
         text::put(out, "{");
         if (r.has_ts) {
-            fmt::format_to(it, "\"ts\":{}.{:06},", r.ts_ns / 1'000'000'000,
-                           (r.ts_ns % 1'000'000'000) / 1000);
+            text::put(out, "\"ts\":");
+            json_seconds(out, r.ts_ns);
+            out.push_back(',');
         }
         text::put(out, "\"iface\":");
         append_json_string(out, r.iface);
@@ -200,9 +211,10 @@ void LineFormatter::frame(fmt::memory_buffer& out, const TraceRecord& r, const D
 void LineFormatter::note(fmt::memory_buffer& out, const Note& n) {
     if (options_.json) {
         auto it = std::back_inserter(out);
-        fmt::format_to(it, "{{\"ts\":{}.{:06},\"service\":\"{}\",\"node\":{},\"event\":",
-                       n.ts_ns / 1'000'000'000, (n.ts_ns % 1'000'000'000) / 1000,
-                       to_string(n.service), n.node);
+        text::put(out, "{\"ts\":");
+        json_seconds(out, n.ts_ns);
+        fmt::format_to(it, ",\"service\":\"{}\",\"node\":{},\"event\":", to_string(n.service),
+                       n.node);
         append_json_string(out, n.event);
         fmt::format_to(it, ",\"severity\":\"{}\",\"text\":", to_string(n.severity));
         append_json_string(out, n.text);
@@ -217,7 +229,7 @@ void LineFormatter::note(fmt::memory_buffer& out, const Note& n) {
         out.push_back(' ');
     }
     if (options_.color) {
-        text::put(out, "\033[1;31m");
+        text::put(out, n.severity == Severity::Error ? "\033[1;31m" : "\033[33m");
     }
     text::put(out, n.text);
     if (options_.color) {

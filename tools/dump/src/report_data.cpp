@@ -149,7 +149,7 @@ double bucket_seconds(const Stats& s, const Timeline& t, std::size_t i) {
         return width;
     }
     const auto start = t.start_ns() + static_cast<std::int64_t>(i) * t.width_ns();
-    return std::min(width, static_cast<double>(s.last_ns() - start) / 1e9);
+    return std::min(width, static_cast<double>(s.timeline_last_ns() - start) / 1e9);
 }
 
 void node_row(Json& j, const Stats& s, NodeId id, const Stats::Detail* d) {

@@ -58,11 +58,12 @@ bool SdoTracker::start(NodeId node, Channel& ch, Op op, const sdo::FrameInfo& fi
     ch.data = std::move(keep);
     ch.data.clear();
     ch.op = op;
-    ch.timed = frame_timed_;
+    ch.started_timed = frame_timed_;
+    ch.clocked = frame_timed_;
     ch.index = fi.index;
     ch.subindex = fi.subindex;
-    ch.t0 = ts;
-    ch.last = ts;
+    ch.t0 = frame_timed_ ? ts : 0;
+    ch.last = ch.t0;
     ch.size_known = fi.size_indicated && !fi.expedited;
     ch.size = fi.size;
     ch.crc = fi.crc;
@@ -105,8 +106,8 @@ SdoOutcome SdoTracker::complete(NodeId node, Channel& ch, std::int64_t ts, SdoMo
     o.subindex = ch.subindex;
     o.data = ch.data;
     o.size = ch.total;
-    o.duration_ns = ts - ch.t0;
-    o.timed = ch.timed && frame_timed_;
+    o.timed = ch.started_timed && frame_timed_;
+    o.duration_ns = o.timed ? ts - ch.t0 : 0;
     ch.op = Op::None;
     --open_;
     return o;
@@ -114,7 +115,7 @@ SdoOutcome SdoTracker::complete(NodeId node, Channel& ch, std::int64_t ts, SdoMo
 
 void SdoTracker::put_elapsed(fmt::memory_buffer& out, const Channel& ch, std::int64_t ts,
                              std::string_view before) const {
-    if (ch.timed && frame_timed_) {
+    if (ch.started_timed && frame_timed_) {
         text::put(out, before);
         fmt::format_to(std::back_inserter(out), "{:.1f} ms", to_ms(ts - ch.t0));
     }
@@ -147,7 +148,10 @@ SdoOutcome SdoTracker::on_frame(NodeId node, sdo::Sender sender,
     const bool in_block = ch.in_block && block_sender && (payload[0] & sdo::kSeqnoMask) != 0;
     const auto fi = sdo::parse_frame(payload, sender, in_block);
     if (ch.op != Op::None) {
-        ch.last = ts;
+        if (frame_timed_) {
+            ch.last = ts;
+            ch.clocked = true;
+        }
         ch.client_spoke_last = client;
         ch.short_response = ch.short_response && client;
     }
@@ -186,8 +190,8 @@ SdoOutcome SdoTracker::on_frame(NodeId node, sdo::Sender sender,
         if (ch.op != Op::None) {
             put_elapsed(out, ch, ts, ", after ");
             o.upload = ch.op == Op::Upload || ch.op == Op::BlockUpload;
-            o.duration_ns = ts - ch.t0;
-            o.timed = ch.timed && frame_timed_;
+            o.timed = ch.started_timed && frame_timed_;
+            o.duration_ns = o.timed ? ts - ch.t0 : 0;
             ch.op = Op::None;
             --open_;
         }
@@ -482,7 +486,7 @@ void SdoTracker::check_timeouts(std::int64_t now_ns, std::vector<SdoStall>& stal
     }
     for (std::size_t n = 0; n < channels_.size(); ++n) {
         Channel& ch = channels_[n];
-        if (ch.op == Op::None || !ch.timed || now_ns - ch.last <= timeout_ns_) {
+        if (ch.op == Op::None || !ch.clocked || now_ns - ch.last <= timeout_ns_) {
             continue;
         }
         if (ch.short_response) { // already reported with the too-short response
@@ -504,11 +508,11 @@ void SdoTracker::check_timeouts(std::int64_t now_ns, std::vector<SdoStall>& stal
     }
 }
 
-void SdoTracker::shift_time(std::int64_t delta_ns) {
+void SdoTracker::restart_clocks(std::int64_t now_ns) {
     for (Channel& ch : channels_) {
-        if (ch.op != Op::None) {
-            ch.t0 += delta_ns;
-            ch.last += delta_ns;
+        if (ch.op != Op::None && ch.clocked && ch.last > now_ns) {
+            ch.last = now_ns;
+            ch.started_timed = false;
         }
     }
 }

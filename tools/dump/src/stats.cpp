@@ -2,6 +2,7 @@
 // Per-node statistics and bus load.
 #include <codrive/dump/stats.hpp>
 
+#include <codrive/dump/record.hpp>
 #include <codrive/nmt/state.hpp>
 
 #include <fmt/format.h>
@@ -9,9 +10,20 @@
 #include <algorithm>
 #include <cmath>
 #include <iterator>
+#include <limits>
 #include <vector>
 
 namespace codrive::dump {
+namespace {
+
+// a + b for a, b >= 0, held at INT64_MAX (a trace of stretches longer than that is a fuzzer's).
+std::int64_t add_saturated(std::int64_t a, std::int64_t b) {
+    return b > std::numeric_limits<std::int64_t>::max() - a
+               ? std::numeric_limits<std::int64_t>::max()
+               : a + b;
+}
+
+} // namespace
 
 void Stats::Running::add(std::int64_t ns) {
     ++n;
@@ -50,6 +62,7 @@ void Stats::on_frame(const Frame& f, std::int64_t ts, bool timed) {
         stretch_first_ns_ = ts;
         stretch_last_ns_ = ts;
         window_start_ns_ = ts;
+        timeline_last_ns_ = ts;
     }
     if (f.error()) {
         return;
@@ -57,9 +70,11 @@ void Stats::on_frame(const Frame& f, std::int64_t ts, bool timed) {
     const auto bits = frame_bits_exact(f);
     bits_ += bits;
     last_ns_ = std::max(last_ns_, ts);
+    stretch_first_ns_ = std::min(stretch_first_ns_, ts);
     stretch_last_ns_ = std::max(stretch_last_ns_, ts);
+    timeline_last_ns_ = std::max(timeline_last_ns_, on_timeline(ts));
     if (detail_) {
-        auto& b = detail_->timeline.bus(detail_->timeline.bucket(ts));
+        auto& b = detail_->timeline.bus(detail_->timeline.bucket(on_timeline(ts)));
         b.bits += bits;
         ++b.frames;
     }
@@ -78,15 +93,33 @@ void Stats::on_time_step(std::int64_t ts) {
         return;
     }
     peak_load_ = std::max(peak_load_, open_window_load()); // the window the step cuts short
-    earlier_stretches_ns_ += stretch_last_ns_ - stretch_first_ns_;
-    stretch_first_ns_ = ts;
-    stretch_last_ns_ = ts;
     window_start_ns_ = ts;
     window_bits_ = 0;
+    // A step into the current stretch (a second interface catching up with the first one's
+    // step, or captures that overlap) starts no new one: the duration is their union.
+    if (ts >= stretch_first_ns_) {
+        return;
+    }
+    earlier_stretches_ns_ =
+        add_saturated(earlier_stretches_ns_, stretch_last_ns_ - stretch_first_ns_);
+    // The new stretch goes on where the last one ended on the report's timeline.
+    if (__builtin_sub_overflow(on_timeline(stretch_last_ns_), ts, &timeline_offset_ns_)) {
+        timeline_offset_ns_ = 0; // not a time a reader gives
+    }
+    stretch_first_ns_ = ts;
+    stretch_last_ns_ = ts;
 }
 
 std::int64_t Stats::duration_ns() const {
-    return earlier_stretches_ns_ + stretch_last_ns_ - stretch_first_ns_;
+    return add_saturated(earlier_stretches_ns_, stretch_last_ns_ - stretch_first_ns_);
+}
+
+std::int64_t Stats::on_timeline(std::int64_t ts) const {
+    std::int64_t t = 0;
+    if (__builtin_add_overflow(ts, timeline_offset_ns_, &t)) {
+        return timeline_offset_ns_ > 0 ? kMaxTraceTimeNs : 0;
+    }
+    return std::clamp<std::int64_t>(t, 0, kMaxTraceTimeNs);
 }
 
 void Stats::on_heartbeat(NodeId node, std::uint8_t state, std::int64_t ts) {
@@ -102,7 +135,7 @@ void Stats::on_heartbeat(NodeId node, std::uint8_t state, std::int64_t ts) {
         const auto d = ts - n.last_hb_ns;
         n.hb.add(d);
         if (detail_) {
-            auto& b = detail_->timeline.node(node, detail_->timeline.bucket(ts));
+            auto& b = detail_->timeline.node(node, detail_->timeline.bucket(on_timeline(ts)));
             ++b.hb;
             b.hb_sum_ns += static_cast<double>(d);
             b.hb_max_ns = std::max(b.hb_max_ns, d);
@@ -204,7 +237,7 @@ void Stats::on_pdo(NodeId node, bool tpdo, std::int64_t ts_ns) {
         n.sync_latency.add(lat);
     }
     if (detail_) {
-        auto& b = detail_->timeline.node(node, detail_->timeline.bucket(ts_ns));
+        auto& b = detail_->timeline.node(node, detail_->timeline.bucket(on_timeline(ts_ns)));
         ++(tpdo ? b.tpdo : b.rpdo);
         if (synced) {
             detail_->sync_latency[node].add(static_cast<double>(lat));
@@ -222,7 +255,7 @@ void Stats::on_sync(std::int64_t ts) {
     ++syncs_;
     last_sync_ns_ = ts;
     if (detail_) {
-        ++detail_->timeline.bus(detail_->timeline.bucket(ts)).sync;
+        ++detail_->timeline.bus(detail_->timeline.bucket(on_timeline(ts))).sync;
     }
 }
 
@@ -243,10 +276,11 @@ void Stats::on_event(std::int64_t ts, NodeId node, bool emcy, std::string_view s
     if (!detail_) {
         return;
     }
-    auto& b = detail_->timeline.bus(detail_->timeline.bucket(ts));
+    auto& b = detail_->timeline.bus(detail_->timeline.bucket(on_timeline(ts)));
     ++(emcy ? b.emcy : b.anomalies);
     if (detail_->events_total++ < Detail::kMaxEvents) {
-        detail_->events.push_back(Event{ts, node, emcy, severity, service, std::string(text)});
+        detail_->events.push_back(
+            Event{on_timeline(ts), node, emcy, severity, service, std::string(text)});
     }
 }
 

@@ -108,8 +108,15 @@ private:
     const ProfileRegistry* registry_ = nullptr;
     std::array<NodeState, kMaxNodeId + 1> nodes_{};
     std::int64_t next_timeout_check_ = 0;
-    std::int64_t latest_ns_ = 0; ///< the latest timestamp so far (since the last step back)
-    bool any_timed_ = false;
+    /// The latest timestamp of each interface so far (since its last step back): frames of
+    /// several interfaces may interleave out of order, so a step is one interface's time going
+    /// back. At most kMaxClocks interfaces are followed.
+    struct InterfaceClock {
+        std::string iface;
+        std::int64_t latest_ns = 0;
+    };
+    static constexpr std::size_t kMaxClocks = 32;
+    std::vector<InterfaceClock> clocks_;
     bool timed_ = true; ///< the record being decoded carries a timestamp
     std::vector<SdoStall> stalls_;
 };

@@ -49,16 +49,17 @@ public:
     SdoTracker(const ObjectCatalog& catalog, std::int64_t timeout_ns);
 
     /// Decodes one SDO frame of `node`, appending its text to `out` ("node 4 upload 1008:00 …").
-    /// A frame without a timestamp (`timed` false) has `ts_ns` 0: a transfer that starts or ends
-    /// with one gets no duration, and no timeout (it is reported if still open at the end).
+    /// A frame without a timestamp (`timed` false) has no `ts_ns`: a transfer that starts or ends
+    /// with one gets no duration, and its timeout counts from its last frame with a timestamp
+    /// (with none, it is reported if still open at the end).
     SdoOutcome on_frame(NodeId node, sdo::Sender sender, std::span<const std::uint8_t> payload,
                         std::int64_t ts_ns, fmt::memory_buffer& out, bool timed = true);
 
     /// Reports transfers idle for longer than the timeout at `now_ns`.
     void check_timeouts(std::int64_t now_ns, std::vector<SdoStall>& stalls);
-    /// The trace's time jumped by `delta_ns` (negative: back): open transfers move with it, so
-    /// their timeouts and durations count in the new time.
-    void shift_time(std::int64_t delta_ns);
+    /// The trace's time went back to `now_ns` (an appended capture, a clock set back): a transfer
+    /// last heard of later than that waits for its timeout from `now_ns`, and gets no duration.
+    void restart_clocks(std::int64_t now_ns);
     /// Reports every transfer still open (end of input).
     void finish(std::vector<SdoStall>& stalls);
 
@@ -78,7 +79,8 @@ private:
         bool confirmed = false;      ///< the server answered the initiate (segments may follow)
         bool short_response = false; ///< last server frame was too short (already reported)
         bool tail_pending = false;
-        bool timed = false; ///< the initiate carried a timestamp
+        bool started_timed = false; ///< t0 is a time: the initiate carried a timestamp
+        bool clocked = false;       ///< last is a time: a frame of the transfer had a timestamp
         std::uint8_t block_size = 0;
         std::uint8_t last_seq = 0;
         std::uint8_t tail_len = 0;

@@ -151,6 +151,11 @@ public:
     /// The time the timed frames cover: last minus first, summed over the stretches between
     /// steps back (so two appended captures of 10 s make 20 s, not 10).
     [[nodiscard]] std::int64_t duration_ns() const;
+    /// A trace time on the report's timeline, where the stretches follow one another (the
+    /// second of two appended captures goes on after the first). The same time before any step.
+    [[nodiscard]] std::int64_t on_timeline(std::int64_t ts_ns) const;
+    /// The latest time on that timeline.
+    [[nodiscard]] std::int64_t timeline_last_ns() const { return timeline_last_ns_; }
     /// SYNC intervals over the trace.
     [[nodiscard]] const Running& sync_period() const { return sync_period_; }
     [[nodiscard]] std::uint64_t syncs() const { return syncs_; }
@@ -170,6 +175,8 @@ private:
     std::int64_t stretch_first_ns_ = 0; ///< the stretch since the last step back
     std::int64_t stretch_last_ns_ = 0;
     std::int64_t earlier_stretches_ns_ = 0;
+    std::int64_t timeline_offset_ns_ = 0; ///< on_timeline(ts) = ts + this
+    std::int64_t timeline_last_ns_ = 0;
     std::int64_t window_start_ns_ = 0;
     std::uint64_t window_bits_ = 0;
     double peak_load_ = 0;
