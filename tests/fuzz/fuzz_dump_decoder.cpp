@@ -28,11 +28,11 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     Decoded out;
     std::vector<Note> notes;
     TraceRecord r;
-    r.iface = "fuzz";
-    r.has_ts = true;
     std::int64_t ts = 1'000'000'000;
     while (!in.empty()) {
-        // Frame: id (2 bytes; bits 11..15 pick flags and the time step), len, data.
+        // Frame: id (2 bytes; bits 11..15 pick flags and the time step), len (its top bits
+        // pick the interface, a record without a timestamp and a step back), data. The second
+        // interface's clock runs 3 s ahead of the first: times of two interfaces interleave.
         const std::uint16_t head = in.u16();
         Frame f;
         f.id = head & Frame::kStdMask;
@@ -44,8 +44,14 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
         const auto bytes = in.bytes(f.len);
         std::copy(bytes.begin(), bytes.end(), f.data.begin());
         ts += static_cast<std::int64_t>(head >> 12) * 1'000'000;
+        if ((len & 0x40U) != 0 && (head >> 12) == 15) {
+            ts = ts > 2'000'000'000 ? ts - 2'000'000'000 : 0; // another capture appended
+        }
+        const bool second = (len & 0x80U) != 0;
+        r.iface = second ? "fuzz1" : "fuzz";
+        r.has_ts = (len & 0x20U) == 0 || (head >> 12) != 0;
         r.frame = f;
-        r.ts_ns = ts;
+        r.ts_ns = second ? ts + 3'000'000'000 : ts;
         decoder.decode(r, out, notes);
         if (out.severity >= Severity::Warning) {
             stats.on_event(ts, out.node, out.service == Service::Emcy, to_string(out.severity),

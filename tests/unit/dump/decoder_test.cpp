@@ -372,27 +372,55 @@ TEST(DumpDecoder, InterfacesOutOfStepWithEachOtherAreNoStepBack) {
     Stats stats;
     Decoder dec(DecoderOptions{}, &stats);
     TimedFeed feed(dec);
-    feed.iface = "can0";
-    feed(100 * kSec, 0x603, {0x40, 0x17, 0x10, 0x00, 0, 0, 0, 0});
-    feed.iface = "can1";
-    feed(98 * kSec, 0x701, {0x05});
-    EXPECT_TRUE(feed.notes.empty());
-    feed.iface = "can0";
-    feed(100 * kSec + 5 * kMilli, 0x583, {0x43, 0x17, 0x10, 0x00, 1, 2, 3, 4});
-    EXPECT_TRUE(feed.notes.empty());
-    const std::string line(feed.out.text.data(), feed.out.text.size());
-    EXPECT_NE(line.find("(4 bytes, expedited, 5.0 ms)"), std::string::npos) << line;
-    // Both interfaces stepping back (two two-interface captures appended) is one new stretch.
+    const auto line = [&] { return std::string(feed.out.text.data(), feed.out.text.size()); };
+    // The other interface 2 s behind, then 2 s ahead: neither is a step, and neither times out
+    // the transfer of can0.
+    for (const std::int64_t other : {98 * kSec, 102 * kSec}) {
+        SCOPED_TRACE(other);
+        feed.iface = "can0";
+        feed(100 * kSec, 0x603, {0x40, 0x17, 0x10, 0x00, 0, 0, 0, 0});
+        feed.iface = "can1";
+        feed(other, 0x701, {0x05});
+        EXPECT_TRUE(feed.notes.empty());
+        feed.iface = "can0";
+        feed(100 * kSec + 5 * kMilli, 0x583, {0x43, 0x17, 0x10, 0x00, 1, 2, 3, 4});
+        EXPECT_TRUE(feed.notes.empty());
+        EXPECT_NE(line().find("(4 bytes, expedited, 5.0 ms)"), std::string::npos) << line();
+    }
+    // Both interfaces stepping back (two two-interface captures appended) is one new stretch,
+    // and a transfer of can0 started between the two steps keeps its duration.
     feed(1 * kSec, 0x080, {});
     ASSERT_EQ(feed.notes.size(), 1U);
     EXPECT_EQ(feed.notes[0].text.rfind("can0: time goes back 99.005 s", 0), 0U)
         << feed.notes[0].text;
+    feed(1 * kSec + 2 * kMilli, 0x603, {0x40, 0x17, 0x10, 0x00, 0, 0, 0, 0});
     feed.iface = "can1";
     feed(1 * kSec + 1 * kMilli, 0x701, {0x05});
     ASSERT_EQ(feed.notes.size(), 1U);
-    EXPECT_EQ(feed.notes[0].text.rfind("can1: time goes back 96.999 s", 0), 0U)
+    EXPECT_EQ(feed.notes[0].text.rfind("can1: time goes back 100.999 s", 0), 0U)
         << feed.notes[0].text;
-    EXPECT_EQ(stats.duration_ns(), 2 * kSec + 5 * kMilli + 1 * kMilli);
+    feed.iface = "can0";
+    feed(1 * kSec + 7 * kMilli, 0x583, {0x43, 0x17, 0x10, 0x00, 1, 2, 3, 4});
+    EXPECT_NE(line().find("(4 bytes, expedited, 5.0 ms)"), std::string::npos) << line();
+    EXPECT_EQ(stats.duration_ns(), 4 * kSec + 7 * kMilli); // 98..102 s and 1.000..1.007 s
+}
+
+// `cat can0.log can1.log` of the same minute: can1's unanswered request times out in can1's
+// time, although can0's frames have gone past it.
+TEST(DumpDecoder, ATransferOfAnInterfaceBehindTheOthersTimesOutInItsOwnTime) {
+    Decoder dec;
+    TimedFeed feed(dec);
+    feed.iface = "can0";
+    for (std::int64_t t = 100 * kSec; t <= 160 * kSec; t += 100 * kMilli) {
+        feed(t, 0x080, {});
+    }
+    feed.iface = "can1";
+    feed(110 * kSec, 0x605, {0x40, 0x17, 0x10, 0x00, 0, 0, 0, 0});
+    EXPECT_TRUE(feed.notes.empty());
+    feed(111500 * kMilli, 0x605, {0x40, 0x17, 0x10, 0x00, 0, 0, 0, 0});
+    ASSERT_EQ(feed.notes.size(), 1U);
+    EXPECT_EQ(feed.notes[0].event, "timeout");
+    EXPECT_EQ(feed.notes[0].ts_ns, 111 * kSec);
 }
 
 // Times as far apart as readers allow (up to the year 2255) sum without overflow.
@@ -411,18 +439,22 @@ TEST(DumpDecoder, StretchesAsLongAsTracesAllowSumWithoutOverflow) {
 // the one-second windows restart at the step, so the peak stays near the mean (before, every
 // frame of the second capture fell into one window of the first and the peak read 100s of %).
 TEST(DumpDecoder, AStepBackRestartsTheLoadWindow) {
-    DecoderOptions o;
-    Stats stats(125'000);
-    Decoder dec(o, &stats);
-    TimedFeed feed(dec);
-    for (const std::int64_t start : {100 * kSec, std::int64_t{0}}) {
-        for (std::int64_t t = 0; t < 10 * kSec; t += 5 * kMilli) {
-            feed(start + t, 0x181, {1, 2, 3, 4}); // 86 bits with stuffing
+    // The first capture from 100 s or, as `-t z` writes both, from 0 like the second.
+    for (const std::int64_t first : {100 * kSec, std::int64_t{0}}) {
+        SCOPED_TRACE(first);
+        Stats stats(125'000);
+        Decoder dec(DecoderOptions{}, &stats);
+        TimedFeed feed(dec);
+        for (const std::int64_t start : {first, std::int64_t{0}}) {
+            for (std::int64_t t = 0; t < 10 * kSec; t += 5 * kMilli) {
+                feed(start + t, 0x181, {1, 2, 3, 4}); // 86 bits with stuffing
+            }
         }
+        EXPECT_EQ(stats.duration_ns(), 2 * (10 * kSec - 5 * kMilli));
+        EXPECT_NEAR(stats.bus_load(), 86.0 * 200 / 125'000 * 100, 0.2);
+        EXPECT_NEAR(stats.peak_load_so_far(), stats.bus_load(), 0.2);
+        EXPECT_EQ(stats.timeline_last_ns(), first + 2 * (10 * kSec - 5 * kMilli));
     }
-    EXPECT_EQ(stats.duration_ns(), 2 * (10 * kSec - 5 * kMilli));
-    EXPECT_NEAR(stats.bus_load(), 86.0 * 200 / 125'000 * 100, 0.2);
-    EXPECT_NEAR(stats.peak_load_so_far(), stats.bus_load(), 0.2);
 }
 
 // A frame without a timestamp in a timed trace (records from two sources) does not restart an

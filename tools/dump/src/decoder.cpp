@@ -13,7 +13,6 @@
 
 #include <algorithm>
 #include <iterator>
-#include <limits>
 
 namespace codrive::dump {
 namespace {
@@ -109,46 +108,51 @@ void Decoder::collect_stalls(std::vector<SdoStall>& stalls, std::vector<Note>& n
 
 // An interface's time going back by more than a second is another capture appended to the
 // first (relative times starting again at 0) or a clock set back. Left alone, it would stop SDO
-// timeouts and the one-second load window until the time caught up again. Frames of different
-// interfaces are not compared: `cat can0.log can1.log` of one period, or a live capture reading
-// one socket's backlog before the next, interleave times without a step.
-void Decoder::follow_time(const TraceRecord& r, std::vector<Note>& notes) {
+// timeouts and the one-second load window until the time caught up again. The first interface
+// to step opens a new stretch of time (the duration adds up the stretches); the others join it
+// when they step, so two appended two-interface captures are two stretches, not four.
+void Decoder::follow_time(std::string_view iface, std::int64_t ts, std::vector<Note>& notes) {
     constexpr std::int64_t kStepBackNs = 1'000'000'000;
-    if (!r.has_ts) {
-        return;
-    }
     auto clock = std::find_if(clocks_.begin(), clocks_.end(),
-                              [&](const InterfaceClock& c) { return c.iface == r.iface; });
+                              [&](const InterfaceClock& c) { return c.iface == iface; });
     if (clock == clocks_.end()) {
         if (clocks_.size() < kMaxClocks) {
-            clocks_.push_back({std::string(r.iface), r.ts_ns});
+            clock_ = static_cast<std::uint8_t>(clocks_.size());
+            clocks_.push_back({std::string(iface), ts, 0, stretch_});
+            return;
         }
-        return;
+        clock = clocks_.end() - 1;
     }
+    clock_ = static_cast<std::uint8_t>(clock - clocks_.begin());
     const std::int64_t latest = clock->latest_ns;
-    if (r.ts_ns >= latest) {
-        clock->latest_ns = r.ts_ns;
+    if (ts >= latest) {
+        clock->latest_ns = ts;
         return;
     }
-    clock->latest_ns = latest - r.ts_ns > kStepBackNs ? r.ts_ns : latest;
-    if (latest - r.ts_ns <= kStepBackNs) {
+    if (latest - ts <= kStepBackNs) { // both times are in 0..kMaxTraceTimeNs
         return;
     }
+    clock->latest_ns = ts;
+    clock->next_check_ns = ts;
+    const bool new_stretch = clock->stretch == stretch_;
+    if (new_stretch) {
+        ++stretch_;
+    }
+    clock->stretch = stretch_;
     Note n;
-    n.ts_ns = r.ts_ns;
+    n.ts_ns = ts;
     n.service = Service::Other;
     n.severity = Severity::Warning;
     n.event = "time step";
     n.text = fmt::format("{}time goes back {:.3f} s (an appended capture or a clock step): SDO "
                          "timeouts and the bus load go on from the new time",
-                         r.iface.empty() ? std::string() : fmt::format("{}: ", r.iface),
-                         static_cast<double>(latest - r.ts_ns) / 1e9);
+                         iface.empty() ? std::string() : fmt::format("{}: ", iface),
+                         static_cast<double>(latest - ts) / 1e9);
     notes.push_back(std::move(n));
-    sdo_.restart_clocks(r.ts_ns);
+    sdo_.restart_clocks(ts, clock_);
     if (stats_ != nullptr) {
-        stats_->on_time_step(r.ts_ns);
+        stats_->on_time_step(ts, new_stretch);
     }
-    next_timeout_check_ = std::min(next_timeout_check_, r.ts_ns);
 }
 
 void Decoder::finish(std::vector<Note>& notes) {
@@ -162,18 +166,18 @@ void Decoder::decode(const TraceRecord& r, Decoded& out, std::vector<Note>& note
     out.node = 0;
     out.severity = Severity::Info;
     out.service = Service::Other;
-    timed_ = r.has_ts;
-    follow_time(r, notes);
-    if (stats_ != nullptr) {
-        stats_->on_frame(f, r.ts_ns, r.has_ts);
+    timed_ = r.has_ts && r.ts_ns >= 0 && r.ts_ns <= kMaxTraceTimeNs;
+    const std::int64_t ts = timed_ ? r.ts_ns : 0;
+    if (timed_) {
+        follow_time(r.iface, ts, notes);
     }
-    if (r.has_ts && r.ts_ns >= next_timeout_check_) {
-        sdo_.check_timeouts(r.ts_ns, stalls_);
+    if (stats_ != nullptr) {
+        stats_->on_frame(f, ts, timed_);
+    }
+    if (timed_ && ts >= clocks_[clock_].next_check_ns) {
+        sdo_.check_timeouts(ts, stalls_, clock_);
         collect_stalls(stalls_, notes, "timeout");
-        // Scan at most every 10 ms of trace time. Readers keep times to kMaxTraceTimeNs; a
-        // record from elsewhere (the library's users) may not, hence the bound.
-        next_timeout_check_ = r.ts_ns <= kMaxTraceTimeNs ? r.ts_ns + 10'000'000
-                                                         : std::numeric_limits<std::int64_t>::max();
+        clocks_[clock_].next_check_ns = ts + 10'000'000; // scan at most every 10 ms of its time
     }
     if (f.error()) {
         out.service = Service::Error;
@@ -200,8 +204,8 @@ void Decoder::decode(const TraceRecord& r, Decoded& out, std::vector<Note>& note
         return;
     case CobType::Sync:
         decode_sync(f, out);
-        if (stats_ != nullptr && r.has_ts && out.severity == Severity::Info) {
-            stats_->on_sync(r.ts_ns);
+        if (stats_ != nullptr && timed_ && out.severity == Severity::Info) {
+            stats_->on_sync(ts);
         }
         return;
     case CobType::Time:
@@ -211,7 +215,7 @@ void Decoder::decode(const TraceRecord& r, Decoded& out, std::vector<Note>& note
         decode_emcy(f, info.node, out);
         return;
     case CobType::Heartbeat:
-        decode_error_control(f, info.node, r.ts_ns, out);
+        decode_error_control(f, info.node, ts, out);
         return;
     case CobType::LssMaster:
     case CobType::LssSlave:
@@ -219,7 +223,7 @@ void Decoder::decode(const TraceRecord& r, Decoded& out, std::vector<Note>& note
         return;
     case CobType::SdoRx:
     case CobType::SdoTx:
-        decode_sdo(f, info.node, info.type == CobType::SdoRx, r.ts_ns, out);
+        decode_sdo(f, info.node, info.type == CobType::SdoRx, ts, out);
         return;
     default:
         break;
@@ -238,7 +242,7 @@ void Decoder::decode(const TraceRecord& r, Decoded& out, std::vector<Note>& note
         out.service = Service::Pdo;
         out.node = node;
         if (stats_ != nullptr) {
-            stats_->on_pdo(node, info.is_tpdo(), r.ts_ns);
+            stats_->on_pdo(node, info.is_tpdo(), ts);
         }
     }
 }
@@ -486,7 +490,7 @@ void Decoder::decode_sdo(const Frame& f, NodeId node, bool client, std::int64_t 
         return;
     }
     const auto o = sdo_.on_frame(node, client ? sdo::Sender::Client : sdo::Sender::Server,
-                                 f.payload(), ts, out.text, timed_);
+                                 f.payload(), ts, out.text, timed_, clock_);
     switch (o.kind) {
     case SdoOutcome::Kind::None:
         return;

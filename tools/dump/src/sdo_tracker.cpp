@@ -60,6 +60,7 @@ bool SdoTracker::start(NodeId node, Channel& ch, Op op, const sdo::FrameInfo& fi
     ch.op = op;
     ch.started_timed = frame_timed_;
     ch.clocked = frame_timed_;
+    ch.clock = frame_clock_;
     ch.index = fi.index;
     ch.subindex = fi.subindex;
     ch.t0 = frame_timed_ ? ts : 0;
@@ -123,8 +124,9 @@ void SdoTracker::put_elapsed(fmt::memory_buffer& out, const Channel& ch, std::in
 
 SdoOutcome SdoTracker::on_frame(NodeId node, sdo::Sender sender,
                                 std::span<const std::uint8_t> payload, std::int64_t ts,
-                                fmt::memory_buffer& out, bool timed) {
+                                fmt::memory_buffer& out, bool timed, std::uint8_t clock) {
     frame_timed_ = timed;
+    frame_clock_ = clock;
     auto it = std::back_inserter(out);
     fmt::format_to(it, "node {} ", node);
     SdoOutcome none;
@@ -149,8 +151,12 @@ SdoOutcome SdoTracker::on_frame(NodeId node, sdo::Sender sender,
     const auto fi = sdo::parse_frame(payload, sender, in_block);
     if (ch.op != Op::None) {
         if (frame_timed_) {
+            // A transfer is on the clock of its last timed frame; one that moves to another
+            // interface's clock has no duration.
+            ch.started_timed = ch.started_timed && ch.clock == frame_clock_;
             ch.last = ts;
             ch.clocked = true;
+            ch.clock = frame_clock_;
         }
         ch.client_spoke_last = client;
         ch.short_response = ch.short_response && client;
@@ -480,13 +486,15 @@ void SdoTracker::stall_text(NodeId node, const Channel& ch, std::string& text) c
     text.assign(b.data(), b.size());
 }
 
-void SdoTracker::check_timeouts(std::int64_t now_ns, std::vector<SdoStall>& stalls) {
+void SdoTracker::check_timeouts(std::int64_t now_ns, std::vector<SdoStall>& stalls,
+                                std::uint8_t clock) {
     if (open_ == 0) {
         return;
     }
     for (std::size_t n = 0; n < channels_.size(); ++n) {
         Channel& ch = channels_[n];
-        if (ch.op == Op::None || !ch.clocked || now_ns - ch.last <= timeout_ns_) {
+        if (ch.op == Op::None || !ch.clocked || ch.clock != clock ||
+            now_ns - ch.last <= timeout_ns_) {
             continue;
         }
         if (ch.short_response) { // already reported with the too-short response
@@ -508,11 +516,11 @@ void SdoTracker::check_timeouts(std::int64_t now_ns, std::vector<SdoStall>& stal
     }
 }
 
-void SdoTracker::restart_clocks(std::int64_t now_ns) {
+void SdoTracker::restart_clocks(std::int64_t now_ns, std::uint8_t clock) {
     for (Channel& ch : channels_) {
-        if (ch.op != Op::None && ch.clocked && ch.last > now_ns) {
-            ch.last = now_ns;
-            ch.started_timed = false;
+        if (ch.op != Op::None && ch.clocked && ch.clock == clock) {
+            ch.started_timed = false; // a duration across the step would measure nothing
+            ch.last = std::min(ch.last, now_ns);
         }
     }
 }

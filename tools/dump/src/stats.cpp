@@ -79,6 +79,9 @@ void Stats::on_frame(const Frame& f, std::int64_t ts, bool timed) {
         ++b.frames;
     }
     constexpr std::int64_t kWindow = 1'000'000'000;
+    if (ts < window_start_ns_ - kWindow) {
+        return; // another interface's backlog, a window or more behind: in the mean, not the peak
+    }
     if (ts - window_start_ns_ >= kWindow) {
         const double load = 100.0 * static_cast<double>(window_bits_) / bitrate_;
         peak_load_ = std::max(peak_load_, load);
@@ -88,16 +91,14 @@ void Stats::on_frame(const Frame& f, std::int64_t ts, bool timed) {
     window_bits_ += bits;
 }
 
-void Stats::on_time_step(std::int64_t ts) {
+void Stats::on_time_step(std::int64_t ts, bool new_stretch) {
     if (timed_frames_ == 0) {
         return;
     }
     peak_load_ = std::max(peak_load_, open_window_load()); // the window the step cuts short
     window_start_ns_ = ts;
     window_bits_ = 0;
-    // A step into the current stretch (a second interface catching up with the first one's
-    // step, or captures that overlap) starts no new one: the duration is their union.
-    if (ts >= stretch_first_ns_) {
+    if (!new_stretch) {
         return;
     }
     earlier_stretches_ns_ =

@@ -95,8 +95,9 @@ private:
     void decode_lss(const Frame& f, bool from_master, Decoded& out);
     void decode_sdo(const Frame& f, NodeId node, bool client, std::int64_t ts, Decoded& out);
     void learn_identity(NodeId node, std::uint8_t sub, std::uint32_t value);
-    /// Notices a step back in time and moves the time-keeping state to the new time.
-    void follow_time(const TraceRecord& r, std::vector<Note>& notes);
+    /// Finds the clock of `iface` (clock_), notices a step back in its time and moves the
+    /// time-keeping state to the new time.
+    void follow_time(std::string_view iface, std::int64_t ts, std::vector<Note>& notes);
     void collect_stalls(std::vector<SdoStall>& stalls, std::vector<Note>& notes,
                         std::string_view event);
 
@@ -107,17 +108,23 @@ private:
     PdoTracker pdo_;
     const ProfileRegistry* registry_ = nullptr;
     std::array<NodeState, kMaxNodeId + 1> nodes_{};
-    std::int64_t next_timeout_check_ = 0;
-    /// The latest timestamp of each interface so far (since its last step back): frames of
-    /// several interfaces may interleave out of order, so a step is one interface's time going
-    /// back. At most kMaxClocks interfaces are followed.
+    /// The record being decoded carries a timestamp a trace can hold (0..kMaxTraceTimeNs; a
+    /// library user's record with another is decoded as untimed).
+    bool timed_ = true;
+    /// Each interface's time: frames of several interfaces interleave out of order (two
+    /// captures of one minute concatenated, a live capture reading one socket's backlog before
+    /// the next), so times are compared, and SDO transfers timed, only within one interface.
     struct InterfaceClock {
         std::string iface;
-        std::int64_t latest_ns = 0;
+        std::int64_t latest_ns = 0;     ///< since its last step back
+        std::int64_t next_check_ns = 0; ///< the next SDO timeout scan of its transfers
+        std::uint32_t stretch = 0;      ///< the stretch of time it is in (see follow_time)
     };
+    /// Interfaces beyond the 32nd share the last clock.
     static constexpr std::size_t kMaxClocks = 32;
     std::vector<InterfaceClock> clocks_;
-    bool timed_ = true; ///< the record being decoded carries a timestamp
+    std::uint32_t stretch_ = 0; ///< the newest stretch an interface has stepped back into
+    std::uint8_t clock_ = 0;    ///< the clock of the record being decoded
     std::vector<SdoStall> stalls_;
 };
 

@@ -51,15 +51,18 @@ public:
     /// Decodes one SDO frame of `node`, appending its text to `out` ("node 4 upload 1008:00 …").
     /// A frame without a timestamp (`timed` false) has no `ts_ns`: a transfer that starts or ends
     /// with one gets no duration, and its timeout counts from its last frame with a timestamp
-    /// (with none, it is reported if still open at the end).
+    /// (with none, it is reported if still open at the end). `clock` names the clock the time
+    /// is on (the decoder's per-interface clocks; times on different clocks are not compared).
     SdoOutcome on_frame(NodeId node, sdo::Sender sender, std::span<const std::uint8_t> payload,
-                        std::int64_t ts_ns, fmt::memory_buffer& out, bool timed = true);
+                        std::int64_t ts_ns, fmt::memory_buffer& out, bool timed = true,
+                        std::uint8_t clock = 0);
 
-    /// Reports transfers idle for longer than the timeout at `now_ns`.
-    void check_timeouts(std::int64_t now_ns, std::vector<SdoStall>& stalls);
-    /// The trace's time went back to `now_ns` (an appended capture, a clock set back): a transfer
-    /// last heard of later than that waits for its timeout from `now_ns`, and gets no duration.
-    void restart_clocks(std::int64_t now_ns);
+    /// Reports transfers idle for longer than the timeout at `now_ns` on `clock`.
+    void check_timeouts(std::int64_t now_ns, std::vector<SdoStall>& stalls, std::uint8_t clock = 0);
+    /// `clock` went back to `now_ns` (an appended capture, a clock set back): its open transfers
+    /// get no duration, and one last heard of later than that waits for its timeout from
+    /// `now_ns`.
+    void restart_clocks(std::int64_t now_ns, std::uint8_t clock = 0);
     /// Reports every transfer still open (end of input).
     void finish(std::vector<SdoStall>& stalls);
 
@@ -81,6 +84,7 @@ private:
         bool tail_pending = false;
         bool started_timed = false; ///< t0 is a time: the initiate carried a timestamp
         bool clocked = false;       ///< last is a time: a frame of the transfer had a timestamp
+        std::uint8_t clock = 0;     ///< the clock of `last`
         std::uint8_t block_size = 0;
         std::uint8_t last_seq = 0;
         std::uint8_t tail_len = 0;
@@ -112,8 +116,9 @@ private:
     const ObjectCatalog& catalog_;
     std::int64_t timeout_ns_;
     std::array<Channel, kMaxNodeId + 1> channels_{};
-    std::uint32_t open_ = 0;  ///< channels with op != None (skip the timeout scan when 0)
-    bool frame_timed_ = true; ///< the frame being decoded carries a timestamp
+    std::uint32_t open_ = 0;       ///< channels with op != None (skip the timeout scan when 0)
+    bool frame_timed_ = true;      ///< the frame being decoded carries a timestamp
+    std::uint8_t frame_clock_ = 0; ///< and the clock it is on
 };
 
 } // namespace codrive::dump

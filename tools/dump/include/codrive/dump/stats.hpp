@@ -107,9 +107,11 @@ public:
     /// shows no rates and no bus load instead of dividing by a zero duration.
     void on_frame(const Frame& f, std::int64_t ts_ns, bool timed = true);
     void on_heartbeat(NodeId node, std::uint8_t state, std::int64_t ts_ns);
-    /// The trace's time went back to `ts_ns` (a second capture appended to the first, a clock
-    /// step): the one-second load window restarts there, and the duration goes on from it.
-    void on_time_step(std::int64_t ts_ns);
+    /// An interface's time went back to `ts_ns` (a second capture appended to the first, a clock
+    /// step): the one-second load window restarts there. With `new_stretch` the time from there
+    /// adds to the duration (the first interface to step); without, the interface joins the
+    /// stretch another one opened.
+    void on_time_step(std::int64_t ts_ns, bool new_stretch = true);
     /// A node guarding remote request to `node`.
     void on_guard_request(NodeId node);
     /// A node guarding reply: state byte without the toggle bit, and the toggle bit.
