@@ -61,10 +61,17 @@ print("the hour ended without the interrupt", flush=True)
 """
 
 
+def _sigint_as_at_a_terminal():
+    # A test run started in the background (`cmd &` in a script, nohup) ignores SIGINT, and a
+    # child inherits that: Python then leaves Ctrl-C ignored. At a terminal it is the default,
+    # for which Python installs its KeyboardInterrupt handler.
+    signal.signal(signal.SIGINT, signal.SIG_DFL)
+
+
 def test_ctrl_c_ends_an_hours_run_with_keyboard_interrupt():
     env = dict(os.environ, PYTHONPATH=os.pathsep.join(sys.path))
     p = subprocess.Popen([sys.executable, "-c", SCRIPT], stdout=subprocess.PIPE, text=True,
-                         env=env)
+                         env=env, preexec_fn=_sigint_as_at_a_terminal)
     try:
         assert p.stdout.readline().strip() == "window 1"
         p.send_signal(signal.SIGINT)
