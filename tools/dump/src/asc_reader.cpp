@@ -66,9 +66,7 @@ Frame error_frame_details(std::string_view rest, bool tx) {
         return protocol_error_frame(0, tx, 0);
     }
     if (scan::contains_ci(rest, "acknowledge")) {
-        Frame f = protocol_error_frame(0, tx, CAN_ERR_PROT_LOC_ACK);
-        f.id |= CAN_ERR_ACK;
-        return f;
+        return no_ack_error_frame(CAN_ERR_PROT_UNSPEC, tx, CAN_ERR_PROT_LOC_UNSPEC);
     }
     static constexpr struct {
         std::string_view word;

@@ -62,13 +62,16 @@ Frame can_core_error_frame(std::uint8_t code) {
     default: // 3 "other" and codes the register does not define
         break;
     }
-    Frame f = protocol_error_frame(prot, direction == 1 || direction == 3, location);
     if (direction == 1) { // a transmitter that saw no acknowledge
-        f.id |= CAN_ERR_ACK;
-        if (location == CAN_ERR_PROT_LOC_UNSPEC) {
-            f.data[3] = CAN_ERR_PROT_LOC_ACK;
-        }
+        return no_ack_error_frame(prot, true, location);
     }
+    return protocol_error_frame(prot, direction == 3, location);
+}
+
+Frame no_ack_error_frame(std::uint8_t prot, bool on_tx, std::uint8_t location) {
+    Frame f = protocol_error_frame(
+        prot, on_tx, location == CAN_ERR_PROT_LOC_UNSPEC ? CAN_ERR_PROT_LOC_ACK : location);
+    f.id |= CAN_ERR_ACK;
     return f;
 }
 

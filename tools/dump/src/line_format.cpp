@@ -43,12 +43,16 @@ std::string_view color_of(const Decoded& d) {
     }
 }
 
+// |ns|, also of INT64_MIN.
+std::uint64_t magnitude(std::int64_t ns) {
+    return ns < 0 ? static_cast<std::uint64_t>(-(ns + 1)) + 1U : static_cast<std::uint64_t>(ns);
+}
+
 // A JSON number of seconds with microseconds: "12.000345", "-0.200000" (a time given by a library
 // user, or a note's, may be negative; readers never give one).
 void json_seconds(fmt::memory_buffer& out, std::int64_t ns) {
     const bool neg = ns < 0;
-    const std::uint64_t a =
-        neg ? static_cast<std::uint64_t>(-(ns + 1)) + 1U : static_cast<std::uint64_t>(ns);
+    const std::uint64_t a = magnitude(ns);
     fmt::format_to(std::back_inserter(out), "{}{}.{:06}", neg ? "-" : "", a / 1'000'000'000U,
                    (a % 1'000'000'000U) / 1000U);
 }
@@ -56,8 +60,7 @@ void json_seconds(fmt::memory_buffer& out, std::int64_t ns) {
 // Seconds and microseconds, with a sign for negative deltas (out-of-order merged traces).
 void seconds(fmt::memory_buffer& out, std::int64_t ns, int width) {
     const bool neg = ns < 0;
-    const std::uint64_t a =
-        neg ? static_cast<std::uint64_t>(-(ns + 1)) + 1U : static_cast<std::uint64_t>(ns);
+    const std::uint64_t a = magnitude(ns);
     const std::uint64_t us = a / 1000;
     text::Cursor c(out, 32);
     c.put('(');

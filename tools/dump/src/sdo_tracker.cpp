@@ -107,7 +107,7 @@ SdoOutcome SdoTracker::complete(NodeId node, Channel& ch, std::int64_t ts, SdoMo
     o.subindex = ch.subindex;
     o.data = ch.data;
     o.size = ch.total;
-    o.timed = ch.started_timed && frame_timed_;
+    o.timed = measured(ch);
     o.duration_ns = o.timed ? ts - ch.t0 : 0;
     ch.op = Op::None;
     --open_;
@@ -116,7 +116,7 @@ SdoOutcome SdoTracker::complete(NodeId node, Channel& ch, std::int64_t ts, SdoMo
 
 void SdoTracker::put_elapsed(fmt::memory_buffer& out, const Channel& ch, std::int64_t ts,
                              std::string_view before) const {
-    if (ch.started_timed && frame_timed_) {
+    if (measured(ch)) {
         text::put(out, before);
         fmt::format_to(std::back_inserter(out), "{:.1f} ms", to_ms(ts - ch.t0));
     }
@@ -196,7 +196,7 @@ SdoOutcome SdoTracker::on_frame(NodeId node, sdo::Sender sender,
         if (ch.op != Op::None) {
             put_elapsed(out, ch, ts, ", after ");
             o.upload = ch.op == Op::Upload || ch.op == Op::BlockUpload;
-            o.timed = ch.started_timed && frame_timed_;
+            o.timed = measured(ch);
             o.duration_ns = o.timed ? ts - ch.t0 : 0;
             ch.op = Op::None;
             --open_;

@@ -58,7 +58,6 @@ void Stats::on_frame(const Frame& f, std::int64_t ts, bool timed) {
     }
     if (timed_frames_++ == 0) {
         first_ns_ = ts;
-        last_ns_ = ts;
         stretch_first_ns_ = ts;
         stretch_last_ns_ = ts;
         window_start_ns_ = ts;
@@ -69,7 +68,6 @@ void Stats::on_frame(const Frame& f, std::int64_t ts, bool timed) {
     }
     const auto bits = frame_bits_exact(f);
     bits_ += bits;
-    last_ns_ = std::max(last_ns_, ts);
     stretch_first_ns_ = std::min(stretch_first_ns_, ts);
     stretch_last_ns_ = std::max(stretch_last_ns_, ts);
     timeline_last_ns_ = std::max(timeline_last_ns_, on_timeline(ts));

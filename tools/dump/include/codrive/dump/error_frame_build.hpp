@@ -30,6 +30,10 @@ enum class TraceBusState : std::uint8_t { Active, Warning, Passive, BusOff, RxOv
 /// source explains, is taken as a receive error.
 [[nodiscard]] Frame can_core_error_frame(std::uint8_t code);
 
+/// A protocol error of a transmitter that saw no acknowledge: protocol_error_frame() with
+/// CAN_ERR_ACK, at the ACK slot unless `location` says otherwise.
+[[nodiscard]] Frame no_ack_error_frame(std::uint8_t prot, bool on_tx, std::uint8_t location);
+
 /// A SocketCAN error frame for a controller state (CAN_ERR_CRTL / CAN_ERR_BUSOFF).
 [[nodiscard]] Frame state_error_frame(TraceBusState state, int tec = -1, int rec = -1);
 

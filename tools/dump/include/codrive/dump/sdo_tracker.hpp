@@ -109,7 +109,12 @@ private:
     void object_name(fmt::memory_buffer& out, NodeId node, std::uint16_t index,
                      std::uint8_t sub) const;
     void stall_text(NodeId node, const Channel& ch, std::string& text) const;
-    /// Appends "<before>12.3 ms" when the transfer's time was measured (both ends timed).
+    /// The transfer's time can be measured now: it started with a timestamp on the clock of
+    /// the timed frame being decoded.
+    [[nodiscard]] bool measured(const Channel& ch) const {
+        return ch.started_timed && frame_timed_;
+    }
+    /// Appends "<before>12.3 ms" when the transfer's time is measured().
     void put_elapsed(fmt::memory_buffer& out, const Channel& ch, std::int64_t ts,
                      std::string_view before) const;
 

@@ -149,7 +149,6 @@ public:
     [[nodiscard]] std::uint64_t error_frames() const { return error_frames_; }
     [[nodiscard]] std::uint64_t timed_frames() const { return timed_frames_; }
     [[nodiscard]] std::int64_t first_ns() const { return first_ns_; }
-    [[nodiscard]] std::int64_t last_ns() const { return last_ns_; }
     /// The time the timed frames cover: last minus first, summed over the stretches between
     /// steps back (so two appended captures of 10 s make 20 s, not 10).
     [[nodiscard]] std::int64_t duration_ns() const;
@@ -173,7 +172,6 @@ private:
     std::uint64_t timed_frames_ = 0;
     std::uint64_t bits_ = 0;
     std::int64_t first_ns_ = 0;
-    std::int64_t last_ns_ = 0;
     std::int64_t stretch_first_ns_ = 0; ///< the stretch since the last step back
     std::int64_t stretch_last_ns_ = 0;
     std::int64_t earlier_stretches_ns_ = 0;
