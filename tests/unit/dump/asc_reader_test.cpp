@@ -7,6 +7,7 @@
 
 #include <fmt/format.h>
 #include <gtest/gtest.h>
+#include <linux/can/error.h>
 
 #include <string>
 
@@ -51,6 +52,9 @@ TEST(DumpAsc, ClassicExtendedRemoteAndErrorFramesWithTheDate) {
     EXPECT_EQ(items[3].frame, Frame::make_rtr(0x706, 0));
     ASSERT_TRUE(items[4].frame.error());
     EXPECT_EQ(to_string(decode_error_frame(items[4].frame).at(0)), "protocol error: unspecified");
+    // The bus-error class bit can-utils' asc2log and python-can give a bare ErrorFrame, beside
+    // the protocol class a Linux driver sets with it; so `-w` keeps it for Wireshark.
+    EXPECT_EQ(items[4].frame.id, static_cast<std::uint32_t>(CAN_ERR_PROT | CAN_ERR_BUSERROR));
 }
 
 TEST(DumpAsc, CanFdEventsWithAndWithoutSymbolicName) {

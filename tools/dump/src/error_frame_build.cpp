@@ -23,7 +23,10 @@ Frame blank() {
 
 Frame protocol_error_frame(std::uint8_t prot, bool on_tx, std::uint8_t location, int tec, int rec) {
     Frame f = blank();
-    f.id = CAN_ERR_PROT;
+    // Both class bits, as Linux CAN drivers (sja1000, flexcan, m_can) report a bus error with its
+    // details; can-utils' asc2log and python-can write a bare Vector ErrorFrame as
+    // CAN_ERR_BUSERROR alone, so either way the class says "bus error".
+    f.id = CAN_ERR_PROT | CAN_ERR_BUSERROR;
     f.data[2] = static_cast<std::uint8_t>(prot | (on_tx ? CAN_ERR_PROT_TX : 0));
     f.data[3] = location;
     add_counters(f, tec, rec);

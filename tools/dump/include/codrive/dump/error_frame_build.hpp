@@ -11,10 +11,10 @@ namespace codrive::dump {
 /// Controller state a trace line reports.
 enum class TraceBusState : std::uint8_t { Active, Warning, Passive, BusOff, RxOverflow, Unknown };
 
-/// A SocketCAN error frame (linux/can/error.h layout) for a protocol error seen on the bus:
-/// `prot` is the CAN_ERR_PROT_* type byte (0: unspecified), `on_tx` marks CAN_ERR_PROT_TX,
-/// `location` the CAN_ERR_PROT_LOC_* byte. Error counters (`tec`/`rec` >= 0) are added as
-/// CAN_ERR_CNT when known.
+/// A SocketCAN error frame (linux/can/error.h layout) for a protocol error seen on the bus, class
+/// CAN_ERR_PROT | CAN_ERR_BUSERROR as a Linux CAN driver reports a bus error: `prot` is the
+/// CAN_ERR_PROT_* type byte (0: unspecified), `on_tx` marks CAN_ERR_PROT_TX, `location` the
+/// CAN_ERR_PROT_LOC_* byte. Error counters (`tec`/`rec` >= 0) are added as CAN_ERR_CNT when known.
 [[nodiscard]] Frame protocol_error_frame(std::uint8_t prot, bool on_tx, std::uint8_t location,
                                          int tec = -1, int rec = -1);
 
