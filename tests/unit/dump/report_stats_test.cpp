@@ -255,3 +255,35 @@ TEST(ReportJson, TextCannotCloseTheScriptElement) {
     EXPECT_EQ(j.find("</"), std::string::npos) << j;
     EXPECT_NE(j.find("a <\\/script><b>\\\"quoted\\\"<\\/b>"), std::string::npos) << j;
 }
+
+// A candump screen trace has no times: a transfer it leaves open is reported without one, in
+// the text, the JSON lines and the report, never as "(0.000000)" or at 1970 on the timeline.
+TEST(ReportJson, ATransferOfUntimedFramesEndsWithoutATime) {
+    TraceRecord r;
+    r.has_ts = false;
+    r.iface = "vcan0";
+    r.frame = Frame::make(0x605, {0x40, 0x00, 0x10, 0x00, 0, 0, 0, 0});
+    for (const bool json : {false, true}) {
+        DumpOptions o;
+        o.report = true;
+        o.line.json = json;
+        std::string out;
+        Dumper d(
+            o, [&](std::string_view s) { out += s; }, nullptr);
+        d.on_record(r);
+        d.finish();
+        EXPECT_NE(out.find("no response before the end of the trace"), std::string::npos) << out;
+        if (json) {
+            EXPECT_EQ(out.find("\"ts\""), std::string::npos) << out;
+            EXPECT_NE(out.find("{\"service\":\"sdo\",\"node\":5,\"event\":\"unfinished\""),
+                      std::string::npos)
+                << out;
+        } else {
+            EXPECT_NE(out.find("(no timestamp)  -  "), std::string::npos) << out;
+            EXPECT_EQ(out.find("(0.000000)"), std::string::npos) << out;
+        }
+        const std::string j = report_json(d.stats(), ReportInfo{"screen.log", "test"});
+        EXPECT_NE(j.find("{\"t\":null,\"node\":5,"), std::string::npos) << j;
+        EXPECT_NE(j.find("\"events_total\":1"), std::string::npos) << j;
+    }
+}

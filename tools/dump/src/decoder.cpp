@@ -93,6 +93,7 @@ void Decoder::collect_stalls(std::vector<SdoStall>& stalls, std::vector<Note>& n
     for (auto& s : stalls) {
         Note n;
         n.ts_ns = s.ts_ns;
+        n.timed = s.timed;
         n.service = Service::Sdo;
         n.node = s.node;
         n.severity = Severity::Error;
@@ -167,6 +168,7 @@ void Decoder::decode(const TraceRecord& r, Decoded& out, std::vector<Note>& note
     out.severity = Severity::Info;
     out.service = Service::Other;
     timed_ = r.has_ts && r.ts_ns >= 0 && r.ts_ns <= kMaxTraceTimeNs;
+    out.timed = timed_;
     const std::int64_t ts = timed_ ? r.ts_ns : 0;
     if (timed_) {
         follow_time(r.iface, ts, notes);

@@ -33,8 +33,8 @@ bool Dumper::wanted(Service s, NodeId node) const {
 }
 
 // Warnings, errors and EMCYs go to the report's timeline with their decoded text.
-void Dumper::record_event(std::int64_t ts_ns, NodeId node, Service service, Severity severity,
-                          std::string_view text) {
+void Dumper::record_event(std::optional<std::int64_t> ts_ns, NodeId node, Service service,
+                          Severity severity, std::string_view text) {
     if (options_.report && (severity >= Severity::Warning || service == Service::Emcy)) {
         stats_.on_event(ts_ns, node, service == Service::Emcy, to_string(severity),
                         to_string(service), text);
@@ -43,7 +43,8 @@ void Dumper::record_event(std::int64_t ts_ns, NodeId node, Service service, Seve
 
 void Dumper::emit_notes() {
     for (const auto& n : notes_) {
-        record_event(n.ts_ns, n.node, n.service, n.severity, n.text);
+        record_event(n.timed ? std::optional(n.ts_ns) : std::nullopt, n.node, n.service, n.severity,
+                     n.text);
         // A step in time is shown whatever --only and --node keep: it explains the times and
         // timeouts of every service after it.
         if (options_.print && (wanted(n.service, n.node) || n.event == "time step")) {
@@ -58,7 +59,8 @@ void Dumper::on_record(const TraceRecord& r) {
     if (!notes_.empty()) {
         emit_notes(); // they happened before this frame
     }
-    record_event(r.ts_ns, decoded_.node, decoded_.service, decoded_.severity,
+    record_event(decoded_.timed ? std::optional(r.ts_ns) : std::nullopt, decoded_.node,
+                 decoded_.service, decoded_.severity,
                  std::string_view(decoded_.text.data(), decoded_.text.size()));
     if (pcap_) {
         pcap_->write(r);

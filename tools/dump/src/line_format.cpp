@@ -214,9 +214,13 @@ void LineFormatter::frame(fmt::memory_buffer& out, const TraceRecord& r, const D
 void LineFormatter::note(fmt::memory_buffer& out, const Note& n) {
     if (options_.json) {
         auto it = std::back_inserter(out);
-        text::put(out, "{\"ts\":");
-        json_seconds(out, n.ts_ns);
-        fmt::format_to(it, ",\"service\":\"{}\",\"node\":{},\"event\":", to_string(n.service),
+        text::put(out, "{");
+        if (n.timed) { // as a frame without a timestamp, a note without one has no "ts"
+            text::put(out, "\"ts\":");
+            json_seconds(out, n.ts_ns);
+            out.push_back(',');
+        }
+        fmt::format_to(it, "\"service\":\"{}\",\"node\":{},\"event\":", to_string(n.service),
                        n.node);
         append_json_string(out, n.event);
         fmt::format_to(it, ",\"severity\":\"{}\",\"text\":", to_string(n.severity));
@@ -224,7 +228,7 @@ void LineFormatter::note(fmt::memory_buffer& out, const Note& n) {
         text::put(out, "}\n");
         return;
     }
-    timestamp(out, true, n.ts_ns, false);
+    timestamp(out, n.timed, n.ts_ns, false);
     // Notes have no frame: the frame columns are left blank.
     constexpr std::size_t kBlank = 5 + 2 + 3 + 3 + 5 + 23 + 3;
     out.push_back('-');

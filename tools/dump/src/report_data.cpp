@@ -311,7 +311,7 @@ std::string report_json(const Stats& s, const ReportInfo& info) {
         for (const auto& e : d->events) {
             j.open('{');
             j.key("t");
-            j.num(static_cast<double>(e.ts_ns - s.first_ns()) / 1e9);
+            e.ts_ns ? j.num(static_cast<double>(*e.ts_ns - s.first_ns()) / 1e9) : j.null();
             j.key("node");
             j.uint(e.node);
             j.key("emcy");

@@ -539,6 +539,7 @@ void SdoTracker::finish(std::vector<SdoStall>& stalls) {
         SdoStall s;
         s.node = static_cast<NodeId>(n);
         s.ts_ns = ch.last;
+        s.timed = ch.clocked;
         stall_text(s.node, ch, s.text);
         s.text += ch.client_spoke_last ? ": no response before the end of the trace"
                                        : ": unfinished at the end of the trace";

@@ -270,16 +270,19 @@ void Stats::on_device_name(NodeId node, std::string_view name) {
     nodes_[node].device_name.assign(name.substr(0, 64));
 }
 
-void Stats::on_event(std::int64_t ts, NodeId node, bool emcy, std::string_view severity,
-                     std::string_view service, std::string_view text) {
+void Stats::on_event(std::optional<std::int64_t> ts, NodeId node, bool emcy,
+                     std::string_view severity, std::string_view service, std::string_view text) {
     if (!detail_) {
         return;
     }
-    auto& b = detail_->timeline.bus(detail_->timeline.bucket(on_timeline(ts)));
-    ++(emcy ? b.emcy : b.anomalies);
+    std::optional<std::int64_t> at;
+    if (ts) {
+        at = on_timeline(*ts);
+        auto& b = detail_->timeline.bus(detail_->timeline.bucket(*at));
+        ++(emcy ? b.emcy : b.anomalies);
+    }
     if (detail_->events_total++ < Detail::kMaxEvents) {
-        detail_->events.push_back(
-            Event{on_timeline(ts), node, emcy, severity, service, std::string(text)});
+        detail_->events.push_back(Event{at, node, emcy, severity, service, std::string(text)});
     }
 }
 

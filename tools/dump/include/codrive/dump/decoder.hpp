@@ -40,6 +40,7 @@ struct Decoded {
     Service service = Service::Other;
     NodeId node = 0;
     Severity severity = Severity::Info;
+    bool timed = true; ///< the record carries a timestamp a trace can hold
     fmt::memory_buffer text;
 };
 
@@ -47,6 +48,7 @@ struct Decoded {
 /// back in time).
 struct Note {
     std::int64_t ts_ns = 0;
+    bool timed = true; ///< ts_ns is a time (a transfer of untimed frames ends without one)
     Service service = Service::Sdo;
     NodeId node = 0;
     Severity severity = Severity::Error;

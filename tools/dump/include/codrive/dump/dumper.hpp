@@ -12,6 +12,7 @@
 #include <cstdint>
 #include <functional>
 #include <memory>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -55,8 +56,8 @@ public:
 private:
     [[nodiscard]] bool wanted(Service s, NodeId node) const;
     void emit_notes();
-    void record_event(std::int64_t ts_ns, NodeId node, Service service, Severity severity,
-                      std::string_view text);
+    void record_event(std::optional<std::int64_t> ts_ns, NodeId node, Service service,
+                      Severity severity, std::string_view text);
 
     DumpOptions options_;
     Sink out_;

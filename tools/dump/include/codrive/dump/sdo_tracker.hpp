@@ -37,6 +37,7 @@ struct SdoOutcome {
 struct SdoStall {
     NodeId node = 0;
     std::int64_t ts_ns = 0; ///< when the timeout expired
+    bool timed = true;      ///< ts_ns is a time: a frame of the transfer had a timestamp
     std::string text;
 };
 

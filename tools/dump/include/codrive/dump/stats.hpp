@@ -73,7 +73,7 @@ public:
 
     /// A warning, error or EMCY for the report's timeline, with the decoded text.
     struct Event {
-        std::int64_t ts_ns = 0;
+        std::optional<std::int64_t> ts_ns; ///< on the timeline; none for an untimed record
         NodeId node = 0;
         bool emcy = false;
         std::string_view severity; ///< a static name: "warning", "error", ...
@@ -129,9 +129,10 @@ public:
     void on_identity(NodeId node, std::uint8_t sub, std::uint32_t value);
     /// 1008h of a node (the first 64 bytes are kept).
     void on_device_name(NodeId node, std::string_view name);
-    /// A warning, error or EMCY with its decoded text (kept for the report only).
-    void on_event(std::int64_t ts_ns, NodeId node, bool emcy, std::string_view severity,
-                  std::string_view service, std::string_view text);
+    /// A warning, error or EMCY with its decoded text (kept for the report only). Without a time
+    /// (a record that has no timestamp) it is listed, but in no bucket of the timeline.
+    void on_event(std::optional<std::int64_t> ts_ns, NodeId node, bool emcy,
+                  std::string_view severity, std::string_view service, std::string_view text);
 
     /// The table: one row per node that sent something, then the nodes that were addressed but
     /// never answered, totals and bus load (mean over the trace, peak over one-second windows).
