@@ -352,49 +352,31 @@ void EscSlave::pack_inputs() {
         return;
     }
     ObjectDictionary& od = app_->od();
-    std::size_t bit = 0;
-    const auto count = od.get<std::uint8_t>(0x1C13, 0).value_or(0);
-    for (unsigned i = 1; i <= count; ++i) {
-        const auto pdo = od.get<std::uint16_t>(0x1C13, static_cast<std::uint8_t>(i)).value_or(0);
-        const auto n = od.get<std::uint8_t>(pdo, 0).value_or(0);
-        for (unsigned e = 1; e <= n; ++e) {
-            const auto entry = od.get<std::uint32_t>(pdo, static_cast<std::uint8_t>(e)).value_or(0);
-            const std::size_t bits = entry & 0xFFU;
-            const std::size_t at = s3.start + bit / 8;
-            const std::size_t bytes = bits / 8;
-            if ((entry >> 16) != 0 && at + bytes <= sm_end(s3)) {
-                auto v = od.read(static_cast<std::uint16_t>(entry >> 16),
-                                 static_cast<std::uint8_t>(entry >> 8));
-                for (std::size_t k = 0; k < bytes; ++k) {
-                    mem_[at + k] = v && k < v->size() ? (*v)[k] : 0;
-                }
+    for_each_mapped(0x1C13, [&](std::uint32_t entry, std::size_t bit) {
+        const std::size_t at = s3.start + bit / 8;
+        const std::size_t bytes = (entry & 0xFFU) / 8;
+        if ((entry >> 16) != 0 && at + bytes <= sm_end(s3)) {
+            auto v = od.read(static_cast<std::uint16_t>(entry >> 16),
+                             static_cast<std::uint8_t>(entry >> 8));
+            for (std::size_t k = 0; k < bytes; ++k) {
+                mem_[at + k] = v && k < v->size() ? (*v)[k] : 0;
             }
-            bit += bits;
         }
-    }
+    });
 }
 
 void EscSlave::unpack_outputs(TimePoint now) {
     const SyncManager s2 = sm(2);
     ObjectDictionary& od = app_->od();
-    std::size_t bit = 0;
-    const auto count = od.get<std::uint8_t>(0x1C12, 0).value_or(0);
-    for (unsigned i = 1; i <= count; ++i) {
-        const auto pdo = od.get<std::uint16_t>(0x1C12, static_cast<std::uint8_t>(i)).value_or(0);
-        const auto n = od.get<std::uint8_t>(pdo, 0).value_or(0);
-        for (unsigned e = 1; e <= n; ++e) {
-            const auto entry = od.get<std::uint32_t>(pdo, static_cast<std::uint8_t>(e)).value_or(0);
-            const std::size_t bits = entry & 0xFFU;
-            const std::size_t at = s2.start + bit / 8;
-            const std::size_t bytes = bits / 8;
-            if ((entry >> 16) != 0 && at + bytes <= sm_end(s2)) {
-                (void)od.write(static_cast<std::uint16_t>(entry >> 16),
-                               static_cast<std::uint8_t>(entry >> 8),
-                               std::span<const std::uint8_t>(mem_.data() + at, bytes), true);
-            }
-            bit += bits;
+    for_each_mapped(0x1C12, [&](std::uint32_t entry, std::size_t bit) {
+        const std::size_t at = s2.start + bit / 8;
+        const std::size_t bytes = (entry & 0xFFU) / 8;
+        if ((entry >> 16) != 0 && at + bytes <= sm_end(s2)) {
+            (void)od.write(static_cast<std::uint16_t>(entry >> 16),
+                           static_cast<std::uint8_t>(entry >> 8),
+                           std::span<const std::uint8_t>(mem_.data() + at, bytes), true);
         }
-    }
+    });
     app_->on_outputs(now);
 }
 

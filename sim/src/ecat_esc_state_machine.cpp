@@ -8,18 +8,7 @@ namespace codrive::sim::ecat {
 using namespace codrive::ethercat;
 
 std::size_t EscSlave::pdo_bytes(std::uint16_t assign_index) {
-    ObjectDictionary& od = app_->od();
-    std::size_t bits = 0;
-    const auto count = od.get<std::uint8_t>(assign_index, 0).value_or(0);
-    for (unsigned i = 1; i <= count; ++i) {
-        const auto pdo =
-            od.get<std::uint16_t>(assign_index, static_cast<std::uint8_t>(i)).value_or(0);
-        const auto n = od.get<std::uint8_t>(pdo, 0).value_or(0);
-        for (unsigned e = 1; e <= n; ++e) {
-            bits += od.get<std::uint32_t>(pdo, static_cast<std::uint8_t>(e)).value_or(0) & 0xFFU;
-        }
-    }
-    return (bits + 7) / 8;
+    return (for_each_mapped(assign_index, [](std::uint32_t, std::size_t) {}) + 7) / 8;
 }
 
 std::uint16_t EscSlave::check_transition(AlState to) {

@@ -128,6 +128,13 @@ private:
     void serve_mailbox_repeat();
     [[nodiscard]] ethercat::SyncManager sm(unsigned n) const;
     void set_sm_status(unsigned n, std::uint8_t status);
+    /// Walks the PDO assignment `assign_index` (1C12h outputs, 1C13h inputs; ETG.1000.6
+    /// §5.6.7.4): every entry of every assigned PDO's mapping, in order, with the bit offset it
+    /// starts at. `fn(entry, bit)` gets the mapping entry (index << 16 | sub << 8 | bit length).
+    /// Returns the total length in bits. Counts are UNSIGNED8, so the walk is bounded by 255 PDOs
+    /// of 255 entries whatever the dictionary holds.
+    template <typename Fn>
+    std::size_t for_each_mapped(std::uint16_t assign_index, Fn&& fn);
     [[nodiscard]] std::size_t pdo_bytes(std::uint16_t assign_index);
     void pack_inputs();
     /// Where SM `s`'s area ends in the ESC's memory (a 16-bit start and length may run past it).
@@ -165,5 +172,23 @@ private:
     void on_system_time_write(std::span<const std::uint8_t> data, TimePoint now);
     TimePoint epoch_{};
 };
+
+template <typename Fn>
+std::size_t EscSlave::for_each_mapped(std::uint16_t assign_index, Fn&& fn) {
+    ObjectDictionary& od = app_->od();
+    std::size_t bit = 0;
+    const unsigned count = od.get<std::uint8_t>(assign_index, 0).value_or(0);
+    for (unsigned i = 1; i <= count; ++i) {
+        const auto pdo =
+            od.get<std::uint16_t>(assign_index, static_cast<std::uint8_t>(i)).value_or(0);
+        const unsigned n = od.get<std::uint8_t>(pdo, 0).value_or(0);
+        for (unsigned e = 1; e <= n; ++e) {
+            const auto entry = od.get<std::uint32_t>(pdo, static_cast<std::uint8_t>(e)).value_or(0);
+            fn(entry, bit);
+            bit += entry & 0xFFU;
+        }
+    }
+    return bit;
+}
 
 } // namespace codrive::sim::ecat
