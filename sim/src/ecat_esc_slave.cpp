@@ -342,8 +342,8 @@ std::size_t EscSlave::sm_end(const ethercat::SyncManager& s) const {
 
 std::span<std::uint8_t> EscSlave::sm_area(const SyncManager& s) {
     const std::size_t end = sm_end(s);
-    return std::span<std::uint8_t>(mem_).subspan(std::min<std::size_t>(s.start, end),
-                                                 end - std::min<std::size_t>(s.start, end));
+    const std::size_t start = std::min<std::size_t>(s.start, end);
+    return std::span<std::uint8_t>(mem_).subspan(start, end - start);
 }
 
 void EscSlave::pack_inputs() {
