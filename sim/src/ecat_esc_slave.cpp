@@ -155,16 +155,20 @@ void EscSlave::after_sm_read(std::uint16_t addr, std::size_t len) {
 
 bool EscSlave::read_memory(std::uint16_t addr, std::span<std::uint8_t> out, bool or_into,
                            TimePoint now) {
-    if (addr + out.size() > mem_.size() || !read_allowed_by_sm(addr, out.size())) {
+    // As write_memory(): a read that runs past the end of the ESC's memory reads the part inside
+    // it and leaves the rest of the datagram as it came; the ESC datasheets and ETG.1000 do not
+    // say what an access across 0xFFFF does (docs/conformance.md).
+    const auto data = out.first(std::min<std::size_t>(out.size(), mem_.size() - addr));
+    if (!read_allowed_by_sm(addr, data.size())) {
         return false;
     }
-    if (overlaps(addr, out.size(), reg::kDcSystemTime, 8)) {
+    if (overlaps(addr, data.size(), reg::kDcSystemTime, 8)) {
         refresh_dc(now);
     }
-    for (std::size_t i = 0; i < out.size(); ++i) {
-        out[i] = or_into ? static_cast<std::uint8_t>(out[i] | mem_[addr + i]) : mem_[addr + i];
+    for (std::size_t i = 0; i < data.size(); ++i) {
+        data[i] = or_into ? static_cast<std::uint8_t>(data[i] | mem_[addr + i]) : mem_[addr + i];
     }
-    after_sm_read(addr, out.size());
+    after_sm_read(addr, data.size());
     return true;
 }
 

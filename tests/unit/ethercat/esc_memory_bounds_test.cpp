@@ -83,6 +83,36 @@ TEST_F(EscMemoryBounds, OutputsWrittenThroughAnFmmuPastTheEndOfMemoryLandOnlyIns
     EXPECT_EQ(segment_.slave(0).state(), AlState::Op);
 }
 
+// The mirror of the test above: the input FMMU's physical window starts 8 bytes before the end
+// of the memory. The LRW reads those 8 bytes into the first input bytes and counts, as a write
+// through such a window does; the rest of the inputs are left as the frame carried them.
+TEST_F(EscMemoryBounds, InputsReadThroughAnFmmuPastTheEndOfMemoryComeOnlyFromInside) {
+    bring_up(AlState::Op);
+    ASSERT_GT(master_.inputs(0).size(), 8U) << "the test needs more than 8 input bytes";
+    std::optional<unsigned> reader;
+    for (unsigned f = 0; f < 8 && !reader; ++f) {
+        auto raw = master_.read_registers(0, reg::fmmu(f), 16);
+        ASSERT_TRUE(raw) << master_.last_error();
+        const Fmmu fm = Fmmu::decode(*raw);
+        if ((fm.activate & 1) != 0 && (fm.type & Fmmu::kRead) != 0 &&
+            fm.physical_start >= 0x1000) { // process data RAM, not an SM status byte
+            reader = f;
+        }
+    }
+    ASSERT_TRUE(reader) << "the master programmed no input FMMU";
+    const std::array<std::uint8_t, 2> end = {0xF8, 0xFF};
+    ASSERT_TRUE(master_.write_registers(0, reg::fmmu(*reader) + 8, end)) << master_.last_error();
+    const std::array<std::uint8_t, 8> tail = {0xB0, 0xB1, 0xB2, 0xB3, 0xB4, 0xB5, 0xB6, 0xB7};
+    ASSERT_TRUE(master_.write_registers(0, 0xFFF8, tail)) << master_.last_error();
+
+    EXPECT_EQ(master_.exchange_process_data().value_or(0), master_.expected_wkc())
+        << master_.last_error();
+    const auto in = master_.inputs(0);
+    EXPECT_EQ(std::vector<std::uint8_t>(in.begin(), in.begin() + 8),
+              std::vector<std::uint8_t>(tail.begin(), tail.end()));
+    EXPECT_EQ(segment_.slave(0).state(), AlState::Op);
+}
+
 // SM1 moved in PRE-OP so that it ends past the memory: the answer to the next request is put
 // only in the part inside it. The master, which reads SM1 where it configured it, reads what was
 // left there and fails the transfer with a sentence naming it; the slave goes on answering.
