@@ -356,31 +356,24 @@ void EscSlave::pack_inputs() {
         return;
     }
     ObjectDictionary& od = app_->od();
-    for_each_mapped(0x1C13, [&](std::uint32_t entry, std::size_t bit) {
-        const std::size_t at = s3.start + bit / 8;
-        const std::size_t bytes = (entry & 0xFFU) / 8;
-        if ((entry >> 16) != 0 && at + bytes <= sm_end(s3)) {
-            auto v = od.read(static_cast<std::uint16_t>(entry >> 16),
-                             static_cast<std::uint8_t>(entry >> 8));
-            for (std::size_t k = 0; k < bytes; ++k) {
-                mem_[at + k] = v && k < v->size() ? (*v)[k] : 0;
-            }
-        }
-    });
+    for_each_mapped_in(0x1C13, sm_area(s3),
+                       [&](std::uint32_t entry, std::span<std::uint8_t> bytes) {
+                           auto v = od.read(static_cast<std::uint16_t>(entry >> 16),
+                                            static_cast<std::uint8_t>(entry >> 8));
+                           for (std::size_t k = 0; k < bytes.size(); ++k) {
+                               bytes[k] = v && k < v->size() ? (*v)[k] : 0;
+                           }
+                       });
 }
 
 void EscSlave::unpack_outputs(TimePoint now) {
     const SyncManager s2 = sm(2);
     ObjectDictionary& od = app_->od();
-    for_each_mapped(0x1C12, [&](std::uint32_t entry, std::size_t bit) {
-        const std::size_t at = s2.start + bit / 8;
-        const std::size_t bytes = (entry & 0xFFU) / 8;
-        if ((entry >> 16) != 0 && at + bytes <= sm_end(s2)) {
-            (void)od.write(static_cast<std::uint16_t>(entry >> 16),
-                           static_cast<std::uint8_t>(entry >> 8),
-                           std::span<const std::uint8_t>(mem_.data() + at, bytes), true);
-        }
-    });
+    for_each_mapped_in(0x1C12, sm_area(s2),
+                       [&](std::uint32_t entry, std::span<std::uint8_t> bytes) {
+                           (void)od.write(static_cast<std::uint16_t>(entry >> 16),
+                                          static_cast<std::uint8_t>(entry >> 8), bytes, true);
+                       });
     app_->on_outputs(now);
 }
 

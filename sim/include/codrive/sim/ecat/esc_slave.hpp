@@ -135,6 +135,10 @@ private:
     /// of 255 entries whatever the dictionary holds.
     template <typename Fn>
     std::size_t for_each_mapped(std::uint16_t assign_index, Fn&& fn);
+    /// for_each_mapped() over an SM's area (sm_area()): `fn(entry, bytes)` for every entry of an
+    /// object (index not 0) that lies whole inside `area`, with its bytes there.
+    template <typename Fn>
+    void for_each_mapped_in(std::uint16_t assign_index, std::span<std::uint8_t> area, Fn&& fn);
     [[nodiscard]] std::size_t pdo_bytes(std::uint16_t assign_index);
     void pack_inputs();
     /// Where SM `s`'s area ends in the ESC's memory (a 16-bit start and length may run past it).
@@ -189,6 +193,18 @@ std::size_t EscSlave::for_each_mapped(std::uint16_t assign_index, Fn&& fn) {
         }
     }
     return bit;
+}
+
+template <typename Fn>
+void EscSlave::for_each_mapped_in(std::uint16_t assign_index, std::span<std::uint8_t> area,
+                                  Fn&& fn) {
+    for_each_mapped(assign_index, [&](std::uint32_t entry, std::size_t bit) {
+        const std::size_t at = bit / 8;
+        const std::size_t bytes = (entry & 0xFFU) / 8;
+        if ((entry >> 16) != 0 && at + bytes <= area.size()) {
+            fn(entry, area.subspan(at, bytes));
+        }
+    });
 }
 
 } // namespace codrive::sim::ecat
